@@ -1,0 +1,43 @@
+// Grid shapes and the lattice patch that carries the unknowns.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace asperity {
+
+// A 2D array shape, axis 0 slow (x), axis 1 fast (y): element (i0, i1) sits at i0 * n1 + i1.
+struct Shape2 {
+  int n0 = 0;
+  int n1 = 0;
+
+  [[nodiscard]] std::size_t count() const {
+    return static_cast<std::size_t>(n0) * static_cast<std::size_t>(n1);
+  }
+  [[nodiscard]] std::size_t index(int i0, int i1) const {
+    return static_cast<std::size_t>(i0) * static_cast<std::size_t>(n1) +
+           static_cast<std::size_t>(i1);
+  }
+  bool operator==(const Shape2&) const = default;
+};
+
+// A rectangular block of surface lattice sites: site (i0, i1) of the block is the lattice
+// site (origin0 + i0, origin1 + i1), i.e. at position ((origin0 + i0) d, (origin1 + i1) d).
+struct LatticeBlock {
+  Shape2 shape;     // number of sites along x and y
+  int origin0 = 0;  // lattice index of the block's first site along x
+  int origin1 = 0;  // lattice index of the block's first site along y
+
+  // Smallest block holding every site with |X| <= radius (in units of d), centred on site (0,0).
+  static LatticeBlock centred_disk(double radius_over_d);
+
+  [[nodiscard]] double x(int i0, double d) const { return (origin0 + i0) * d; }
+  [[nodiscard]] double y(int i1, double d) const { return (origin1 + i1) * d; }
+};
+
+// Smallest n >= minimum whose prime factors are all in {2, 3, 5, 7}: sizes FFTW handles with
+// its fast codelets.
+int next_fft_size(int minimum);
+
+}  // namespace asperity

@@ -1,0 +1,286 @@
+// Discrete surface Green's functions; equations in surface_gf.hpp and influence.hpp
+// (MODEL.md section 2).
+#include "elastic/surface_gf.hpp"
+
+#include <Eigen/Dense>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "elastic/influence.hpp"
+
+namespace asperity::elastic {
+
+namespace {
+
+void check_common(const Material& material, Shape2 shape, double d, const char* what) {
+  material.validate();
+  if (!std::isfinite(d) || !(d > 0.0)) {
+    throw std::invalid_argument(std::string(what) + ": lattice spacing d: got " +
+                                std::to_string(d) + ", allowed: finite and > 0");
+  }
+  if (shape.n0 < 1 || shape.n1 < 1) {
+    throw std::invalid_argument(std::string(what) + ": block of " + std::to_string(shape.n0) +
+                                " x " + std::to_string(shape.n1) +
+                                " sites; allowed: at least 1 x 1");
+  }
+}
+
+void check_size(std::span<const double> a, std::size_t n, const char* what) {
+  if (a.size() != n) {
+    throw std::invalid_argument(std::string(what) + ": field has " + std::to_string(a.size()) +
+                                " values, expected " + std::to_string(n));
+  }
+}
+
+// Signed offset held by index k of a wrapped padded axis of length p, for a block of n sites;
+// returns false for the indices between +-(n-1) that no pair of block sites reaches.
+bool wrapped_offset(int k, int p, int n, int& offset) {
+  if (k < n) {
+    offset = k;
+    return true;
+  }
+  if (k > p - n) {
+    offset = k - p;
+    return true;
+  }
+  return false;
+}
+
+double sinc(double x) {
+  return std::abs(x) < 1e-8 ? 1.0 - x * x / 6.0 : std::sin(x) / x;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Shape2 region,
+                             double d, const fft::FFTOptions& fft)
+    : material_(material),
+      components_(components),
+      region_(region),
+      d_(d),
+      ncomp_(static_cast<std::size_t>(component_count(components))) {
+  check_common(material, region, d, "FreeSurfaceGF");
+  const Shape2 padded{next_fft_size(2 * region.n0 - 1),
+                      next_fft_size(std::max(2, 2 * region.n1 - 1))};
+  engine_ = fft::make_engine(padded, ncomp(), fft);
+
+  // Each kernel entry is the FFT of the wrapped real-space coefficients; even kernels are real,
+  // the odd normal-lateral coupling is imaginary. One engine field at a time is enough here.
+  const Shape2 fs = engine_->fourier_shape();
+  const auto build = [&](int k, int l, bool imaginary) {
+    auto in = engine_->input(0);
+    for (int k0 = 0; k0 < padded.n0; ++k0) {
+      for (int k1 = 0; k1 < padded.n1; ++k1) {
+        int o0 = 0, o1 = 0;
+        const bool used = wrapped_offset(k0, padded.n0, region.n0, o0) &&
+                          wrapped_offset(k1, padded.n1, region.n1, o1);
+        in[padded.index(k0, k1)] = used ? coefficient(k, l, o0, o1) : 0.0;
+      }
+    }
+    engine_->forward();
+    std::vector<double> out(fs.count());
+    const auto spectrum = engine_->fourier(0);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = (imaginary ? spectrum[i].imag() : spectrum[i].real()) * engine_->normalisation();
+    }
+    return out;
+  };
+  const bool coupled = components == Components::full && material.nu != 0.5;
+  if (components != Components::normal) {
+    kxx_ = build(0, 0, false);
+    kxy_ = build(0, 1, false);
+    kyy_ = build(1, 1, false);
+  }
+  if (components != Components::in_plane) kzz_ = build(ncomp() - 1, ncomp() - 1, false);
+  if (coupled) {
+    sx_ = build(0, 2, true);
+    sy_ = build(1, 2, true);
+  }
+  // The input padding must be zero from here on: apply() writes only the region.
+  for (int c = 0; c < ncomp(); ++c)
+    std::fill(engine_->input(c).begin(), engine_->input(c).end(), 0.0);
+}
+
+double FreeSurfaceGF::coefficient(int k, int l, int o0, int o1) const {
+  return patch_gf(material_, component_axis(components_, k), component_axis(components_, l),
+                  o0 * d_, o1 * d_, d_);
+}
+
+void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
+  check_size(f, size(), "FreeSurfaceGF::apply (forces)");
+  check_size(u, size(), "FreeSurfaceGF::apply (displacements)");
+  const Shape2 padded = engine_->real_shape();
+  const std::size_t n = region_.count();
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    auto in = engine_->input(static_cast<int>(c));
+    for (int i0 = 0; i0 < region_.n0; ++i0) {
+      std::copy_n(f.data() + c * n + region_.index(i0, 0), region_.n1,
+                  in.data() + padded.index(i0, 0));
+    }
+  }
+  engine_->forward();
+  const std::size_t nq = engine_->fourier_shape().count();
+  if (components_ == Components::normal) {
+    auto z = engine_->fourier(0);
+    for (std::size_t q = 0; q < nq; ++q)
+      z[q] *= kzz_[q];
+  } else {
+    auto x = engine_->fourier(0);
+    auto y = engine_->fourier(1);
+    std::complex<double>* z =
+        components_ == Components::full ? engine_->fourier(2).data() : nullptr;
+    const bool coupled = !sx_.empty();
+    for (std::size_t q = 0; q < nq; ++q) {
+      const std::complex<double> fx = x[q], fy = y[q];
+      x[q] = kxx_[q] * fx + kxy_[q] * fy;
+      y[q] = kxy_[q] * fx + kyy_[q] * fy;
+      if (z != nullptr) {
+        const std::complex<double> fz = z[q];
+        z[q] = kzz_[q] * fz;
+        if (coupled) {
+          const std::complex<double> i{0.0, 1.0};
+          x[q] += i * sx_[q] * fz;
+          y[q] += i * sy_[q] * fz;
+          z[q] -= i * (sx_[q] * fx + sy_[q] * fy);
+        }
+      }
+    }
+  }
+  engine_->inverse();
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    const auto out = engine_->output(static_cast<int>(c));
+    for (int i0 = 0; i0 < region_.n0; ++i0) {
+      std::copy_n(out.data() + padded.index(i0, 0), region_.n1,
+                  u.data() + c * n + region_.index(i0, 0));
+    }
+  }
+  ++applications_;
+}
+
+// ---------------------------------------------------------------------------------------------
+PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components components, Shape2 cell,
+                                     double d, const fft::FFTOptions& fft, int alias_images)
+    : material_(material),
+      components_(components),
+      cell_(cell),
+      d_(d),
+      ncomp_(static_cast<std::size_t>(component_count(components))) {
+  check_common(material, cell, d, "PeriodicSurfaceGF");
+  if (cell.n0 < 2 || cell.n1 < 2) {
+    throw std::invalid_argument("PeriodicSurfaceGF: cell of " + std::to_string(cell.n0) + " x " +
+                                std::to_string(cell.n1) + " sites; allowed: at least 2 x 2");
+  }
+  if (alias_images < 1 || alias_images > 1000) {
+    throw std::invalid_argument("PeriodicSurfaceGF: alias_images: got " +
+                                std::to_string(alias_images) + ", allowed: 1 to 1000");
+  }
+  engine_ = fft::make_engine(cell, ncomp(), fft);
+  const Shape2 fs = engine_->fourier_shape();
+  const std::size_t block = ncomp_ * ncomp_;
+  compliance_.assign(fs.count() * block, {});
+  stiffness_.assign(fs.count() * block, {});
+  const double two_pi = 2.0 * std::numbers::pi;
+  const double scale = engine_->normalisation() / (d * d);
+  using Block = Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic>;
+  Block g(ncomp(), ncomp());
+  // The image sum runs over the 2M+1 Brillouin zones around q = 0 in each direction, with half
+  // weight on the zone boundary so that the truncation stays symmetric in q (q = pi/d included).
+  const double limit = (2 * alias_images + 1) * std::numbers::pi / d;
+  const auto window = [limit](double Q) {
+    const double excess = std::abs(Q) - limit;
+    if (std::abs(excess) < 1e-9 * limit) return 0.5;
+    return excess < 0.0 ? 1.0 : 0.0;
+  };
+  for (int k0 = 0; k0 < fs.n0; ++k0) {
+    const int m0 = k0 <= cell.n0 / 2 ? k0 : k0 - cell.n0;
+    const double q0 = two_pi * m0 / (cell.n0 * d);
+    for (int k1 = 0; k1 < fs.n1; ++k1) {
+      const double q1 = two_pi * k1 / (cell.n1 * d);
+      if (k0 == 0 && k1 == 0) continue;  // rigid shift: zero compliance and stiffness blocks
+      g.setZero();
+      for (int a = -alias_images - 1; a <= alias_images + 1; ++a) {
+        const double Q0 = q0 + two_pi * a / d;
+        const double w0 = window(Q0);
+        if (w0 == 0.0) continue;
+        const double s0 = w0 * sinc(0.5 * Q0 * d);
+        for (int b = -alias_images - 1; b <= alias_images + 1; ++b) {
+          const double Q1 = q1 + two_pi * b / d;
+          const double w1 = window(Q1);
+          if (w1 == 0.0) continue;
+          const double s = s0 * w1 * sinc(0.5 * Q1 * d);
+          for (int k = 0; k < ncomp(); ++k) {
+            for (int l = 0; l < ncomp(); ++l) {
+              g(k, l) += s * fourier_gf(material, component_axis(components, k),
+                                        component_axis(components, l), Q0, Q1);
+            }
+          }
+        }
+      }
+      const std::size_t at = fs.index(k0, k1) * block;
+      const Block kq = g.inverse();
+      for (std::size_t e = 0; e < block; ++e) {
+        compliance_[at + e] =
+            g(static_cast<Eigen::Index>(e / ncomp_), static_cast<Eigen::Index>(e % ncomp_)) * scale;
+        stiffness_[at + e] =
+            kq(static_cast<Eigen::Index>(e / ncomp_), static_cast<Eigen::Index>(e % ncomp_)) *
+            (engine_->normalisation() * engine_->normalisation() / scale);
+      }
+    }
+  }
+}
+
+void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> out,
+                                 bool stiffness) {
+  check_size(in, size(), "PeriodicSurfaceGF (input field)");
+  check_size(out, size(), "PeriodicSurfaceGF (output field)");
+  const std::size_t n = cell_.count();
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    std::copy_n(in.data() + c * n, n, engine_->input(static_cast<int>(c)).data());
+  }
+  engine_->forward();
+  const std::size_t nq = engine_->fourier_shape().count();
+  const std::vector<std::complex<double>>& kernel = stiffness ? stiffness_ : compliance_;
+  const std::size_t block = ncomp_ * ncomp_;
+  std::complex<double> v[3];
+  std::complex<double>* fields[3] = {};
+  for (std::size_t c = 0; c < ncomp_; ++c)
+    fields[c] = engine_->fourier(static_cast<int>(c)).data();
+  for (std::size_t q = 0; q < nq; ++q) {
+    const std::complex<double>* kq = kernel.data() + q * block;
+    for (std::size_t k = 0; k < ncomp_; ++k)
+      v[k] = fields[k][q];
+    for (std::size_t k = 0; k < ncomp_; ++k) {
+      std::complex<double> acc{};
+      for (std::size_t l = 0; l < ncomp_; ++l)
+        acc += kq[k * ncomp_ + l] * v[l];
+      fields[k][q] = acc;
+    }
+  }
+  engine_->inverse();
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    std::copy_n(engine_->output(static_cast<int>(c)).data(), n, out.data() + c * n);
+  }
+  ++applications_;
+}
+
+void PeriodicSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
+  multiply(f, u, false);
+}
+
+void PeriodicSurfaceGF::apply_stiffness(std::span<const double> u, std::span<double> f) {
+  multiply(u, f, true);
+}
+
+double elastic_energy(std::span<const double> f, std::span<const double> u) {
+  assert(f.size() == u.size());
+  double e = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    e += f[i] * u[i];
+  return 0.5 * e;
+}
+
+}  // namespace asperity::elastic

@@ -1,0 +1,109 @@
+// Discrete surface Green's functions u = G * f on a block of lattice sites (MODEL.md section 2).
+//
+// Fields are component-major: component k (see component_axis) of site (i0, i1) of the block
+// is element k * count + i0 * n1 + i1. Forces are per atom (units of force), displacements in
+// units of length.
+//
+// FreeSurfaceGF: a finite loaded block on an infinite surface. Exact linear convolution with
+// the patch influence coefficients (influence.hpp) by zero padding (Hockney; DC-FFT): the FFT
+// grid is the smallest FFT-friendly size >= 2 n - 1 per axis, which is all an exact linear
+// convolution of an n-site block needs.
+//
+// PeriodicSurfaceGF: an L0 x L1 periodic cell. Its kernel is the lattice sum (Poisson
+// summation) of the same patch model:
+//   G_cell(q) = (1/d^2) sum_K G(q + K) S(q + K),  S(k) = sinc(kx d/2) sinc(ky d/2),
+// over reciprocal lattice vectors K = 2 pi (m, n)/d, so it is the exact periodisation of the
+// free kernel. The q = 0 mode (rigid shift of the surface) is handled explicitly: a net force
+// on a periodic cell has no static response, so apply() leaves it out and returns u with zero
+// mean, and apply_stiffness() gives K(0) = 0 (the shift costs no energy).
+#pragma once
+
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "common/shape.hpp"
+#include "elastic/material.hpp"
+#include "fft/fft_engine.hpp"
+
+namespace asperity::elastic {
+
+class FreeSurfaceGF {
+ public:
+  // region: the block of sites that may carry force and whose displacements are returned.
+  // d: lattice spacing (length). Throws std::invalid_argument on bad input.
+  FreeSurfaceGF(const Material& material, Components components, Shape2 region, double d = 1.0,
+                const fft::FFTOptions& fft = {});
+
+  // u = G * f over the region; f and u have size() elements and may not alias.
+  void apply(std::span<const double> f, std::span<double> u);
+
+  // Real-space coefficient: displacement of slot k at offset (o0, o1) sites per unit force of
+  // slot l; what apply() convolves with.
+  [[nodiscard]] double coefficient(int k, int l, int o0, int o1) const;
+
+  [[nodiscard]] std::size_t size() const { return ncomp_ * region_.count(); }
+  [[nodiscard]] int ncomp() const { return static_cast<int>(ncomp_); }
+  [[nodiscard]] Components components() const { return components_; }
+  [[nodiscard]] Shape2 region() const { return region_; }
+  [[nodiscard]] Shape2 fft_shape() const { return engine_->real_shape(); }
+  [[nodiscard]] const Material& material() const { return material_; }
+  [[nodiscard]] double spacing() const { return d_; }
+  // Number of apply() calls so far: the unit of cost reported by solvers.
+  [[nodiscard]] std::size_t applications() const { return applications_; }
+
+ private:
+  Material material_;
+  Components components_;
+  Shape2 region_;
+  double d_;
+  std::size_t ncomp_;
+  std::unique_ptr<fft::Engine> engine_;
+  // Fourier kernels scaled by the FFT normalisation. Real parts of xx, xy, yy, zz; imaginary
+  // parts s_x, s_y of G_xz = i s_x, G_yz = i s_y (G_zx = -i s_x). Empty where not needed.
+  std::vector<double> kxx_, kxy_, kyy_, kzz_, sx_, sy_;
+  std::size_t applications_ = 0;
+};
+
+class PeriodicSurfaceGF {
+ public:
+  // cell: sites per period along x and y. alias_images: reciprocal vectors per direction and
+  // sign in the lattice sum (|m|, |n| <= alias_images); its truncation error falls as
+  // alias_images^-2 (tested).
+  PeriodicSurfaceGF(const Material& material, Components components, Shape2 cell, double d = 1.0,
+                    const fft::FFTOptions& fft = {}, int alias_images = 12);
+
+  // u = G * f without the q = 0 mode: the mean force is not transmitted and u has zero mean.
+  void apply(std::span<const double> f, std::span<double> u);
+  // f = K * u with K = G^-1 for q != 0 and K(0) = 0.
+  void apply_stiffness(std::span<const double> u, std::span<double> f);
+
+  [[nodiscard]] std::size_t size() const { return ncomp_ * cell_.count(); }
+  [[nodiscard]] int ncomp() const { return static_cast<int>(ncomp_); }
+  [[nodiscard]] Components components() const { return components_; }
+  [[nodiscard]] Shape2 cell() const { return cell_; }
+  [[nodiscard]] const Material& material() const { return material_; }
+  [[nodiscard]] double spacing() const { return d_; }
+  [[nodiscard]] std::size_t applications() const { return applications_; }
+
+ private:
+  void multiply(std::span<const double> in, std::span<double> out, bool stiffness);
+
+  Material material_;
+  Components components_;
+  Shape2 cell_;
+  double d_;
+  std::size_t ncomp_;
+  std::unique_ptr<fft::Engine> engine_;
+  // Hermitian ncomp x ncomp blocks per wave vector, for the compliance G and stiffness K,
+  // scaled by the FFT normalisation; row-major ncomp*ncomp entries per q.
+  std::vector<std::complex<double>> compliance_, stiffness_;
+  std::size_t applications_ = 0;
+};
+
+// Elastic energy 1/2 f.u of a force field and the displacement it causes.
+double elastic_energy(std::span<const double> f, std::span<const double> u);
+
+}  // namespace asperity::elastic
