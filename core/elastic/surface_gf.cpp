@@ -66,7 +66,7 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
   check_common(material, region, d, "FreeSurfaceGF");
   const Shape2 padded{next_fft_size(2 * region.n0 - 1),
                       next_fft_size(std::max(2, 2 * region.n1 - 1))};
-  engine_ = fft::make_engine(padded, ncomp(), fft);
+  engine_ = fft::make_engine(padded, ncomp(), fft, region.n0);
 
   // Each kernel entry is the FFT of the wrapped real-space coefficients; even kernels are real,
   // the odd normal-lateral coupling is imaginary. One engine field at a time is enough here.
@@ -122,35 +122,17 @@ void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
                   in.data() + padded.index(i0, 0));
     }
   }
-  engine_->forward();
-  const std::size_t nq = engine_->fourier_shape().count();
-  if (components_ == Components::normal) {
-    auto z = engine_->fourier(0);
-    for (std::size_t q = 0; q < nq; ++q)
-      z[q] *= kzz_[q];
-  } else {
-    auto x = engine_->fourier(0);
-    auto y = engine_->fourier(1);
-    std::complex<double>* z =
-        components_ == Components::full ? engine_->fourier(2).data() : nullptr;
-    const bool coupled = !sx_.empty();
-    for (std::size_t q = 0; q < nq; ++q) {
-      const std::complex<double> fx = x[q], fy = y[q];
-      x[q] = kxx_[q] * fx + kxy_[q] * fy;
-      y[q] = kxy_[q] * fx + kyy_[q] * fy;
-      if (z != nullptr) {
-        const std::complex<double> fz = z[q];
-        z[q] = kzz_[q] * fz;
-        if (coupled) {
-          const std::complex<double> i{0.0, 1.0};
-          x[q] += i * sx_[q] * fz;
-          y[q] += i * sy_[q] * fz;
-          z[q] -= i * (sx_[q] * fx + sy_[q] * fy);
-        }
+  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
+  engine_->convolve([this, nf1](const fft::FourierBlock& b) {
+    for (int k0 = 0; k0 < b.rows; ++k0) {
+      const std::size_t q0 =
+          static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin);
+      const std::size_t at = static_cast<std::size_t>(k0) * static_cast<std::size_t>(b.width);
+      for (std::size_t j = 0; j < static_cast<std::size_t>(b.width); ++j) {
+        multiply(b, q0 + j, at + j);
       }
     }
-  }
-  engine_->inverse();
+  });
   for (std::size_t c = 0; c < ncomp_; ++c) {
     const auto out = engine_->output(static_cast<int>(c));
     for (int i0 = 0; i0 < region_.n0; ++i0) {
@@ -159,6 +141,26 @@ void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
     }
   }
   ++applications_;
+}
+
+void FreeSurfaceGF::multiply(const fft::FourierBlock& b, std::size_t q, std::size_t at) const {
+  if (components_ == Components::normal) {
+    b.field[0][at] *= kzz_[q];
+    return;
+  }
+  const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
+  b.field[0][at] = kxx_[q] * fx + kxy_[q] * fy;
+  b.field[1][at] = kxy_[q] * fx + kyy_[q] * fy;
+  if (components_ == Components::full) {
+    const std::complex<double> fz = b.field[2][at];
+    b.field[2][at] = kzz_[q] * fz;
+    if (!sx_.empty()) {
+      const std::complex<double> i{0.0, 1.0};
+      b.field[0][at] += i * sx_[q] * fz;
+      b.field[1][at] += i * sy_[q] * fz;
+      b.field[2][at] -= i * (sx_[q] * fx + sy_[q] * fy);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -241,26 +243,28 @@ void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> o
   for (std::size_t c = 0; c < ncomp_; ++c) {
     std::copy_n(in.data() + c * n, n, engine_->input(static_cast<int>(c)).data());
   }
-  engine_->forward();
-  const std::size_t nq = engine_->fourier_shape().count();
   const std::vector<std::complex<double>>& kernel = stiffness ? stiffness_ : compliance_;
-  const std::size_t block = ncomp_ * ncomp_;
-  std::complex<double> v[3];
-  std::complex<double>* fields[3] = {};
-  for (std::size_t c = 0; c < ncomp_; ++c)
-    fields[c] = engine_->fourier(static_cast<int>(c)).data();
-  for (std::size_t q = 0; q < nq; ++q) {
-    const std::complex<double>* kq = kernel.data() + q * block;
-    for (std::size_t k = 0; k < ncomp_; ++k)
-      v[k] = fields[k][q];
-    for (std::size_t k = 0; k < ncomp_; ++k) {
-      std::complex<double> acc{};
-      for (std::size_t l = 0; l < ncomp_; ++l)
-        acc += kq[k * ncomp_ + l] * v[l];
-      fields[k][q] = acc;
+  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
+  const std::size_t nc = ncomp_;
+  engine_->convolve([&kernel, nf1, nc](const fft::FourierBlock& b) {
+    std::complex<double> v[fft::FourierBlock::max_fields];
+    for (int k0 = 0; k0 < b.rows; ++k0) {
+      for (int j = 0; j < b.width; ++j) {
+        const std::size_t q =
+            static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin + j);
+        const std::size_t at = static_cast<std::size_t>(k0 * b.width + j);
+        const std::complex<double>* kq = kernel.data() + q * nc * nc;
+        for (std::size_t k = 0; k < nc; ++k)
+          v[k] = b.field[k][at];
+        for (std::size_t k = 0; k < nc; ++k) {
+          std::complex<double> acc{};
+          for (std::size_t l = 0; l < nc; ++l)
+            acc += kq[k * nc + l] * v[l];
+          b.field[k][at] = acc;
+        }
+      }
     }
-  }
-  engine_->inverse();
+  });
   for (std::size_t c = 0; c < ncomp_; ++c) {
     std::copy_n(engine_->output(static_cast<int>(c)).data(), n, out.data() + c * n);
   }

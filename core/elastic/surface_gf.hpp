@@ -55,6 +55,9 @@ class FreeSurfaceGF {
   [[nodiscard]] std::size_t applications() const { return applications_; }
 
  private:
+  // The Fourier-space product at wave vector q, on entry `at` of a block.
+  void multiply(const fft::FourierBlock& b, std::size_t q, std::size_t at) const;
+
   Material material_;
   Components components_;
   Shape2 region_;

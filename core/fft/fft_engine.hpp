@@ -8,9 +8,11 @@
 #pragma once
 
 #include <complex>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "common/shape.hpp"
 
@@ -33,6 +35,19 @@ struct FFTOptions {
   void validate() const;
 };
 
+// A block of columns of the Fourier half-grid, handed to a Fourier-space multiplier during
+// Engine::convolve: wave vector (k0, k1_begin + j) of field f is field[f][k0 * width + j],
+// for k0 < rows and j < width.
+struct FourierBlock {
+  static constexpr int max_fields = 3;
+  int k1_begin = 0;
+  int width = 0;
+  int rows = 0;
+  std::complex<double>* field[max_fields] = {};
+};
+// Multiplies a block in place. It may be called concurrently on different blocks.
+using Multiplier = std::function<void(const FourierBlock&)>;
+
 // Batched transforms of `fields` real 2D arrays of one shape. The engine owns three aligned
 // buffers per field: an input grid (kept between calls, so zero padding is written once), the
 // Fourier half-grid, and an output grid. Plans are made once, in the constructor.
@@ -53,21 +68,34 @@ class Engine {
 
   virtual void forward() = 0;  // input -> fourier, every field
   virtual void inverse() = 0;  // fourier -> output, every field; overwrites fourier
+
+  // output = inverse(M(forward(input))) for every field, for an input that vanishes outside
+  // rows [0, support_rows()); only output rows [0, support_rows()) are computed, the rest of
+  // the output is unspecified. This is the whole of a zero-padded (Hockney) convolution: the
+  // backend may skip the transforms of rows known to be zero or not needed, and apply M to
+  // blocks of columns while they are in cache, instead of in a separate pass over memory.
+  // Uses (and overwrites) the fourier buffers.
+  virtual void convolve(const Multiplier& multiplier) = 0;
+  [[nodiscard]] int support_rows() const { return support_rows_; }
   [[nodiscard]] virtual std::string backend() const = 0;
 
  protected:
-  Engine(Shape2 shape, int fields) : shape_(shape), fields_(fields) {}
-  double* input_ = nullptr;
-  std::complex<double>* fourier_ = nullptr;
-  double* output_ = nullptr;
+  Engine(Shape2 shape, int fields, int support_rows)
+      : shape_(shape), fields_(fields), support_rows_(support_rows) {}
+  // One allocation per field, so that every field has the alignment its plans were made for.
+  std::vector<double*> input_, output_;
+  std::vector<std::complex<double>*> fourier_;
 
  private:
   Shape2 shape_;
   int fields_;
+  int support_rows_;
 };
 
-// FFTW3 backend (threads as requested). Throws std::invalid_argument on a bad shape or
-// options, std::runtime_error if FFTW cannot plan.
-std::unique_ptr<Engine> make_engine(Shape2 shape, int fields, const FFTOptions& options = {});
+// FFTW3 backend (threads as requested). support_rows: rows of the input that may be non-zero
+// in convolve() (0: all). At most FourierBlock::max_fields fields. Throws
+// std::invalid_argument on a bad shape or options, std::runtime_error if FFTW cannot plan.
+std::unique_ptr<Engine> make_engine(Shape2 shape, int fields, const FFTOptions& options = {},
+                                    int support_rows = 0);
 
 }  // namespace asperity::fft

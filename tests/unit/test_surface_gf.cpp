@@ -84,26 +84,30 @@ TEST(PatchCoefficients, ClosedFormsMatchQuadrature) {
 }
 
 TEST(FreeSurfaceGF, FFTConvolutionEqualsDirectSum) {
-  const Shape2 region{7, 5};
-  for (Components comps : {Components::in_plane, Components::normal, Components::full}) {
-    const Material m{.G = 1.3, .nu = 0.3};
-    elastic::FreeSurfaceGF gf(m, comps, region, 0.8);
-    const auto f = random_field(gf.size(), 1);
-    std::vector<double> u(gf.size());
-    gf.apply(f, u);
-    const std::size_t n = region.count();
-    for (int k = 0; k < gf.ncomp(); ++k) {
-      for (int a0 = 0; a0 < region.n0; ++a0) {
-        for (int a1 = 0; a1 < region.n1; ++a1) {
-          double direct = 0.0;
-          for (int l = 0; l < gf.ncomp(); ++l) {
-            for (int b0 = 0; b0 < region.n0; ++b0) {
-              for (int b1 = 0; b1 < region.n1; ++b1) {
-                direct += gf.coefficient(k, l, a0 - b0, a1 - b1) * f[l * n + region.index(b0, b1)];
+  // Small and larger blocks (several column blocks in the engine's fused convolution, a partial
+  // last one), one and two threads.
+  for (auto [region, threads] : {std::pair{Shape2{7, 5}, 1}, {Shape2{20, 23}, 2}}) {
+    for (Components comps : {Components::in_plane, Components::normal, Components::full}) {
+      const Material m{.G = 1.3, .nu = 0.3};
+      elastic::FreeSurfaceGF gf(m, comps, region, 0.8, {.threads = threads});
+      const auto f = random_field(gf.size(), 1);
+      std::vector<double> u(gf.size());
+      gf.apply(f, u);
+      const std::size_t n = region.count();
+      for (int k = 0; k < gf.ncomp(); ++k) {
+        for (int a0 = 0; a0 < region.n0; ++a0) {
+          for (int a1 = 0; a1 < region.n1; ++a1) {
+            double direct = 0.0;
+            for (int l = 0; l < gf.ncomp(); ++l) {
+              for (int b0 = 0; b0 < region.n0; ++b0) {
+                for (int b1 = 0; b1 < region.n1; ++b1) {
+                  direct +=
+                      gf.coefficient(k, l, a0 - b0, a1 - b1) * f[l * n + region.index(b0, b1)];
+                }
               }
             }
+            EXPECT_NEAR(u[k * n + region.index(a0, a1)], direct, 1e-13);
           }
-          EXPECT_NEAR(u[k * n + region.index(a0, a1)], direct, 1e-13);
         }
       }
     }
