@@ -1,0 +1,110 @@
+#include "common/cli.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <thread>
+
+namespace asperity::app {
+
+std::string provenance_string() {
+  return std::string("asperity ") + ASPERITY_VERSION + " (commit " + ASPERITY_GIT_COMMIT + ")";
+}
+
+nlohmann::json provenance_json() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  // gethostname need not terminate a truncated name; the last byte stays zero.
+  char host[256] = {};
+  const bool have_host = ::gethostname(host, sizeof host - 1) == 0;
+  return {{"program", "asperity"},
+          {"version", ASPERITY_VERSION},
+          {"commit", ASPERITY_GIT_COMMIT},
+          {"date_utc", date},
+          {"hostname", have_host ? host : "unknown"},
+          {"hardware_threads", std::thread::hardware_concurrency()}};
+}
+
+bool parse_command_line(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+    return true;
+  } catch (const CLI::Success& e) {
+    app.exit(e);
+    return false;
+  }
+}
+
+int run_main(int argc, char** argv, const std::function<int(int, char**)>& body) {
+  const std::string program =
+      argc > 0 ? std::filesystem::path(argv[0]).filename().string() : "asperity";
+  try {
+    return body(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n"
+              << program << ": run with --help for usage\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+Progress::Progress(std::string label, std::size_t total, int percent_step)
+    : Progress(std::move(label), total, std::cerr, ::isatty(STDERR_FILENO) == 1, percent_step) {}
+
+Progress::Progress(std::string label, std::size_t total, std::ostream& out, bool interactive,
+                   int percent_step)
+    : label_(std::move(label)),
+      total_(total),
+      out_(out),
+      interactive_(interactive),
+      percent_step_(percent_step) {
+  if (percent_step < 1 || percent_step > 100) {
+    throw std::invalid_argument("progress step must be in [1, 100] percent, got " +
+                                std::to_string(percent_step));
+  }
+}
+
+Progress::~Progress() {
+  const std::lock_guard lock(mutex_);
+  print();
+  if (interactive_) out_ << '\n' << std::flush;
+}
+
+void Progress::advance(std::size_t steps) {
+  const std::lock_guard lock(mutex_);
+  done_ = std::min(done_ + steps, total_);
+  const int percent = total_ == 0 ? 100 : static_cast<int>(100 * done_ / total_);
+  const bool due =
+      interactive_ ? percent != shown_percent_
+                   : shown_percent_ < 0 || percent / percent_step_ > shown_percent_ / percent_step_;
+  if (due) print();
+}
+
+void Progress::print() {
+  const int percent = total_ == 0 ? 100 : static_cast<int>(100 * done_ / total_);
+  if (!interactive_ && percent == shown_percent_) return;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  char elapsed[32];
+  std::snprintf(elapsed, sizeof elapsed, "%.1f s", seconds);
+  if (interactive_) out_ << '\r';
+  out_ << label_ << ": " << done_ << "/" << total_ << " (" << percent << "%), " << elapsed;
+  out_ << (interactive_ ? "" : "\n") << std::flush;
+  shown_percent_ = percent;
+}
+
+}  // namespace asperity::app

@@ -1,0 +1,81 @@
+// Pieces shared by the command-line tools: provenance records, progress reports and the
+// error-handling wrapper around main().
+//
+// Every tool's main() follows this pattern:
+//
+//   int main(int argc, char** argv) {
+//     return asperity::app::run_main(argc, argv, [](int argc, char** argv) {
+//       CLI::App cli{"What the tool does"};
+//       std::string scene;
+//       cli.add_option("scene", scene, "Scene file")->required();
+//       if (!asperity::app::parse_command_line(cli, argc, argv)) return 0;  // --help was shown
+//       ...                                                               // do the work
+//       return 0;
+//     });
+//   }
+//
+// CLI11 prints help only through the CLI::App that was parsed, so --help is handled inside
+// parse_command_line(); a malformed command line propagates as CLI::ParseError and run_main()
+// reports it like any other bad input.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <iosfwd>
+#include <mutex>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace CLI {
+class App;
+}
+
+namespace asperity::app {
+
+// "asperity <version> (commit <hash>)"; the hash is "unknown" outside a git checkout.
+std::string provenance_string();
+
+// Program, version, commit, UTC date-time (ISO 8601), hostname and hardware threads: stored with
+// every result so that it can be traced back to the code and machine that produced it.
+nlohmann::json provenance_json();
+
+// Parses the command line. Returns false if CLI11 printed help or version text (the tool should
+// then exit with status 0); throws CLI::ParseError for a malformed command line.
+bool parse_command_line(CLI::App& app, int argc, char** argv);
+
+// Runs `body` and returns its exit status. Exceptions become "program: error: message" on stderr
+// and exit status 2 for bad input (std::invalid_argument, CLI::ParseError) or 1 for failures
+// at run time (any other std::exception).
+int run_main(int argc, char** argv, const std::function<int(int, char**)>& body);
+
+// One-line progress report for long loops. On a terminal the line is rewritten in place; in a
+// log file a line is printed each time another `percent_step` percent is done, so logs stay short.
+// advance() may be called from several threads. The destructor prints the final state.
+class Progress {
+ public:
+  Progress(std::string label, std::size_t total, int percent_step = 10);  // reports to stderr
+  Progress(std::string label, std::size_t total, std::ostream& out, bool interactive,
+           int percent_step = 10);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  void advance(std::size_t steps = 1);
+
+ private:
+  void print();  // caller holds mutex_
+
+  std::string label_;
+  std::size_t total_;
+  std::ostream& out_;
+  bool interactive_;
+  int percent_step_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::mutex mutex_;
+  std::size_t done_ = 0;
+  int shown_percent_ = -1;  // last percentage printed; -1 before the first report
+};
+
+}  // namespace asperity::app

@@ -1,0 +1,238 @@
+#include "common/output_files.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace asperity::app {
+namespace {
+
+template <class T>
+std::string format(T v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, end);
+}
+
+template <class T>
+bool parse_whole(std::string_view s, T& v) {
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && end == s.data() + s.size() && !s.empty();
+}
+
+std::string csv_field(std::string_view s) {
+  if (s.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(s);
+  std::string out = "\"";
+  for (char c : s)
+    out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + '"';
+}
+
+std::string cell_text(const CsvTable::Cell& cell) {
+  if (const auto* s = std::get_if<std::string>(&cell)) return *s;
+  if (const auto* d = std::get_if<double>(&cell)) return format(*d);
+  return format(std::get<long long>(cell));
+}
+
+}  // namespace
+
+std::filesystem::path ensure_directory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw std::runtime_error("cannot create directory '" + dir.string() +
+                             "': " + (ec ? ec.message() : "exists and is not a directory"));
+  }
+  return dir;
+}
+
+TemporaryFile::TemporaryFile(const std::filesystem::path& target) : target_(target) {
+  // pid and counter make the name unique across processes and threads; O_EXCL guards against
+  // leftovers of an earlier, killed process that had the same pid.
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+  for (;;) {
+    // append() rather than "." + string: GCC 12 warns falsely (-Wrestrict) on the latter.
+    path_ = dir / std::string(".")
+                      .append(target.filename().string())
+                      .append(".")
+                      .append(std::to_string(::getpid()))
+                      .append(".")
+                      .append(std::to_string(counter++))
+                      .append(".tmp");
+    const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      return;
+    }
+    if (errno != EEXIST) {
+      throw std::runtime_error("cannot write '" + target.string() +
+                               "': cannot create a temporary file: " + std::strerror(errno));
+    }
+  }
+}
+
+TemporaryFile::~TemporaryFile() {
+  if (committed_) return;
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
+}
+
+void TemporaryFile::commit() {
+  std::error_code ec;
+  std::filesystem::rename(path_, target_, ec);
+  if (ec) throw std::runtime_error("cannot write '" + target_.string() + "': " + ec.message());
+  committed_ = true;
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+  TemporaryFile tmp(path);
+  std::ofstream out(tmp.path(), std::ios::binary | std::ios::trunc);
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  out.close();
+  if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
+  tmp.commit();
+}
+
+void write_json(const std::filesystem::path& path, const nlohmann::json& value) {
+  write_file_atomic(path, value.dump(2) + "\n");
+}
+
+CsvTable::CsvTable(std::vector<std::string> columns) : columns_(std::move(columns)) {
+  if (columns_.empty()) throw std::invalid_argument("CSV table needs at least one column");
+}
+
+void CsvTable::add_row(std::vector<Cell> row) {
+  if (row.size() != columns_.size()) {
+    throw std::invalid_argument("CSV row has " + std::to_string(row.size()) +
+                                " fields, table has " + std::to_string(columns_.size()) +
+                                " columns");
+  }
+  rows_.push_back(std::move(row));
+}
+
+std::size_t CsvTable::column_index(std::string_view name) const {
+  const auto it = std::find(columns_.begin(), columns_.end(), name);
+  if (it == columns_.end()) {
+    throw std::invalid_argument("CSV table has no column '" + std::string(name) + "'");
+  }
+  return static_cast<std::size_t>(it - columns_.begin());
+}
+
+double CsvTable::number(std::size_t row, std::string_view column) const {
+  const Cell& c = cell(row, column_index(column));
+  if (const auto* d = std::get_if<double>(&c)) return *d;
+  if (const auto* i = std::get_if<long long>(&c)) return static_cast<double>(*i);
+  double v = 0;
+  if (!parse_whole(std::get<std::string>(c), v)) {
+    throw std::invalid_argument("CSV column '" + std::string(column) + "', row " +
+                                std::to_string(row) + ": '" + std::get<std::string>(c) +
+                                "' is not a number");
+  }
+  return v;
+}
+
+long long CsvTable::integer(std::size_t row, std::string_view column) const {
+  const Cell& c = cell(row, column_index(column));
+  if (const auto* i = std::get_if<long long>(&c)) return *i;
+  long long v = 0;
+  if (const auto* s = std::get_if<std::string>(&c); s && parse_whole(*s, v)) return v;
+  throw std::invalid_argument("CSV column '" + std::string(column) + "', row " +
+                              std::to_string(row) + ": '" + cell_text(c) + "' is not an integer");
+}
+
+std::string CsvTable::text(std::size_t row, std::string_view column) const {
+  return cell_text(cell(row, column_index(column)));
+}
+
+std::string CsvTable::to_string() const {
+  std::string out;
+  auto append_line = [&out](const auto& fields, auto to_text) {
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (i) out += ',';
+      out += csv_field(to_text(fields[i]));
+    }
+    out += '\n';
+  };
+  append_line(columns_, [](const std::string& s) { return s; });
+  for (const auto& row : rows_)
+    append_line(row, cell_text);
+  return out;
+}
+
+CsvTable CsvTable::parse(std::string_view text, const std::string& source_name) {
+  std::vector<std::vector<std::string>> records;
+  std::vector<std::size_t> record_lines;
+  std::vector<std::string> record;
+  std::string field;
+  std::size_t line = 1, record_line = 1;
+  bool in_quotes = false;
+  auto end_record = [&] {
+    record.push_back(std::move(field));
+    field.clear();
+    records.push_back(std::move(record));
+    record.clear();
+    record_lines.push_back(record_line);
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_quotes) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        in_quotes = false;
+      } else {
+        line += c == '\n';
+        field += c;
+      }
+    } else if (c == '"') {
+      in_quotes = true;
+    } else if (c == ',') {
+      record.push_back(std::move(field));
+      field.clear();
+    } else if (c == '\n' || c == '\r') {
+      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+      end_record();
+      record_line = ++line;
+    } else {
+      field += c;
+    }
+  }
+  if (in_quotes) {
+    throw std::invalid_argument(source_name + ":" + std::to_string(record_line) +
+                                ": unterminated quoted field");
+  }
+  if (!field.empty() || !record.empty()) end_record();
+  if (records.empty()) throw std::invalid_argument(source_name + ": empty CSV, no header line");
+
+  CsvTable table(std::move(records.front()));
+  for (std::size_t r = 1; r < records.size(); ++r) {
+    if (records[r].size() != table.columns_.size()) {
+      throw std::invalid_argument(source_name + ":" + std::to_string(record_lines[r]) +
+                                  ": expected " + std::to_string(table.columns_.size()) +
+                                  " fields, got " + std::to_string(records[r].size()));
+    }
+    table.rows_.emplace_back(std::make_move_iterator(records[r].begin()),
+                             std::make_move_iterator(records[r].end()));
+  }
+  return table;
+}
+
+CsvTable CsvTable::read(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot open CSV file '" + path.string() + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), path.string());
+}
+
+}  // namespace asperity::app

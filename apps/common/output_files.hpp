@@ -1,0 +1,75 @@
+// Result files. Everything is written to a temporary file next to the target and renamed over it,
+// so a killed run leaves either the old file or the complete new one, never a truncated one.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace asperity::app {
+
+// Creates the directory and its parents if needed; throws std::runtime_error if that fails or
+// the path exists and is not a directory. Returns `dir`.
+std::filesystem::path ensure_directory(const std::filesystem::path& dir);
+
+// A new, uniquely named empty file in the directory of `target`, removed on destruction unless
+// commit() has renamed it onto `target`. Same directory, so the rename is atomic.
+class TemporaryFile {
+ public:
+  explicit TemporaryFile(const std::filesystem::path& target);
+  ~TemporaryFile();
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_, path_;
+  bool committed_ = false;
+};
+
+// Throws std::runtime_error naming `path` on failure.
+void write_file_atomic(const std::filesystem::path& path, std::string_view content);
+
+// Pretty-printed with a 2-space indent and a trailing newline.
+void write_json(const std::filesystem::path& path, const nlohmann::json& value);
+
+// Comma-separated table with a header line. Doubles are written in shortest round-trip form, so
+// reading a written table back gives bit-identical values. Fields containing commas, quotes or
+// line breaks are quoted as in RFC 4180.
+class CsvTable {
+ public:
+  using Cell = std::variant<double, long long, std::string>;
+
+  explicit CsvTable(std::vector<std::string> columns);
+
+  // Parsed tables hold every field as a string; the typed accessors below convert.
+  static CsvTable parse(std::string_view text, const std::string& source_name);
+  static CsvTable read(const std::filesystem::path& path);
+
+  const std::vector<std::string>& columns() const { return columns_; }
+  std::size_t rows() const { return rows_.size(); }
+  // Throws std::invalid_argument if the row length differs from the number of columns.
+  void add_row(std::vector<Cell> row);
+
+  std::size_t column_index(std::string_view name) const;  // throws if absent
+  const Cell& cell(std::size_t row, std::size_t column) const { return rows_.at(row).at(column); }
+  double number(std::size_t row, std::string_view column) const;
+  long long integer(std::size_t row, std::string_view column) const;
+  std::string text(std::size_t row, std::string_view column) const;
+
+  std::string to_string() const;
+  void write(const std::filesystem::path& path) const { write_file_atomic(path, to_string()); }
+
+ private:
+  std::vector<std::string> columns_;
+  std::vector<std::vector<Cell>> rows_;
+};
+
+}  // namespace asperity::app

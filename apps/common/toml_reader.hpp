@@ -1,0 +1,82 @@
+// Reading scene files (TOML) into option structs. Every value is validated where it is read, and
+// keys that are never read are reported, so a misspelled key fails loudly instead of silently
+// falling back to a default.
+#pragma once
+
+#include <initializer_list>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace asperity::app {
+
+// Allowed interval for a number; either bound may be absent, open or closed.
+struct Range {
+  std::optional<double> lower, upper;
+  bool lower_closed = true, upper_closed = true;
+
+  static Range any() { return {}; }
+  static Range positive() { return {0.0, std::nullopt, false, true}; }
+  static Range non_negative() { return {0.0, std::nullopt, true, true}; }
+  static Range at_least(double a) { return {a, std::nullopt, true, true}; }
+  static Range greater_than(double a) { return {a, std::nullopt, false, true}; }
+  static Range at_most(double b) { return {std::nullopt, b, true, true}; }
+  static Range less_than(double b) { return {std::nullopt, b, true, false}; }
+  static Range closed(double a, double b) { return {a, b, true, true}; }
+  static Range open(double a, double b) { return {a, b, false, false}; }
+  static Range closed_open(double a, double b) { return {a, b, true, false}; }
+  static Range open_closed(double a, double b) { return {a, b, false, true}; }
+
+  bool contains(double v) const;
+  std::string describe() const;  // e.g. "> 0", ">= 1", "[0, 0.5)", "any"
+};
+
+// A parsed TOML document with typed, validated access through dotted keys ("contact.a").
+// Absent keys yield the caller's default; present keys of the wrong type, non-finite numbers and
+// out-of-range values throw std::invalid_argument naming the file, key, value and allowed set.
+class SceneReader {
+ public:
+  static SceneReader from_file(const std::string& path);
+  static SceneReader from_string(std::string_view text, std::string source_name);
+
+  const std::string& source_name() const { return source_; }
+
+  // Integers are accepted where a number is expected.
+  double number(std::string_view key, double default_value, const Range& range = Range::any());
+  std::optional<double> optional_number(std::string_view key, const Range& range = Range::any());
+  std::vector<double> numbers(std::string_view key, std::vector<double> default_value,
+                              const Range& range = Range::any());
+  std::optional<std::vector<double>> optional_numbers(std::string_view key,
+                                                      const Range& range = Range::any());
+
+  int integer(std::string_view key, int default_value, const Range& range = Range::any());
+  std::optional<int> optional_integer(std::string_view key, const Range& range = Range::any());
+
+  // An empty `allowed` list accepts any string.
+  std::string string(std::string_view key, std::string default_value,
+                     std::initializer_list<std::string_view> allowed = {});
+  std::optional<std::string> optional_string(std::string_view key,
+                                             std::initializer_list<std::string_view> allowed = {});
+
+  bool boolean(std::string_view key, bool default_value);
+  std::optional<bool> optional_boolean(std::string_view key);
+
+  // Throws naming every key present in the document that no getter has asked for.
+  void reject_unknown() const;
+
+ private:
+  SceneReader(toml::table table, std::string source);
+  const toml::node* find(std::string_view key);  // marks the key as read
+  double checked_number(std::string_view key, const toml::node& node, const Range& range) const;
+  std::string where(const toml::node& node) const;
+
+  toml::table table_;
+  std::string source_;
+  std::set<std::string, std::less<>> read_;
+};
+
+}  // namespace asperity::app

@@ -1,0 +1,306 @@
+// Shared helpers of the command-line tools: scene reading, result files, plots, CLI wrapper.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "common/cli.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/toml_reader.hpp"
+
+namespace asperity::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Message of the std::invalid_argument thrown by `f`, or a failure if none is thrown.
+template <class F>
+std::string invalid_argument_message(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no std::invalid_argument thrown";
+  return {};
+}
+
+SceneReader scene(std::string_view text) {
+  return SceneReader::from_string(text, "scene.toml");
+}
+
+TEST(SceneReader, ReadsTypedValuesAndDefaults) {
+  auto s = scene(R"(
+    name = "demo"
+    [contact]
+    a = 2
+    load = 1.5e-3
+    steps = 40
+    method = "fire"
+    verbose = true
+    loads = [1, 2.5]
+  )");
+  EXPECT_EQ(s.string("name", "x"), "demo");
+  EXPECT_EQ(s.number("contact.a", 0.0, Range::positive()), 2.0);  // integer accepted
+  EXPECT_EQ(s.number("contact.load", 0.0), 1.5e-3);
+  EXPECT_EQ(s.integer("contact.steps", 1, Range::at_least(1)), 40);
+  EXPECT_EQ(s.string("contact.method", "cg", {"cg", "fire"}), "fire");
+  EXPECT_TRUE(s.boolean("contact.verbose", false));
+  EXPECT_EQ(s.numbers("contact.loads", {}, Range::positive()), (std::vector<double>{1, 2.5}));
+  EXPECT_EQ(s.number("contact.missing", 7.0), 7.0);
+  EXPECT_FALSE(s.optional_number("other.missing").has_value());
+  EXPECT_NO_THROW(s.reject_unknown());
+}
+
+TEST(SceneReader, RejectsUnknownKeysNamingEach) {
+  auto s = scene("[contact]\na = 1\nradius = 2\n[solver]\ntol = 1e-9\n");
+  s.number("contact.a", 0.0);
+  const std::string msg = invalid_argument_message([&] { s.reject_unknown(); });
+  EXPECT_NE(msg.find("scene.toml"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact.radius"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("solver.tol"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("contact.a"), std::string::npos) << msg;
+}
+
+TEST(SceneReader, RangeViolationNamesKeyValueAndRange) {
+  auto s = scene("[contact]\na = -3\nnu = 0.7\nn = 0\n");
+  EXPECT_NE(invalid_argument_message([&] {
+              s.number("contact.a", 1.0, Range::positive());
+            }).find("scene.toml: contact.a = -3: allowed: > 0"),
+            std::string::npos);
+  EXPECT_NE(invalid_argument_message([&] {
+              s.number("contact.nu", 0.3, Range::closed(0, 0.5));
+            }).find("contact.nu = 0.7: allowed: [0, 0.5]"),
+            std::string::npos);
+  EXPECT_NE(invalid_argument_message([&] {
+              s.integer("contact.n", 1, Range::at_least(1));
+            }).find("contact.n = 0: allowed: >= 1"),
+            std::string::npos);
+}
+
+TEST(SceneReader, TypeErrorsNameKeyAndValue) {
+  auto s = scene("[contact]\na = \"abc\"\nn = 1.5\nmethod = \"bfgs\"\n");
+  EXPECT_NE(invalid_argument_message([&] {
+              s.number("contact.a", 1.0);
+            }).find("key 'contact.a': expected a number, got string \"abc\""),
+            std::string::npos);
+  EXPECT_NE(
+      invalid_argument_message([&] { s.integer("contact.n", 1); }).find("expected an integer"),
+      std::string::npos);
+  EXPECT_NE(invalid_argument_message([&] {
+              s.string("contact.method", "cg", {"cg", "fire"});
+            }).find("contact.method = \"bfgs\": allowed: one of \"cg\", \"fire\""),
+            std::string::npos);
+  EXPECT_NE(invalid_argument_message([&] { s.number("contact.a.b", 1.0); }).find("not a table"),
+            std::string::npos);
+}
+
+TEST(SceneReader, RejectsNonFiniteNumbers) {
+  auto s = scene("a = nan\nb = inf\nc = [1.0, -inf]\n");
+  EXPECT_NE(invalid_argument_message([&] { s.number("a", 1.0); }).find("a = nan: not a finite"),
+            std::string::npos);
+  EXPECT_THROW(s.number("b", 1.0), std::invalid_argument);
+  EXPECT_NE(invalid_argument_message([&] { s.numbers("c", {}); }).find("c[1] = -inf"),
+            std::string::npos);
+}
+
+TEST(SceneReader, ParseErrorNamesFileAndLine) {
+  const std::string msg =
+      invalid_argument_message([] { SceneReader::from_string("a = 1\nb = = 2\n", "bad.toml"); });
+  EXPECT_EQ(msg.rfind("bad.toml:2:", 0), 0u) << msg;
+  EXPECT_THROW(SceneReader::from_file("/nonexistent/scene.toml"), std::invalid_argument);
+}
+
+class FilesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("asperity_app_common_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    ensure_directory(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  std::size_t entries() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {}));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(FilesTest, AtomicWriteReplacesContentAndLeavesNoTemporaries) {
+  const fs::path p = dir_ / "out.txt";
+  write_file_atomic(p, "first version, longer\n");
+  write_file_atomic(p, "second\n");
+  EXPECT_EQ(slurp(p), "second\n");
+  EXPECT_EQ(entries(), 1u);
+  EXPECT_THROW(write_file_atomic(dir_ / "missing" / "x.txt", "x"), std::runtime_error);
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(FilesTest, WriteJsonIsPrettyWithTrailingNewline) {
+  write_json(dir_ / "r.json", {{"a", 1}});
+  EXPECT_EQ(slurp(dir_ / "r.json"), "{\n  \"a\": 1\n}\n");
+}
+
+TEST_F(FilesTest, EnsureDirectoryRejectsFiles) {
+  EXPECT_EQ(ensure_directory(dir_ / "a" / "b"), dir_ / "a" / "b");
+  EXPECT_TRUE(fs::is_directory(dir_ / "a" / "b"));
+  write_file_atomic(dir_ / "f", "x");
+  EXPECT_THROW(ensure_directory(dir_ / "f"), std::runtime_error);
+}
+
+TEST_F(FilesTest, CsvRoundTripIsBitIdentical) {
+  const std::vector<double> values = {0.1,
+                                      1.0 / 3.0,
+                                      -2.5e-300,
+                                      std::numeric_limits<double>::denorm_min(),
+                                      std::numeric_limits<double>::max(),
+                                      std::nextafter(1.0, 2.0)};
+  CsvTable table({"i", "value", "label"});
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    table.add_row({static_cast<long long>(i), values[i], i % 2 ? "plain" : "with, \"quote\"\n"});
+  }
+  EXPECT_THROW(table.add_row({1.0}), std::invalid_argument);
+  table.write(dir_ / "t.csv");
+  EXPECT_EQ(entries(), 1u);
+
+  const CsvTable back = CsvTable::read(dir_ / "t.csv");
+  ASSERT_EQ(back.columns(), table.columns());
+  ASSERT_EQ(back.rows(), values.size());
+  for (std::size_t r = 0; r < values.size(); ++r) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(back.number(r, "value")),
+              std::bit_cast<std::uint64_t>(values[r]));
+    EXPECT_EQ(back.integer(r, "i"), static_cast<long long>(r));
+    EXPECT_EQ(back.text(r, "label"), table.text(r, "label"));
+  }
+  EXPECT_EQ(back.to_string(), table.to_string());
+  EXPECT_THROW(back.number(0, "label"), std::invalid_argument);
+  EXPECT_THROW(back.number(0, "nope"), std::invalid_argument);
+  EXPECT_THROW(CsvTable::parse("a,b\n1\n", "x.csv"), std::invalid_argument);
+}
+
+bool is_png(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, sizeof magic);
+  return in && std::string_view(magic, 8) == "\x89PNG\r\n\x1a\n";
+}
+
+TEST_F(FilesTest, PlotWritesPng) {
+  std::vector<double> x, y;
+  for (int i = 0; i < 50; ++i) {
+    x.push_back(0.1 * (i + 1));
+    y.push_back(std::exp(-x.back()));
+  }
+  y[10] = std::numeric_limits<double>::quiet_NaN();
+  PlotOptions options;
+  options.title = "it's a test";
+  options.xlabel = "x_0";
+  options.logy = true;
+  options.keep_script = true;
+  plot_png(dir_ / "p.png", {{x, y, "exp(-x)"}, {x, x, "", "points"}}, options);
+  EXPECT_TRUE(is_png(dir_ / "p.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "p.gp"));
+  EXPECT_EQ(entries(), 2u);
+
+  EXPECT_THROW(plot_png(dir_ / "q.png", {{x, {1.0}, "bad"}}, {}), std::invalid_argument);
+  PlotOptions broken;
+  broken.extra_commands = {"this is not gnuplot"};
+  EXPECT_THROW(plot_png(dir_ / "q.png", {{x, y, ""}}, broken), std::runtime_error);
+  EXPECT_EQ(entries(), 2u);
+}
+
+TEST_F(FilesTest, HeatmapWritesPng) {
+  const std::vector<double> x = {0, 1, 2, 4}, y = {0, 0.5, 1};
+  std::vector<double> v;
+  for (double xi : x) {
+    for (double yj : y)
+      v.push_back(xi * yj);
+  }
+  PlotOptions options;
+  options.title = "map";
+  heatmap_png(dir_ / "h.png", x, y, v, options, "energy", std::pair{0.0, 4.0},
+              {{{0, 4}, {0, 1}, "path"}});
+  EXPECT_TRUE(is_png(dir_ / "h.png"));
+  EXPECT_EQ(entries(), 1u);
+  EXPECT_THROW(heatmap_png(dir_ / "h.png", x, y, {1.0}, options), std::invalid_argument);
+}
+
+int run_with(const std::function<int(int, char**)>& body, std::string& err,
+             std::vector<std::string> args = {"/usr/bin/tool"}) {
+  std::vector<char*> argv;
+  for (auto& a : args)
+    argv.push_back(a.data());
+  ::testing::internal::CaptureStderr();
+  const int status = run_main(static_cast<int>(argv.size()), argv.data(), body);
+  err = ::testing::internal::GetCapturedStderr();
+  return status;
+}
+
+TEST(RunMain, MapsExceptionsToExitStatus) {
+  std::string err;
+  EXPECT_EQ(run_with([](int, char**) { return 0; }, err), 0);
+  EXPECT_EQ(run_with([](int, char**) -> int { throw std::invalid_argument("bad k"); }, err), 2);
+  EXPECT_EQ(err, "tool: error: bad k\n");
+  EXPECT_EQ(run_with([](int, char**) -> int { throw std::runtime_error("disk full"); }, err), 1);
+  EXPECT_EQ(err, "tool: error: disk full\n");
+}
+
+TEST(RunMain, CommandLineParsing) {
+  auto body = [](int argc, char** argv) {
+    CLI::App cli{"test tool"};
+    double load = 0;
+    cli.add_option("--load", load, "Normal load");
+    if (!parse_command_line(cli, argc, argv)) return 0;
+    return load == 2.0 ? 0 : 3;
+  };
+  std::string err;
+  EXPECT_EQ(run_with(body, err, {"tool", "--load", "2"}), 0);
+  EXPECT_EQ(run_with(body, err, {"tool", "--bogus"}), 2);
+  EXPECT_EQ(err.rfind("tool: error: ", 0), 0u) << err;
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(run_with(body, err, {"tool", "--help"}), 0);
+  EXPECT_NE(::testing::internal::GetCapturedStdout().find("--load"), std::string::npos);
+}
+
+TEST(Provenance, HasVersionAndDate) {
+  const auto j = provenance_json();
+  const std::string version = j.at("version").get<std::string>();
+  EXPECT_FALSE(version.empty());
+  EXPECT_FALSE(j.at("commit").get<std::string>().empty());
+  EXPECT_EQ(j.at("date_utc").get<std::string>().size(), 20u);  // 2024-01-31T12:00:00Z
+  EXPECT_EQ(provenance_string().rfind("asperity " + version, 0), 0u);
+}
+
+TEST(Progress, PrintsALineEveryStepInLogs) {
+  std::ostringstream out;
+  {
+    Progress progress("relax", 200, out, false, 25);
+    for (int i = 0; i < 200; ++i)
+      progress.advance();
+  }
+  const std::string text = out.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 5) << text;  // 0, 25, 50, 75, 100 %
+  EXPECT_NE(text.find("relax: 200/200 (100%)"), std::string::npos) << text;
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace asperity::app
