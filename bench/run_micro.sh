@@ -12,11 +12,11 @@ commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || ech
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 # Median times (ms) per benchmark name, from Google Benchmark's JSON.
 median() {
-  grep -A8 "\"name\": \"$1_median\"" "$json" | grep '"real_time"' | head -1 |
+  grep -A12 "\"name\": \"$1/real_time_median\"" "$json" | grep '"real_time"' | head -1 |
     sed 's/.*: *\([0-9.e+-]*\).*/\1/'
 }
 stddev() {
-  grep -A8 "\"name\": \"$1_stddev\"" "$json" | grep '"real_time"' | head -1 |
+  grep -A12 "\"name\": \"$1/real_time_stddev\"" "$json" | grep '"real_time"' | head -1 |
     sed 's/.*: *\([0-9.e+-]*\).*/\1/'
 }
 rows=""

@@ -13,6 +13,7 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <barrier>
 #include <cassert>
 #include <mutex>
 #include <stdexcept>
@@ -108,25 +109,20 @@ class FFTWEngine final : public Engine {
       }
       fourier_rows_clean_ = true;
     }
-    for (int f = 0; f < fields(); ++f) {
-      fftw_execute_dft_r2c(rows_forward_, input_[f], as_fftw(fourier_[f]));
-    }
-    const int workers = std::min(threads_, blocks_);
+    const int workers = workers_;
     if (workers <= 1) {
-      for (int b = 0; b < blocks_; ++b)
-        column_block(b, scratch_[0], multiplier);
-    } else {
-      std::vector<std::jthread> pool;
-      for (int t = 0; t < workers; ++t) {
-        pool.emplace_back([this, t, workers, &multiplier] {
-          for (int b = t; b < blocks_; b += workers)
-            column_block(b, scratch_[t], multiplier);
-        });
-      }
+      convolve_part(0, 1, multiplier, nullptr);
+      return;
     }
-    for (int f = 0; f < fields(); ++f) {
-      fftw_execute_dft_c2r(rows_inverse_, as_fftw(fourier_[f]), output_[f]);
+    // One parallel region per call: rows, then column blocks, then rows again, each phase
+    // split over the workers, with a barrier between phases.
+    std::barrier sync(workers);
+    std::vector<std::jthread> pool;
+    for (int t = 1; t < workers; ++t) {
+      pool.emplace_back(
+          [this, t, workers, &multiplier, &sync] { convolve_part(t, workers, multiplier, &sync); });
     }
+    convolve_part(0, workers, multiplier, &sync);
   }
 
   [[nodiscard]] std::string backend() const override { return "fftw3"; }
@@ -150,13 +146,32 @@ class FFTWEngine final : public Engine {
     fftw_plan_with_nthreads(options.threads);
     forward_ = fftw_plan_dft_r2c(2, n, input_[0], as_fftw(fourier_[0]), flags);
     inverse_ = fftw_plan_dft_c2r(2, n, as_fftw(fourier_[0]), output_[0], flags);
-    const int support = support_rows();
-    rows_forward_ = fftw_plan_many_dft_r2c(1, &n[1], support, input_[0], nullptr, 1, s.n1,
-                                           as_fftw(fourier_[0]), nullptr, 1, fs.n1, flags);
-    rows_inverse_ = fftw_plan_many_dft_c2r(1, &n[1], support, as_fftw(fourier_[0]), nullptr, 1,
-                                           fs.n1, output_[0], nullptr, 1, s.n1, flags);
-    // Column blocks run one per thread, so each transform is single-threaded.
+    // The transforms of convolve() run one per thread, so each is single-threaded. Each worker
+    // transforms a batch of consecutive rows: batch sizes are floor and ceil of support/workers.
+    // A batch that does not start on the buffer's alignment needs an unaligned plan.
     fftw_plan_with_nthreads(1);
+    const int support = support_rows();
+    workers_ = std::min({threads_, blocks_, support});
+    bool rows_aligned = true;
+    for (int t = 0; t < workers_; ++t) {
+      const std::size_t r0 = batch_start(t);
+      rows_aligned =
+          rows_aligned && fftw_alignment_of(input_[0] + s.index(static_cast<int>(r0), 0)) == 0 &&
+          fftw_alignment_of(
+              reinterpret_cast<double*>(fourier_[0] + fs.index(static_cast<int>(r0), 0))) == 0;
+    }
+    const unsigned row_flags = flags | (rows_aligned ? 0u : static_cast<unsigned>(FFTW_UNALIGNED));
+    for (int k = 0; k < 2; ++k) {
+      const int batch = support / workers_ + k;
+      if (k == 1 && support % workers_ == 0) break;
+      rows_forward_[k] = fftw_plan_many_dft_r2c(1, &n[1], batch, input_[0], nullptr, 1, s.n1,
+                                                as_fftw(fourier_[0]), nullptr, 1, fs.n1, row_flags);
+      rows_inverse_[k] = fftw_plan_many_dft_c2r(1, &n[1], batch, as_fftw(fourier_[0]), nullptr, 1,
+                                                fs.n1, output_[0], nullptr, 1, s.n1, row_flags);
+      if (rows_forward_[k] == nullptr || rows_inverse_[k] == nullptr) {
+        throw std::runtime_error("fft: FFTW could not plan the row transforms");
+      }
+    }
     for (int k = 0; k < 2; ++k) {
       const int w = widths_[k];
       if (w == 0) continue;
@@ -170,9 +185,34 @@ class FFTWEngine final : public Engine {
     const bool columns_ok =
         (columns_forward_[0] != nullptr && columns_inverse_[0] != nullptr) &&
         (widths_[1] == 0 || (columns_forward_[1] != nullptr && columns_inverse_[1] != nullptr));
-    if (forward_ == nullptr || inverse_ == nullptr || rows_forward_ == nullptr ||
-        rows_inverse_ == nullptr || !columns_ok) {
+    if (forward_ == nullptr || inverse_ == nullptr || !columns_ok) {
       throw std::runtime_error("fft: FFTW could not plan the transforms");
+    }
+  }
+
+  // First row of worker t's batch: batches of floor(S/W) rows, the first S mod W one longer.
+  [[nodiscard]] int batch_start(int t) const {
+    const int base = support_rows() / workers_, extra = support_rows() % workers_;
+    return t * base + std::min(t, extra);
+  }
+
+  // Worker t of `workers`: its share of each phase of convolve().
+  void convolve_part(int t, int workers, const Multiplier& multiplier, std::barrier<>* sync) {
+    const Shape2 s = real_shape(), fs = fourier_shape();
+    const int support = support_rows();
+    const int r0 = batch_start(t);
+    const int kind = t < support % workers ? 1 : 0;
+    for (int f = 0; f < fields(); ++f) {
+      fftw_execute_dft_r2c(rows_forward_[kind], input_[f] + s.index(r0, 0),
+                           as_fftw(fourier_[f] + fs.index(r0, 0)));
+    }
+    if (sync != nullptr) sync->arrive_and_wait();
+    for (int b = t; b < blocks_; b += workers)
+      column_block(b, scratch_[t], multiplier);
+    if (sync != nullptr) sync->arrive_and_wait();
+    for (int f = 0; f < fields(); ++f) {
+      fftw_execute_dft_c2r(rows_inverse_[kind], as_fftw(fourier_[f] + fs.index(r0, 0)),
+                           output_[f] + s.index(r0, 0));
     }
   }
 
@@ -202,9 +242,9 @@ class FFTWEngine final : public Engine {
   void destroy() {
     {
       std::lock_guard<std::mutex> lock(planner_mutex());
-      for (fftw_plan* p :
-           {&forward_, &inverse_, &rows_forward_, &rows_inverse_, &columns_forward_[0],
-            &columns_forward_[1], &columns_inverse_[0], &columns_inverse_[1]}) {
+      for (fftw_plan* p : {&forward_, &inverse_, &rows_forward_[0], &rows_forward_[1],
+                           &rows_inverse_[0], &rows_inverse_[1], &columns_forward_[0],
+                           &columns_forward_[1], &columns_inverse_[0], &columns_inverse_[1]}) {
         if (*p != nullptr) fftw_destroy_plan(*p);
         *p = nullptr;
       }
@@ -229,7 +269,8 @@ class FFTWEngine final : public Engine {
   bool fourier_rows_clean_ = true;
   std::vector<std::complex<double>*> scratch_;  // one per thread: fields x n0 x block_width
   fftw_plan forward_ = nullptr, inverse_ = nullptr;
-  fftw_plan rows_forward_ = nullptr, rows_inverse_ = nullptr;
+  int workers_ = 1;  // threads used by convolve()
+  fftw_plan rows_forward_[2] = {nullptr, nullptr}, rows_inverse_[2] = {nullptr, nullptr};
   fftw_plan columns_forward_[2] = {nullptr, nullptr}, columns_inverse_[2] = {nullptr, nullptr};
 };
 
