@@ -76,20 +76,28 @@ double patch_gf(const Material& m, int i, int j, double x, double y, double d) {
   return c * ((1.0 - m.nu) * over_patch(anti_inv_r, x, y, h) + m.nu * aligned);
 }
 
+void fourier_gf_tensor(const Material& m, double qx, double qy, std::complex<double> (&g)[3][3]) {
+  const double q2 = qx * qx + qy * qy;
+  assert(q2 > 0.0);
+  const double q = std::sqrt(q2);
+  const double c = 1.0 / (m.G * q);
+  const double nu_q2 = m.nu / q2;
+  g[0][0] = c * (1.0 - nu_q2 * qx * qx);
+  g[1][1] = c * (1.0 - nu_q2 * qy * qy);
+  g[0][1] = g[1][0] = -c * nu_q2 * qx * qy;
+  g[2][2] = c * (1.0 - m.nu);
+  const double s = (1.0 - 2.0 * m.nu) / (2.0 * m.G * q2);
+  g[0][2] = {0.0, -s * qx};
+  g[1][2] = {0.0, -s * qy};
+  g[2][0] = {0.0, s * qx};
+  g[2][1] = {0.0, s * qy};
+}
+
 std::complex<double> fourier_gf(const Material& m, int i, int j, double qx, double qy) {
   assert(i >= 0 && i < 3 && j >= 0 && j < 3);
-  const double q2 = qx * qx + qy * qy;
-  const double q = std::sqrt(q2);
-  assert(q > 0.0);
-  if (i == 2 && j == 2) return (1.0 - m.nu) / (m.G * q);
-  if (i == 2 || j == 2) {
-    const double qa = (i == 2 ? j : i) == 0 ? qx : qy;
-    const double s = (1.0 - 2.0 * m.nu) * qa / (2.0 * m.G * q2);
-    return {0.0, i == 2 ? s : -s};
-  }
-  const double qi = i == 0 ? qx : qy;
-  const double qj = j == 0 ? qx : qy;
-  return ((i == j ? 1.0 : 0.0) - m.nu * qi * qj / q2) / (m.G * q);
+  std::complex<double> g[3][3];
+  fourier_gf_tensor(m, qx, qy, g);
+  return g[i][j];
 }
 
 }  // namespace asperity::elastic

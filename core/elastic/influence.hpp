@@ -33,4 +33,8 @@ double patch_gf(const Material& m, int i, int j, double x, double y, double d);
 // Continuum Fourier-space surface Green's function, u(q) = G(q) f(q), for q != 0.
 std::complex<double> fourier_gf(const Material& m, int i, int j, double qx, double qy);
 
+// All of it at once: g[i][j] = G_ij(q). The lattice sums of the periodic GF evaluate it at
+// hundreds of images per wave vector.
+void fourier_gf_tensor(const Material& m, double qx, double qy, std::complex<double> (&g)[3][3]);
+
 }  // namespace asperity::elastic

@@ -189,6 +189,10 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
   const double scale = engine_->normalisation() / (d * d);
   using Block = Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic>;
   Block g(ncomp(), ncomp());
+  std::complex<double> tensor[3][3];
+  int axis[3] = {0, 0, 0};
+  for (int k = 0; k < ncomp(); ++k)
+    axis[k] = component_axis(components, k);
   // The image sum runs over the 2M+1 Brillouin zones around q = 0 in each direction, with half
   // weight on the zone boundary so that the truncation stays symmetric in q (q = pi/d included).
   const double limit = (2 * alias_images + 1) * std::numbers::pi / d;
@@ -214,11 +218,10 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
           const double w1 = window(Q1);
           if (w1 == 0.0) continue;
           const double s = s0 * w1 * sinc(0.5 * Q1 * d);
+          fourier_gf_tensor(material, Q0, Q1, tensor);
           for (int k = 0; k < ncomp(); ++k) {
-            for (int l = 0; l < ncomp(); ++l) {
-              g(k, l) += s * fourier_gf(material, component_axis(components, k),
-                                        component_axis(components, l), Q0, Q1);
-            }
+            for (int l = 0; l < ncomp(); ++l)
+              g(k, l) += s * tensor[axis[k]][axis[l]];
           }
         }
       }
