@@ -9,6 +9,7 @@ find_package(CLI11 REQUIRED CONFIG)
 find_package(tomlplusplus REQUIRED CONFIG)
 find_package(nlohmann_json 3.10 REQUIRED CONFIG)
 find_package(netCDF REQUIRED CONFIG)
+find_package(spectra 1.0 REQUIRED CONFIG)
 find_package(Threads REQUIRED)
 
 find_package(PkgConfig REQUIRED)

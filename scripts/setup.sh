@@ -11,7 +11,7 @@ packages=(
   build-essential cmake pkg-config git
   libeigen3-dev libfftw3-dev libsundials-dev libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
-  libnetcdf-dev gnuplot-nox
+  libnetcdf-dev netcdf-bin libspectra-dev gnuplot-nox
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -10,6 +10,7 @@ enum class Termination {
   max_iterations,  // iteration cap hit before the tolerance
   diverged,        // non-finite values or a growing residual
   unstable,        // converged onto a state that is not a minimum
+  interrupted,     // stopped on request of the caller (e.g. a trial step that slipped)
 };
 
 inline std::string to_string(Termination t) {
@@ -22,6 +23,8 @@ inline std::string to_string(Termination t) {
       return "diverged";
     case Termination::unstable:
       return "unstable";
+    case Termination::interrupted:
+      return "interrupted";
   }
   return "unknown";
 }

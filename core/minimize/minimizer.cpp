@@ -1,0 +1,530 @@
+// Minimisers of SOLVERS.md in the pair representation; see minimizer.hpp for the methods.
+#include "minimize/minimizer.hpp"
+
+#include <Spectra/SymEigsSolver.h>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+namespace asperity::minimize {
+
+namespace {
+
+double dot(std::span<const double> a, std::span<const double> b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    s += a[i] * b[i];
+  return s;
+}
+
+double max_abs(std::span<const double> a) {
+  double m = 0.0;
+  for (double x : a)
+    m = std::max(m, std::abs(x));
+  return m;
+}
+
+// x = a + t b
+void axpy_into(std::span<double> x, std::span<const double> a, double t,
+               std::span<const double> b) {
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = a[i] + t * b[i];
+}
+
+// Energy and gradient at a pair, with the bookkeeping of evaluations.
+class Evaluator {
+ public:
+  explicit Evaluator(Problem& p) : p_(p), fint_(p.size()) {}
+
+  double operator()(std::span<const double> u, std::span<const double> f, std::span<double> r) {
+    const double v = p_.interface(u, fint_);
+    for (std::size_t i = 0; i < r.size(); ++i)
+      r[i] = f[i] - fint_[i];
+    ++evaluations;
+    return 0.5 * dot(f, u) + v;
+  }
+
+  std::size_t evaluations = 0;
+
+ private:
+  Problem& p_;
+  std::vector<double> fint_;
+};
+
+// Energies of a whole contact are resolved only to round-off: a rise below this is noise, and
+// the derivative conditions decide (SOLVERS.md: slopes, not energy differences).
+double energy_slack(double e) {
+  return 1e-12 * std::max(1.0, std::abs(e));
+}
+
+struct Point {
+  std::vector<double> u, f, r;
+  double e = 0.0;
+};
+
+// Line search along (du, df) satisfying the strong Wolfe conditions on the slope, with the
+// Armijo condition relaxed by the energy resolution. Bracketing by doubling (up to t_max),
+// zoom by safeguarded cubic interpolation of the slopes. Returns false if no point with an
+// energy not above the start (within round-off) was found.
+bool line_search(Evaluator& eval, const Point& x, std::span<const double> du,
+                 std::span<const double> df, double d0, double t_init, double t_max, double c2,
+                 Point& out) {
+  constexpr double c1 = 1e-4;
+  const double slack = energy_slack(x.e);
+  const auto at = [&](double t, double& e, double& d) {
+    axpy_into(out.u, x.u, t, du);
+    axpy_into(out.f, x.f, t, df);
+    e = out.e = eval(out.u, out.f, out.r);
+    d = dot(out.r, du);
+  };
+  const auto sufficient = [&](double t, double e) { return e <= x.e + c1 * t * d0 + slack; };
+  double t_lo = 0.0, e_lo = x.e, d_lo = d0;
+  double t_hi = 0.0, e_hi = 0.0, d_hi = 0.0;
+  bool bracketed = false;
+  double t = std::min(t_init, t_max);
+  double best_t = 0.0, best_e = x.e;
+  for (int k = 0; k < 40; ++k) {
+    double e = 0.0, d = 0.0;
+    at(t, e, d);
+    if (e < best_e) {
+      best_e = e;
+      best_t = t;
+    }
+    if (!sufficient(t, e) || (k > 0 && e > e_lo + slack)) {
+      bracketed = true;
+      t_hi = t, e_hi = e, d_hi = d;
+    } else {
+      if (std::abs(d) <= -c2 * d0) return true;
+      if (d >= 0.0) {
+        bracketed = true;
+        t_hi = t_lo, e_hi = e_lo, d_hi = d_lo;
+        t_lo = t, e_lo = e, d_lo = d;
+      } else {
+        t_lo = t, e_lo = e, d_lo = d;
+        if (!bracketed) {
+          if (t >= t_max) return true;  // capped step: still a descent step
+          t = std::min(2.0 * t, t_max);
+          continue;
+        }
+      }
+    }
+    // Zoom: cubic interpolation of the slopes between lo and hi, kept inside the bracket.
+    const double a = std::min(t_lo, t_hi), b = std::max(t_lo, t_hi);
+    double trial = 0.5 * (a + b);
+    const double denom = d_hi - d_lo;
+    if (std::abs(denom) > 0.0) trial = t_lo - d_lo * (t_hi - t_lo) / denom;  // secant on slope
+    const double margin = 0.1 * (b - a);
+    if (!(trial > a + margin && trial < b - margin)) trial = 0.5 * (a + b);
+    if (b - a < 1e-14 * std::max(1.0, b)) break;
+    t = trial;
+    (void)e_hi;
+  }
+  if (best_t > 0.0 && best_e <= x.e + slack) {
+    double e = 0.0, d = 0.0;
+    at(best_t, e, d);
+    return true;
+  }
+  return false;
+}
+
+// A = G + G H G, the Hessian K + H in force coordinates (congruent, same inertia).
+class HessianOp {
+ public:
+  using Scalar = double;
+  HessianOp(Problem& p, std::span<const double> h) : p_(&p), h_(h), z_(p.size()), t_(p.size()) {}
+  [[nodiscard]] Eigen::Index rows() const { return static_cast<Eigen::Index>(h_.size()); }
+  [[nodiscard]] Eigen::Index cols() const { return rows(); }
+  void perform_op(const double* x, double* y) const {
+    const std::size_t n = h_.size();
+    p_->compliance({x, n}, z_);
+    for (std::size_t i = 0; i < n; ++i)
+      t_[i] = h_[i] * z_[i];
+    p_->compliance(t_, {y, n});
+    for (std::size_t i = 0; i < n; ++i)
+      y[i] += z_[i];
+  }
+
+ private:
+  Problem* p_;
+  std::span<const double> h_;
+  mutable std::vector<double> z_, t_;
+};
+
+}  // namespace
+
+std::string to_string(Method m) {
+  switch (m) {
+    case Method::lbfgs:
+      return "lbfgs";
+    case Method::cg:
+      return "cg";
+    case Method::fire:
+      return "fire";
+  }
+  return "lbfgs";
+}
+
+Method method_from_string(const std::string& name) {
+  if (name == "lbfgs") return Method::lbfgs;
+  if (name == "cg") return Method::cg;
+  if (name == "fire") return Method::fire;
+  throw std::invalid_argument("minimizer method: got '" + name + "', allowed: lbfgs, cg, fire");
+}
+
+void MinimizerOptions::validate() const {
+  const auto fail = [](const std::string& what, double v, const std::string& allowed) {
+    throw std::invalid_argument("MinimizerOptions." + what + ": got " + std::to_string(v) +
+                                ", allowed: " + allowed);
+  };
+  if (!(force_tolerance > 0.0) || !std::isfinite(force_tolerance)) {
+    fail("force_tolerance", force_tolerance, "finite and > 0");
+  }
+  if (max_iterations < 1) fail("max_iterations", max_iterations, ">= 1");
+  if (memory < 1 || memory > 100) fail("memory", memory, "1 to 100");
+  if (!(max_displacement > 0.0) || !std::isfinite(max_displacement)) {
+    fail("max_displacement", max_displacement, "finite and > 0");
+  }
+  if (refresh_interval < 1) fail("refresh_interval", refresh_interval, ">= 1");
+  if (max_escapes < 0) fail("max_escapes", max_escapes, ">= 0");
+  if (!(escape_displacement > 0.0) || !std::isfinite(escape_displacement)) {
+    fail("escape_displacement", escape_displacement, "finite and > 0");
+  }
+  if (!(perturbation > 0.0) || !std::isfinite(perturbation)) {
+    fail("perturbation", perturbation, "finite and > 0");
+  }
+}
+
+Stability lowest_mode(Problem& problem, std::span<const double> u) {
+  const std::size_t n = problem.size();
+  const std::size_t gf0 = problem.gf_applications();
+  std::vector<double> h(n);
+  problem.curvature(u, h);
+  HessianOp op(problem, h);
+  Stability s;
+  Eigen::VectorXd w;
+  if (n <= 60) {  // small problems: the dense matrix, column by column
+    Eigen::MatrixXd a(n, n);
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    for (std::size_t j = 0; j < n; ++j) {
+      e.setZero();
+      e(static_cast<Eigen::Index>(j)) = 1.0;
+      op.perform_op(e.data(), a.col(static_cast<Eigen::Index>(j)).data());
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (a + a.transpose()));
+    s.lowest = es.eigenvalues()(0);
+    w = es.eigenvectors().col(0);
+    s.converged = true;
+  } else {
+    const auto ncv = static_cast<Eigen::Index>(std::min<std::size_t>(n, 30));
+    Spectra::SymEigsSolver<HessianOp> eigs(op, 1, ncv);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::SmallestAlge, 300, 1e-6, Spectra::SortRule::SmallestAlge);
+    s.converged = eigs.info() == Spectra::CompInfo::Successful;
+    if (eigs.eigenvalues().size() > 0) {
+      s.lowest = eigs.eigenvalues()(0);
+      w = eigs.eigenvectors().col(0);
+    } else {
+      s.lowest = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  if (w.size() == static_cast<Eigen::Index>(n)) {
+    s.direction_f.assign(w.data(), w.data() + n);
+    s.direction_u.resize(n);
+    problem.compliance(s.direction_f, s.direction_u);
+  }
+  s.gf_applications = problem.gf_applications() - gf0;
+  return s;
+}
+
+MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<double>& f,
+                        const MinimizerOptions& options, const Observer& observer) {
+  options.validate();
+  const std::size_t n = problem.size();
+  if (u.size() != n || f.size() != n) {
+    throw std::invalid_argument("minimize: the pair has " + std::to_string(u.size()) + " and " +
+                                std::to_string(f.size()) + " values for " + std::to_string(n) +
+                                " unknowns");
+  }
+  const std::size_t gf0 = problem.gf_applications();
+  MinimizeResult res;
+  res.lowest_eigenvalue = std::numeric_limits<double>::quiet_NaN();
+  Evaluator eval(problem);
+  Point x{u, f, std::vector<double>(n), 0.0};
+  Point trial{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
+  x.e = eval(x.u, x.f, x.r);
+
+  // L-BFGS memory and the CG/FIRE state.
+  struct Pair {
+    std::vector<double> s, df, y;
+    double rho;
+  };
+  std::deque<Pair> memory;
+  std::vector<double> du(n), df(n), q(n), z(n), alpha_coef;
+  std::vector<double> du_prev(n, 0.0), df_prev(n, 0.0), z_prev(n, 0.0), r_prev(n, 0.0);
+  double rz_prev = 0.0;
+  bool restart = true;
+  // FIRE state.
+  std::vector<double> vu(n, 0.0), vf(n, 0.0);
+  double dt = 0.1, fire_alpha = 0.1;
+  int fire_positive = 0;
+  constexpr double dt_max = 1.0, fire_alpha0 = 0.1;
+
+  const auto finite = [](std::span<const double> a) {
+    for (double v : a) {
+      if (!std::isfinite(v)) return false;
+    }
+    return true;
+  };
+
+  int it = 0;
+  for (; it < options.max_iterations; ++it) {
+    if (!std::isfinite(x.e) || !finite(x.r)) {
+      res.termination = Termination::diverged;
+      break;
+    }
+    res.max_force = max_abs(x.r);
+    if (res.max_force <= options.force_tolerance) {
+      if (options.stability == StabilityCheck::none) {
+        res.termination = Termination::converged;
+        break;
+      }
+      std::vector<double> h(n);
+      problem.curvature(x.u, h);
+      if (*std::min_element(h.begin(), h.end()) >= 0.0) {  // K + H_int > 0 trivially
+        res.termination = Termination::converged;
+        break;
+      }
+      res.stability_checked = true;
+      bool unstable = false;
+      if (options.stability == StabilityCheck::perturb) {
+        // Push, relax without a check, and compare.
+        std::mt19937 gen(static_cast<unsigned>(n + static_cast<std::size_t>(it)));
+        std::uniform_real_distribution<double> dist(-1.0, 1.0);
+        for (double& v : q)
+          v = dist(gen);
+        problem.compliance(q, z);
+        const double eta = options.perturbation / std::max(1e-300, max_abs(z));
+        std::vector<double> pu(n), pf(n);
+        axpy_into(pu, x.u, eta, z);
+        axpy_into(pf, x.f, eta, q);
+        MinimizerOptions inner = options;
+        inner.stability = StabilityCheck::none;
+        inner.max_iterations = std::max(1, options.max_iterations - it);
+        const MinimizeResult again = minimize(problem, pu, pf, inner);
+        it += again.iterations;
+        double moved = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+          moved = std::max(moved, std::abs(pu[i] - x.u[i]));
+        unstable = again.termination == Termination::converged &&
+                   again.energy < x.e - energy_slack(x.e) && moved > 10.0 * options.perturbation;
+        if (unstable) {
+          x.u = std::move(pu);
+          x.f = std::move(pf);
+          x.e = eval(x.u, x.f, x.r);
+        }
+      } else {
+        Stability st = lowest_mode(problem, x.u);
+        res.lowest_eigenvalue = st.lowest;
+        // Scale of A: its Rayleigh quotient along the mode's own G-image is ~ |G|.
+        const double scale =
+            std::max(1e-300, dot(st.direction_u, st.direction_f) /
+                                 std::max(1e-300, dot(st.direction_f, st.direction_f)));
+        unstable = st.lowest < -1e-8 * scale && !st.direction_u.empty();
+        if (unstable) {
+          // Leave the saddle along its unstable mode, on the side of lower energy.
+          const double eta =
+              options.escape_displacement / std::max(1e-300, max_abs(st.direction_u));
+          double best_e = std::numeric_limits<double>::infinity();
+          double best_sign = 1.0;
+          for (double sign : {1.0, -1.0}) {
+            axpy_into(trial.u, x.u, sign * eta, st.direction_u);
+            axpy_into(trial.f, x.f, sign * eta, st.direction_f);
+            const double e = eval(trial.u, trial.f, trial.r);
+            if (e < best_e) best_e = e, best_sign = sign;
+          }
+          axpy_into(x.u, x.u, best_sign * eta, st.direction_u);
+          axpy_into(x.f, x.f, best_sign * eta, st.direction_f);
+          x.e = eval(x.u, x.f, x.r);
+        }
+      }
+      if (!unstable) {
+        res.termination = Termination::converged;
+        break;
+      }
+      if (++res.escapes > options.max_escapes) {
+        res.termination = Termination::unstable;
+        break;
+      }
+      memory.clear();
+      restart = true;
+      std::fill(vu.begin(), vu.end(), 0.0);
+      std::fill(vf.begin(), vf.end(), 0.0);
+      continue;
+    }
+
+    if (it > 0 && it % options.refresh_interval == 0) {  // remove drift of the pair
+      problem.compliance(x.f, x.u);
+      x.e = eval(x.u, x.f, x.r);
+    }
+
+    if (options.method == Method::fire) {
+      // Preconditioned force: -G r in u, -r in f.
+      problem.compliance(x.r, z);
+      for (std::size_t i = 0; i < n; ++i)
+        q[i] = -x.r[i];  // K-image of -z
+      const double power = -dot(x.r, vu);
+      if (power > 0.0) {
+        const double vnorm = std::sqrt(std::max(0.0, dot(vu, vf)));
+        const double fnorm = std::sqrt(std::max(1e-300, dot(z, x.r)));
+        for (std::size_t i = 0; i < n; ++i) {
+          vu[i] = (1.0 - fire_alpha) * vu[i] - fire_alpha * vnorm / fnorm * z[i];
+          vf[i] = (1.0 - fire_alpha) * vf[i] + fire_alpha * vnorm / fnorm * q[i];
+        }
+        if (++fire_positive > 5) {
+          dt = std::min(1.1 * dt, dt_max);
+          fire_alpha *= 0.99;
+        }
+      } else {
+        std::fill(vu.begin(), vu.end(), 0.0);
+        std::fill(vf.begin(), vf.end(), 0.0);
+        dt *= 0.5;
+        fire_alpha = fire_alpha0;
+        fire_positive = 0;
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        vu[i] -= dt * z[i];
+        vf[i] += dt * q[i];
+      }
+      const double cap =
+          std::min(1.0, options.max_displacement / std::max(1e-300, dt * max_abs(vu)));
+      axpy_into(trial.u, x.u, cap * dt, vu);
+      axpy_into(trial.f, x.f, cap * dt, vf);
+      trial.e = eval(trial.u, trial.f, trial.r);
+      if (trial.e > x.e + energy_slack(x.e)) {  // no ascent: stop and restart slower
+        std::fill(vu.begin(), vu.end(), 0.0);
+        std::fill(vf.begin(), vf.end(), 0.0);
+        dt *= 0.5;
+        fire_alpha = fire_alpha0;
+        fire_positive = 0;
+        if (dt < 1e-8) {
+          res.termination = Termination::diverged;
+          break;
+        }
+        continue;
+      }
+      std::swap(x, trial);
+      if (observer && observer(it + 1, x.u, x.f)) {
+        res.termination = Termination::interrupted;
+        ++it;
+        break;
+      }
+      continue;
+    }
+
+    // Search direction (du, df) with df = K du.
+    if (options.method == Method::lbfgs && !memory.empty()) {
+      q = x.r;
+      alpha_coef.assign(memory.size(), 0.0);
+      for (std::size_t k = memory.size(); k-- > 0;) {
+        alpha_coef[k] = memory[k].rho * dot(memory[k].s, q);
+        for (std::size_t i = 0; i < n; ++i)
+          q[i] -= alpha_coef[k] * memory[k].y[i];
+      }
+      problem.compliance(q, z);
+      std::vector<double>& zf = q;  // K-image of z, built in place
+      for (std::size_t k = 0; k < memory.size(); ++k) {
+        const double c = alpha_coef[k] - memory[k].rho * dot(memory[k].y, z);
+        for (std::size_t i = 0; i < n; ++i) {
+          z[i] += c * memory[k].s[i];
+          zf[i] += c * memory[k].df[i];
+        }
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        du[i] = -z[i];
+        df[i] = -zf[i];
+      }
+    } else {
+      problem.compliance(x.r, z);
+      const double rz = dot(x.r, z);
+      double beta = 0.0;
+      if (options.method == Method::cg && !restart && rz_prev > 0.0) {
+        double num = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+          num += x.r[i] * (z[i] - z_prev[i]);
+        beta = std::max(0.0, num / rz_prev);  // Polak-Ribiere+
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        du[i] = -z[i] + beta * du_prev[i];
+        df[i] = -x.r[i] + beta * df_prev[i];
+      }
+      z_prev = z;
+      rz_prev = rz;
+    }
+    double d0 = dot(x.r, du);
+    if (!(d0 < 0.0)) {  // not a descent direction: fall back to preconditioned steepest descent
+      memory.clear();
+      problem.compliance(x.r, z);
+      for (std::size_t i = 0; i < n; ++i) {
+        du[i] = -z[i];
+        df[i] = -x.r[i];
+      }
+      d0 = dot(x.r, du);
+      z_prev = z;
+      rz_prev = -d0;
+      if (!(d0 < 0.0)) {
+        res.termination = Termination::converged;  // r is numerically zero in the G metric
+        break;
+      }
+    }
+    const double t_max = options.max_displacement / std::max(1e-300, max_abs(du));
+    const double c2 = options.method == Method::cg ? 0.1 : 0.9;
+    if (!line_search(eval, x, du, df, d0, 1.0, t_max, c2, trial)) {
+      if (!memory.empty() || !restart) {  // retry once from preconditioned steepest descent
+        memory.clear();
+        restart = true;
+        continue;
+      }
+      res.termination = Termination::diverged;  // no descent left at this precision
+      break;
+    }
+    restart = false;
+    // Store the step for L-BFGS (s = du t, its K-image, y = dr) and CG.
+    Pair p{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
+    for (std::size_t i = 0; i < n; ++i) {
+      p.s[i] = trial.u[i] - x.u[i];
+      p.df[i] = trial.f[i] - x.f[i];
+      p.y[i] = trial.r[i] - x.r[i];
+    }
+    const double sy = dot(p.s, p.y);
+    du_prev = du;  // CG continues from the direction, not the step
+    df_prev = df;
+    if (options.method == Method::lbfgs && sy > 1e-300) {  // keep only positive curvature
+      p.rho = 1.0 / sy;
+      memory.push_back(std::move(p));
+      if (static_cast<int>(memory.size()) > options.memory) memory.pop_front();
+    }
+    std::swap(x, trial);
+    if (observer && observer(it + 1, x.u, x.f)) {
+      res.termination = Termination::interrupted;
+      ++it;
+      break;
+    }
+  }
+  if (it >= options.max_iterations && res.termination != Termination::interrupted) {
+    res.termination = Termination::max_iterations;
+  }
+  res.iterations = it;
+  res.energy = x.e;
+  res.max_force = max_abs(x.r);
+  u = std::move(x.u);
+  f = std::move(x.f);
+  res.gf_applications = problem.gf_applications() - gf0;
+  res.interface_evaluations = eval.evaluations;
+  return res;
+}
+
+}  // namespace asperity::minimize

@@ -1,0 +1,89 @@
+// Energy minimisers for minimize::Problem (SOLVERS.md, "Free-boundary contact").
+//
+// Methods (all G-preconditioned, one GF application per iteration, line searches free):
+// - lbfgs: limited-memory BFGS with H0 = G. Two-loop recursion on s = du, y = dr; the K-image
+//   of the direction is q + sum_i c_i df_i (the stored force changes), so no K is needed.
+// - cg: the classic reference, Polak-Ribiere+ conjugate gradients preconditioned with G.
+// - fire: FIRE (Bitzek et al., PRL 97, 170201, 2006) on the preconditioned force -G r, with
+//   powers and norms in the K metric (r.du, r.G r), which the pair makes free.
+// Every method descends in energy (line searches accept no energy rise beyond round-off; FIRE
+// stops and restarts when the power turns negative) and caps the largest displacement of an
+// iteration, so that a state at an instability falls into the next minimum, not a distant one.
+// After convergence the state is checked for stability, when some interface curvature is
+// negative (otherwise K + H_int > 0 holds trivially), in one of two ways:
+// - perturb (default): a random push of 1e-3 d (a force field f' with u' = G f') and a second
+//   minimisation; if it ends lower in energy and away from the state, the state was unstable
+//   and the new one is kept (and checked again). A descent method cannot stay on a saddle it
+//   was pushed off, and a symmetric state cannot hide an antisymmetric instability.
+// - lanczos: the lowest eigenvalue of the Hessian K + H_int by Lanczos (Spectra) in the
+//   congruent form A = G + G H_int G (same inertia, Sylvester); an unstable state is left along
+//   its eigenvector. Exact, but the spectrum of A is clustered at its low end, so it costs
+//   thousands of GF applications on a large contact.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/termination.hpp"
+#include "minimize/problem.hpp"
+
+namespace asperity::minimize {
+
+enum class Method { lbfgs, cg, fire };
+enum class StabilityCheck { none, perturb, lanczos };
+std::string to_string(Method m);
+Method method_from_string(const std::string& name);  // throws std::invalid_argument
+
+struct MinimizerOptions {
+  Method method = Method::lbfgs;  // see minimizer.hpp
+  double force_tolerance = 1e-6;  // stop when max |r_i| <= this (force per site, G d^2)
+  int max_iterations = 20000;     // per minimisation, escapes included
+  int memory = 8;                 // L-BFGS pairs kept
+  double max_displacement = 0.1;  // largest |du_i| in one iteration (d)
+  int refresh_interval = 200;     // recompute u = G f every this many iterations (drift)
+  StabilityCheck stability = StabilityCheck::perturb;  // check of converged states (see above)
+  int max_escapes = 20;                                // unstable-state escapes per minimisation
+  double escape_displacement = 0.05;  // largest |du_i| of the push off an unstable state (d)
+  double perturbation = 1e-3;         // largest |du_i| of the random push (perturb check) (d)
+
+  // Throws std::invalid_argument naming the violated constraint.
+  void validate() const;
+};
+
+// Called every iteration with the current pair (relaxation-path frames, early stops); returning
+// true stops the minimisation with Termination::interrupted.
+using Observer =
+    std::function<bool(int iteration, std::span<const double> u, std::span<const double> f)>;
+
+struct MinimizeResult {
+  Termination termination = Termination::max_iterations;
+  int iterations = 0;
+  std::size_t gf_applications = 0;
+  std::size_t interface_evaluations = 0;
+  double energy = 0.0;     // Pi at the end
+  double max_force = 0.0;  // max |r_i| at the end
+  int escapes = 0;         // unstable states left
+  // Lowest eigenvalue of G + G H_int G at the final state if the Lanczos check ran, else NaN;
+  // >= 0 means stable.
+  double lowest_eigenvalue = 0.0;
+  bool stability_checked = false;  // negative curvature was present and a check ran
+};
+
+// Minimises from the pair (u, f), which must satisfy u = G f, and leaves the result there.
+MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<double>& f,
+                        const MinimizerOptions& options, const Observer& observer = {});
+
+// Lowest eigenvalue of A = G + G H_int G at u (sign = stability) and, if wanted, the unstable
+// direction in displacement space (v = G w) with its force image w.
+struct Stability {
+  double lowest = 0.0;
+  std::vector<double> direction_u, direction_f;
+  bool converged = false;
+  std::size_t gf_applications = 0;
+};
+Stability lowest_mode(Problem& problem, std::span<const double> u);
+
+}  // namespace asperity::minimize
