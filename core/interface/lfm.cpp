@@ -1,0 +1,118 @@
+// Lateral force model, MODEL.md section 3; equations in lfm.hpp.
+#include "interface/lfm.hpp"
+
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace asperity::interface {
+
+void ContactScene::validate() const {
+  const auto positive = [](double v, const char* what) {
+    if (!std::isfinite(v) || !(v > 0.0)) {
+      throw std::invalid_argument(std::string("ContactScene.") + what + ": got " +
+                                  std::to_string(v) + ", allowed: finite and > 0");
+    }
+  };
+  positive(a, "a");
+  positive(R, "R");
+  positive(alpha, "alpha");
+  positive(d, "d");
+  material.validate();
+  if (!(a < R)) {
+    throw std::invalid_argument("ContactScene.a: got " + std::to_string(a) +
+                                ", allowed: < R = " + std::to_string(R));
+  }
+}
+
+contact::Hertz ContactScene::hertz() const {
+  return contact::Hertz::from_radius(material, R, a);
+}
+double ContactScene::bcore0() const {
+  return d * material.G / (alpha * hertz().p0);
+}
+double ContactScene::a_over_bcore0() const {
+  return a / bcore0();
+}
+double ContactScene::lateral_stiffness() const {
+  return 8.0 * material.G * a / (2.0 - material.nu);
+}
+double ContactScene::lambda() const {
+  return 2.0 * std::numbers::pi * alpha * hertz().load / (d * lateral_stiffness());
+}
+
+LateralForceModel::LateralForceModel(const ContactScene& scene, LatticeBlock block)
+    : scene_(scene), hertz_(scene.hertz()), block_(block) {
+  scene.validate();
+  tau_max_.assign(block.shape.count(), 0.0);
+  pressure_.assign(block.shape.count(), 0.0);
+  set_tip(0.0);
+}
+
+void LateralForceModel::set_tip(double Dx) {
+  Dx_ = Dx;
+  sites_.clear();
+  site_tau_.clear();
+  site_phase_x_.clear();
+  load_ = 0.0;
+  const double d = scene_.d;
+  for (int i0 = 0; i0 < block_.shape.n0; ++i0) {
+    const double x = block_.x(i0, d) - Dx;
+    for (int i1 = 0; i1 < block_.shape.n1; ++i1) {
+      const std::size_t i = block_.shape.index(i0, i1);
+      const double y = block_.y(i1, d);
+      const double p = hertz_.pressure(std::hypot(x, y));
+      pressure_[i] = p;
+      tau_max_[i] = scene_.alpha * p;
+      if (p > 0.0) {
+        sites_.push_back(i);
+        site_tau_.push_back(tau_max_[i]);
+        site_phase_x_.push_back(x);
+        load_ += p * d * d;
+      }
+    }
+  }
+}
+
+double LateralForceModel::sx(std::size_t i, double ux) const {
+  return block_.x(static_cast<int>(i / static_cast<std::size_t>(block_.shape.n1)), scene_.d) + ux -
+         Dx_;
+}
+double LateralForceModel::sy(std::size_t i, double uy) const {
+  return block_.y(static_cast<int>(i % static_cast<std::size_t>(block_.shape.n1)), scene_.d) + uy;
+}
+
+double LateralForceModel::energy_and_force(std::span<const double> u,
+                                           std::span<double> f_int) const {
+  const std::size_t m = sites_.size();
+  assert(u.size() == 2 * m && f_int.size() == 2 * m);
+  const double d = scene_.d;
+  const double k = 2.0 * std::numbers::pi / d;
+  double v = 0.0;
+  for (std::size_t j = 0; j < m; ++j) {
+    const double t = site_tau_[j];
+    // y sites are lattice multiples of d, so s_y enters through u_y alone.
+    const double sx = std::sin(k * (site_phase_x_[j] + u[j])),
+                 cx = std::cos(k * (site_phase_x_[j] + u[j]));
+    const double sy = std::sin(k * u[m + j]), cy = std::cos(k * u[m + j]);
+    v += t * (2.0 - cx - cy);
+    f_int[j] = -t * d * d * sx;
+    f_int[m + j] = -t * d * d * sy;
+  }
+  return v * d * d * d / (2.0 * std::numbers::pi);
+}
+
+void LateralForceModel::curvature(std::span<const double> u, std::span<double> h) const {
+  const std::size_t m = sites_.size();
+  const double d = scene_.d;
+  const double k = 2.0 * std::numbers::pi / d;
+  for (std::size_t j = 0; j < m; ++j) {
+    const double c = site_tau_[j] * d * d * k;
+    h[j] = c * std::cos(k * (site_phase_x_[j] + u[j]));
+    h[m + j] = c * std::cos(k * u[m + j]);
+  }
+}
+
+}  // namespace asperity::interface

@@ -1,0 +1,78 @@
+// The lateral force model (MODEL.md section 3): the tip is an in-plane force field on the
+// substrate sites, with registry energy per site
+//   V_i = (tau_max(r_i) d^3 / 2 pi) [2 - cos(2 pi s_ix / d) - cos(2 pi s_iy / d)],
+//   s_i = X_i + u_i - (Dx, 0),  f_i = -tau_max(r_i) d^2 [sin(2 pi s_ix/d), sin(2 pi s_iy/d)],
+// and envelope tau_max(r) = alpha p(r), the Hertz pressure of MODEL.md 1 around the tip centre
+// (Dx, 0). Friction Fx = sum_i f_ix; load Fz = sum_i p(r_i) d^2 (the discrete Hertz load).
+// Control parameter a / b_core^0 = c alpha a^2 / (R d), c = 4 / (pi (1 - nu)) (b_core^0 =
+// d G / (alpha p0)); Prandtl-Tomlinson lambda = 2 pi alpha Fz / (d k), k = 8 G a / (2 - nu).
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "common/shape.hpp"
+#include "contact/hertz.hpp"
+#include "elastic/material.hpp"
+
+namespace asperity::interface {
+
+struct ContactScene {
+  double a = 43.0;               // Hertz contact radius (d)
+  double R = 535.0;              // sphere radius (d)
+  double alpha = 0.7;            // local friction coefficient: peak shear stress / pressure
+  elastic::Material material{};  // substrate: G (unit of stress), nu
+  double d = 1.0;                // lattice spacing (unit of length)
+
+  // Throws std::invalid_argument naming the violated constraint (a, R, alpha > 0, a < R).
+  void validate() const;
+
+  [[nodiscard]] contact::Hertz hertz() const;
+  [[nodiscard]] double bcore0() const;             // d G / (alpha p0)
+  [[nodiscard]] double a_over_bcore0() const;      // the control parameter
+  [[nodiscard]] double lateral_stiffness() const;  // k = 8 G a / (2 - nu)
+  [[nodiscard]] double lambda() const;             // 2 pi alpha Fz / (d k), continuum Fz
+};
+
+// Per-site registry physics of the LFM at a tip position, for the sites of a block.
+class LateralForceModel {
+ public:
+  LateralForceModel(const ContactScene& scene, LatticeBlock block);
+
+  // Moves the tip centre to (Dx, 0): recomputes the envelope and the set of contact sites.
+  void set_tip(double Dx);
+  [[nodiscard]] double tip() const { return Dx_; }
+
+  [[nodiscard]] const LatticeBlock& block() const { return block_; }
+  [[nodiscard]] const ContactScene& scene() const { return scene_; }
+  // Block indices of the sites with tau_max > 0, the unknowns of the problem.
+  [[nodiscard]] const std::vector<std::size_t>& contact_sites() const { return sites_; }
+  // Envelope tau_max and Hertz pressure per block site (zero outside the contact).
+  [[nodiscard]] const std::vector<double>& tau_max() const { return tau_max_; }
+  [[nodiscard]] const std::vector<double>& pressure() const { return pressure_; }
+  // Discrete Hertz load sum_i p(r_i) d^2 at the current tip position.
+  [[nodiscard]] double load() const { return load_; }
+
+  // Relative position s = X + u - (Dx, 0) of block site i.
+  [[nodiscard]] double sx(std::size_t i, double ux) const;
+  [[nodiscard]] double sy(std::size_t i, double uy) const;
+
+  // On the contact sites, with u and f_int component-major ([x of each contact site][y ...]):
+  // returns V, writes the interface force.
+  double energy_and_force(std::span<const double> u, std::span<double> f_int) const;
+  // Interface Hessian diagonal d2V/du2 = tau_max d^2 (2 pi/d) cos(2 pi s/d).
+  void curvature(std::span<const double> u, std::span<double> h) const;
+
+ private:
+  ContactScene scene_;
+  contact::Hertz hertz_;
+  LatticeBlock block_;
+  double Dx_ = 0.0;
+  std::vector<double> tau_max_, pressure_;
+  std::vector<std::size_t> sites_;
+  std::vector<double> site_tau_, site_phase_x_;  // per contact site: tau_max, X - Dx
+  double load_ = 0.0;
+};
+
+}  // namespace asperity::interface

@@ -1,0 +1,491 @@
+// Quasi-static sliding of the lateral force model; protocols and criteria in slider.hpp.
+#include "slide/slider.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "elastic/surface_gf.hpp"
+
+namespace asperity::slide {
+
+namespace {
+
+// minimize::Problem on the contact sites of the block: G restricted to them.
+class LfmProblem final : public minimize::Problem {
+ public:
+  LfmProblem(elastic::FreeSurfaceGF& gf, const interface::LateralForceModel& lfm)
+      : gf_(gf), lfm_(lfm), f_(gf.size(), 0.0), u_(gf.size(), 0.0) {}
+
+  [[nodiscard]] std::size_t size() const override { return 2 * lfm_.contact_sites().size(); }
+
+  void compliance(std::span<const double> f, std::span<double> u) override {
+    const auto& sites = lfm_.contact_sites();
+    const std::size_t m = sites.size(), n = lfm_.block().shape.count();
+    for (std::size_t j = 0; j < m; ++j) {
+      f_[sites[j]] = f[j];
+      f_[n + sites[j]] = f[m + j];
+    }
+    gf_.apply(f_, u_);
+    for (std::size_t j = 0; j < m; ++j) {
+      u[j] = u_[sites[j]];
+      u[m + j] = u_[n + sites[j]];
+      f_[sites[j]] = f_[n + sites[j]] = 0.0;  // the scratch stays zero off the call
+    }
+  }
+
+  double interface(std::span<const double> u, std::span<double> f_int) const override {
+    return lfm_.energy_and_force(u, f_int);
+  }
+  void curvature(std::span<const double> u, std::span<double> h) const override {
+    lfm_.curvature(u, h);
+  }
+  [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
+
+ private:
+  elastic::FreeSurfaceGF& gf_;
+  const interface::LateralForceModel& lfm_;
+  std::vector<double> f_, u_;
+};
+
+// The state of the slide: full-block force and displacement fields (component-major) at a
+// tip position, with the block offset (in lattice steps) that follows the tip.
+struct State {
+  double Dx = 0.0;
+  int shift = 0;
+  std::vector<double> f, u;
+  double Fx = 0.0, Fz = 0.0, energy = 0.0;
+};
+
+class Slider {
+ public:
+  Slider(const interface::ContactScene& scene, const SlideOptions& options)
+      : scene_(scene),
+        options_(options),
+        half_(static_cast<int>(std::ceil(scene.a / scene.d)) + 2),
+        block_shape_{2 * half_ + 1, 2 * half_ + 1},
+        gf_(scene.material, elastic::Components::in_plane, block_shape_, scene.d, options.fft),
+        lfm_(scene, block_at(0)),
+        problem_(gf_, lfm_) {}
+
+  [[nodiscard]] LatticeBlock block_at(int shift) const {
+    return LatticeBlock{block_shape_, shift - half_, -half_};
+  }
+  elastic::FreeSurfaceGF& gf() { return gf_; }
+  interface::LateralForceModel& lfm() {
+    return lfm_;
+  }
+
+  State initial() {
+    State s;
+    s.f.assign(gf_.size(), 0.0);
+    s.u.assign(gf_.size(), 0.0);
+    return s;
+  }
+
+  // Moves `s` to tip position Dx and relaxes it. Frames go to `frames` if given.
+  minimize::MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames,
+                                 bool stop_on_slip = false) {
+    const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
+    if (target_shift != s.shift) roll(s, target_shift - s.shift);
+    lfm_ = interface::LateralForceModel(scene_, block_at(s.shift));
+    lfm_.set_tip(Dx);
+    s.Dx = Dx;
+    // Sites that left the contact carry no force; u = G f also refreshes the pair.
+    const std::size_t n = block_shape_.count();
+    std::vector<std::uint8_t> in(n, 0);
+    for (std::size_t i : lfm_.contact_sites())
+      in[i] = 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!in[i]) s.f[i] = s.f[n + i] = 0.0;
+    }
+    gf_.apply(s.f, s.u);
+    const auto& sites = lfm_.contact_sites();
+    const std::size_t m = sites.size();
+    std::vector<double> u(2 * m), f(2 * m);
+    gather(s.u, u);
+    gather(s.f, f);
+    // A trial step that is to be undone if it slips is stopped as soon as a site has moved by
+    // d/2: the slip is certain, and relaxing it fully would be wasted.
+    const std::vector<double> u_start = u;
+    const bool record = frames != nullptr && options_.path_frame_every > 0;
+    minimize::Observer observer;
+    if (record || stop_on_slip) {
+      observer = [&](int it, std::span<const double> uu, std::span<const double> ff) {
+        if (record && it % options_.path_frame_every == 0) {
+          State frame = s;
+          scatter(uu, frame.u);
+          scatter(ff, frame.f);
+          frames->push_back(snapshot(frame, "path", it));
+        }
+        if (!stop_on_slip) return false;
+        for (std::size_t j = 0; j < m; ++j) {
+          if (std::abs(uu[j] - u_start[j]) > 0.5 * scene_.d) {
+            return true;
+          }
+        }
+        return false;
+      };
+    }
+    const auto r = minimize::minimize(problem_, u, f, options_.minimizer, observer);
+    scatter(f, s.f);
+    // The displacement off the contact follows from the new forces (slip detection and
+    // snapshots compare it between states); on the contact it is the minimiser's.
+    gf_.apply(s.f, s.u);
+    scatter(u, s.u);
+    std::vector<double> fint(2 * m);
+    const double v = lfm_.energy_and_force(u, fint);
+    s.Fx = 0.0;
+    for (std::size_t j = 0; j < m; ++j)
+      s.Fx += fint[j];
+    s.Fz = lfm_.load();
+    double fu = 0.0;
+    for (std::size_t j = 0; j < 2 * m; ++j)
+      fu += f[j] * u[j];
+    s.energy = 0.5 * fu + v;
+    return r;
+  }
+
+  // Brings a state's fields onto the block alignment `shift` (no GF application: f only).
+  void align(State& s, int shift) const { roll_fields(s, shift - s.shift); }
+
+  // Sites of the contact at `after` whose x displacement changed by more than d/2 since
+  // `before` (same block alignment after rolling).
+  int slipped_sites(const State& before, const State& after) const {
+    State b = before;
+    const int k = after.shift - b.shift;
+    if (k != 0) roll_fields(b, k);
+    // Rows that entered the block with the roll have no displacement in `before`.
+    const std::size_t first_new_row = static_cast<std::size_t>(block_shape_.n0 - std::max(k, 0));
+    int count = 0;
+    for (std::size_t i : lfm_.contact_sites()) {
+      if (i / static_cast<std::size_t>(block_shape_.n1) >= first_new_row) continue;
+      if (std::abs(after.u[i] - b.u[i]) > 0.5 * scene_.d) ++count;
+    }
+    return count;
+  }
+
+  Snapshot snapshot(const State& s, std::string label, int iteration = -1) {
+    Snapshot snap;
+    snap.label = std::move(label);
+    snap.iteration = iteration;
+    snap.Dx = s.Dx;
+    snap.Fx = s.Fx;
+    snap.Fz = s.Fz;
+    snap.energy = s.energy;
+    snap.block = block_at(s.shift);
+    // The LFM must describe this state's tip position and block.
+    if (lfm_.tip() != s.Dx || lfm_.block().origin0 != snap.block.origin0) {
+      lfm_ = interface::LateralForceModel(scene_, snap.block);
+      lfm_.set_tip(s.Dx);
+    }
+    const std::size_t n = block_shape_.count();
+    snap.ux.assign(s.u.begin(), s.u.begin() + static_cast<std::ptrdiff_t>(n));
+    snap.uy.assign(s.u.begin() + static_cast<std::ptrdiff_t>(n), s.u.end());
+    snap.sx.resize(n);
+    snap.sy.resize(n);
+    snap.tau_x.assign(n, 0.0);
+    snap.tau_y.assign(n, 0.0);
+    snap.tau_max = lfm_.tau_max();
+    snap.pressure = lfm_.pressure();
+    snap.in_contact.assign(n, 0);
+    const double k = 2.0 * std::numbers::pi / scene_.d;
+    for (std::size_t i = 0; i < n; ++i) {
+      snap.sx[i] = lfm_.sx(i, snap.ux[i]);
+      snap.sy[i] = lfm_.sy(i, snap.uy[i]);
+      if (snap.tau_max[i] > 0.0) {
+        snap.in_contact[i] = 1;
+        snap.tau_x[i] = -snap.tau_max[i] * std::sin(k * snap.sx[i]);
+        snap.tau_y[i] = -snap.tau_max[i] * std::sin(k * snap.sy[i]);
+      }
+    }
+    return snap;
+  }
+
+ private:
+  void gather(const std::vector<double>& full, std::vector<double>& part) const {
+    const auto& sites = lfm_.contact_sites();
+    const std::size_t m = sites.size(), n = block_shape_.count();
+    for (std::size_t j = 0; j < m; ++j) {
+      part[j] = full[sites[j]];
+      part[m + j] = full[n + sites[j]];
+    }
+  }
+  void scatter(std::span<const double> part, std::vector<double>& full) const {
+    const auto& sites = lfm_.contact_sites();
+    const std::size_t m = sites.size(), n = block_shape_.count();
+    for (std::size_t j = 0; j < m; ++j) {
+      full[sites[j]] = part[j];
+      full[n + sites[j]] = part[m + j];
+    }
+  }
+
+  // Shifts the block by k lattice rows along +x: site rows move down by k, new rows are empty.
+  void roll_fields(State& s, int k) const {
+    const std::size_t n1 = static_cast<std::size_t>(block_shape_.n1);
+    const int n0 = block_shape_.n0;
+    for (std::vector<double>* field : {&s.f, &s.u}) {
+      for (int c = 0; c < 2; ++c) {
+        double* base = field->data() + static_cast<std::size_t>(c) * block_shape_.count();
+        for (int i0 = 0; i0 < n0; ++i0) {
+          const int from = i0 + k;
+          double* row = base + static_cast<std::size_t>(i0) * n1;
+          if (from >= 0 && from < n0) {
+            std::copy_n(base + static_cast<std::size_t>(from) * n1, n1, row);
+          } else {
+            std::fill_n(row, n1, 0.0);
+          }
+        }
+      }
+    }
+    s.shift += k;
+  }
+  void roll(State& s, int k) {
+    roll_fields(s, k);
+    gf_.apply(s.f, s.u);  // rows that came in need their displacement
+  }
+
+  interface::ContactScene scene_;
+  SlideOptions options_;
+  int half_;
+  Shape2 block_shape_;
+  elastic::FreeSurfaceGF gf_;
+  interface::LateralForceModel lfm_;
+  LfmProblem problem_;
+};
+
+}  // namespace
+
+std::string to_string(Protocol p) {
+  return p == Protocol::reference ? "reference" : "adaptive";
+}
+
+Protocol protocol_from_string(const std::string& name) {
+  if (name == "reference") return Protocol::reference;
+  if (name == "adaptive") return Protocol::adaptive;
+  throw std::invalid_argument("slide protocol: got '" + name + "', allowed: reference, adaptive");
+}
+
+void SlideOptions::validate() const {
+  const auto fail = [](const std::string& what, double v, const std::string& allowed) {
+    throw std::invalid_argument("SlideOptions." + what + ": got " + std::to_string(v) +
+                                ", allowed: " + allowed);
+  };
+  if (!(step > 0.0 && step <= 0.5)) fail("step", step, "0 < step <= 0.5 d");
+  if (!(max_step > 0.0 && max_step <= 0.5)) fail("max_step", max_step, "0 < max_step <= 0.5 d");
+  if (!(min_step > 0.0 && min_step <= max_step))
+    fail("min_step", min_step, "0 < min_step <= max_step");
+  if (!(distance >= 0.0) || !std::isfinite(distance))
+    fail("distance", distance, ">= 0 (0: automatic)");
+  if (!(max_distance >= 0.0) || !std::isfinite(max_distance)) {
+    fail("max_distance", max_distance, ">= 0 (0: automatic)");
+  }
+  if (slips_to_stop < 1) fail("slips_to_stop", slips_to_stop, ">= 1");
+  if (path_frame_every < 0) fail("path_frame_every", path_frame_every, ">= 0");
+  minimizer.validate();
+  fft.validate();
+}
+
+SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
+                  const SlideProgress& progress) {
+  scene.validate();
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  Slider slider(scene, options);
+  SlideResult res;
+  res.block = slider.gf().region();
+  res.fft_grid = slider.gf().fft_shape();
+  res.Fz_continuum = scene.hertz().load;
+  const double d = scene.d;
+  const bool automatic = options.distance == 0.0;
+  const double ramp = scene.alpha * scene.hertz().load / scene.lateral_stiffness();
+  const double limit =
+      automatic ? (options.max_distance > 0.0 ? options.max_distance : 3.0 * d + 3.0 * ramp)
+                : options.distance;
+
+  State state = slider.initial();
+  const auto record = [&](const State& s, const minimize::MinimizeResult& r, bool slip, int sites) {
+    res.trace.push_back(TraceRow{s.Dx, s.Fx, s.Fz, s.energy, r.iterations, r.gf_applications,
+                                 r.max_force, slip, sites});
+    res.iterations += r.iterations;
+  };
+  const auto count = [&](const minimize::MinimizeResult& r) {
+    ++res.minimizations;
+    res.gradient_evaluations += r.interface_evaluations;
+  };
+  const auto failed = [&](const minimize::MinimizeResult& r, double Dx) {
+    if (r.termination == Termination::converged) return false;
+    res.failed = true;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "minimizer %s at Dx = %.6g d (max force %.3g)",
+                  to_string(r.termination).c_str(), Dx, r.max_force);
+    res.stop_reason = buf;
+    return true;
+  };
+
+  auto first = slider.relax(state, 0.0, nullptr);
+  count(first);
+  res.contact_sites = slider.lfm().contact_sites().size();
+  record(state, first, false, 0);
+  std::optional<State> peak, previous;
+  double best = state.Fx / state.Fz;
+  peak = state;
+  double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
+  bool stopped = failed(first, 0.0);
+
+  const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
+  double slip_at = std::numeric_limits<double>::infinity();
+  while (!stopped) {
+    if (state.Dx >= limit - 1e-12) {
+      if (automatic) {
+        res.stop_reason = "distance cap reached";
+        res.mu_is_lower_bound = res.slip_events == 0 && first_max_Dx < 0.0;
+      } else {
+        res.stop_reason = "distance reached";
+      }
+      break;
+    }
+    // Adaptive: a bracket [state.Dx, slip_at] around a known instability is bisected until it
+    // is min_step wide; the slip is then taken from its stable end.
+    double Dx = std::min(state.Dx + h, limit);
+    bool may_undo = false;
+    if (options.protocol == Protocol::adaptive) {
+      const double gap = slip_at - state.Dx;
+      if (!std::isfinite(slip_at)) {
+        may_undo = true;
+      } else if (gap > options.min_step * 1.0001) {
+        Dx = state.Dx + 0.5 * gap;
+        may_undo = true;
+      } else {
+        Dx = slip_at;
+      }
+    }
+    State trial = state;
+    // Warm start on a smooth branch: extrapolate the force field linearly in Dx from the last
+    // two states (u follows as G f). After a slip the branch is new: no extrapolation.
+    if (options.extrapolate && previous && !res.trace.back().slip && state.Dx > previous->Dx) {
+      State prev = *previous;
+      if (prev.shift != trial.shift) slider.align(prev, trial.shift);
+      const double w = (Dx - state.Dx) / (state.Dx - prev.Dx);
+      for (std::size_t i = 0; i < trial.f.size(); ++i)
+        trial.f[i] += w * (state.f[i] - prev.f[i]);
+    }
+    std::vector<Snapshot> frames;
+    const bool want_frames = options.path_frame_every > 0 && !may_undo;
+    const auto r = slider.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
+    count(r);
+    if (may_undo && r.termination == Termination::interrupted) {
+      slip_at = Dx;  // slipped: bisect towards the instability
+      continue;
+    }
+    if (failed(r, Dx)) break;
+    const int sites = slider.slipped_sites(state, trial);
+    const bool slip = sites > 0;
+    if (slip && may_undo) {
+      slip_at = Dx;
+      continue;
+    }
+    // After a slip the bracket is used up; a stable state at the bracket's end means the
+    // instability lies further on (a trial from further back had slipped).
+    if (slip || Dx >= slip_at) slip_at = std::numeric_limits<double>::infinity();
+    if (slip) {
+      ++res.slip_events;
+      char label[32];
+      std::snprintf(label, sizeof label, "slip_%03d", res.slip_events);
+      res.snapshots.push_back(slider.snapshot(state, std::string(label) + "_before"));
+      res.snapshots.push_back(slider.snapshot(trial, std::string(label) + "_after"));
+      for (auto& frame : frames) {
+        frame.label = std::string(label) + "_path";
+        res.snapshots.push_back(std::move(frame));
+      }
+    }
+    previous = std::move(state);
+    state = std::move(trial);
+    record(state, r, slip, sites);
+    ++res.steps;
+    const double ratio = state.Fx / state.Fz;
+    if (ratio > best) {
+      best = ratio;
+      peak = state;
+    }
+    if (progress) progress(state.Dx, limit, res.slip_events);
+
+    // Regime I: a smooth maximum (rise then fall, no slip yet).
+    const std::size_t k = res.trace.size();
+    if (first_max_Dx < 0.0 && res.slip_events == 0 && k >= 3 &&
+        res.trace[k - 2].Fx > res.trace[k - 3].Fx && res.trace[k - 1].Fx < res.trace[k - 2].Fx) {
+      first_max_Dx = res.trace[k - 2].Dx;
+    }
+    if (automatic && res.slip_events >= options.slips_to_stop) {
+      res.stop_reason = "slip events reached";
+      break;
+    }
+    if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
+        state.Dx >= first_max_Dx + d - 1e-12) {
+      res.stop_reason = "one period past the first maximum (no slip)";
+      break;
+    }
+  }
+
+  // mu and its resolution. Before a slip the peak is the last stable state: the instability
+  // lies within one step after it. A smooth maximum is refined by the parabola through the
+  // samples around it.
+  res.mu = best;
+  res.peak_Dx = peak->Dx;
+  res.Fz = peak->Fz;
+  const auto it = std::find_if(res.trace.begin(), res.trace.end(),
+                               [&](const TraceRow& row) { return row.Dx == peak->Dx; });
+  if (it != res.trace.end() && it + 1 != res.trace.end()) {
+    const auto next = it + 1;
+    if (next->slip) {
+      res.peak_precision = std::abs(next->Dx - it->Dx) *
+                           std::abs((it->Fx - (it - 1)->Fx) / (it->Dx - (it - 1)->Dx)) / it->Fz;
+    } else if (it != res.trace.begin()) {
+      const auto prev = it - 1;
+      const double x0 = prev->Dx, x1 = it->Dx, x2 = next->Dx;
+      const double y0 = prev->Fx / prev->Fz, y1 = it->Fx / it->Fz, y2 = next->Fx / next->Fz;
+      const double denom = (x0 - x1) * (x0 - x2) * (x1 - x2);
+      const double A = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / denom;
+      const double B = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / denom;
+      if (A < 0.0) {
+        const double xv = -B / (2.0 * A);
+        if (xv > x0 && xv < x2) {
+          const double C = y1 - A * x1 * x1 - B * x1;
+          const double yv = A * xv * xv + B * xv + C;
+          if (options.protocol == Protocol::adaptive) {
+            res.peak_precision = yv - best;
+            res.mu = yv;
+            res.peak_Dx = xv;
+          } else {
+            res.peak_precision = yv - best;
+          }
+        }
+      }
+    }
+  }
+  res.mu_over_alpha = res.mu / scene.alpha;
+  res.distance = state.Dx;
+  const auto first_slip = std::find_if(res.trace.begin(), res.trace.end(),
+                                       [](const TraceRow& row) { return row.slip; });
+  if (first_slip != res.trace.end()) {
+    // Mean over Dx (trapezoid), not over steps: adaptive steps are uneven.
+    double area = 0.0, span = 0.0;
+    for (auto a = first_slip; a + 1 != res.trace.end(); ++a) {
+      const double w = (a + 1)->Dx - a->Dx;
+      area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
+      span += w;
+    }
+    res.kinetic = span > 0.0 ? area / span : first_slip->Fx / first_slip->Fz;
+    res.kinetic_over_static = res.kinetic / res.mu;
+  }
+  res.snapshots.insert(res.snapshots.begin(), slider.snapshot(*peak, "peak"));
+  res.gf_applications = slider.gf().applications();
+  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace asperity::slide

@@ -1,0 +1,109 @@
+// Quasi-static sliding of the lateral force model (MODEL.md sections 3 and 5).
+//
+// The tip moves in +x; after each step the energy is minimised from the previous state
+// (minimize/minimizer.hpp). The unknowns are the in-plane displacements of the contact sites
+// only; they live in a block of (2H+1)^2 sites, H = ceil(a) + 2, that follows the tip in whole
+// lattice steps (the GF is translation invariant and the interface periodic), so the FFT grid
+// never grows with the sliding distance.
+//
+// Protocols:
+// - reference: fixed steps (0.01 d), the classic protocol;
+// - adaptive: steps up to max_step where the response is smooth; a step that produces a slip
+//   event is undone and bisected until the instability is bracketed to min_step, so the static
+//   peak (the last stable state before the slip) is located to min_step in Dx.
+// Slip event: a step after which some contact site has moved by more than d/2 in x (its
+// registry index relative to the substrate changed): the state jumped to another minimum.
+// Automatic distance: slide until `slips_to_stop` slip events (the static peak precedes the
+// first), or, without slips (Regime I), one period d past the first maximum of Fx; capped.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/shape.hpp"
+#include "fft/fft_engine.hpp"
+#include "interface/lfm.hpp"
+#include "minimize/minimizer.hpp"
+
+namespace asperity::slide {
+
+enum class Protocol { reference, adaptive };
+std::string to_string(Protocol p);
+Protocol protocol_from_string(const std::string& name);  // throws std::invalid_argument
+
+struct SlideOptions {
+  Protocol protocol = Protocol::adaptive;  // see slider.hpp
+  double step = 0.01;                      // reference protocol: tip step (d)
+  double max_step = 0.2;                   // adaptive protocol: largest step (d)
+  double min_step = 1e-3;                  // adaptive protocol: instabilities bracketed to this (d)
+  double distance = 0.0;                   // sliding distance (d); 0 = automatic
+  double max_distance = 0.0;  // cap of the automatic distance (d); 0 = 3 d + 3 alpha Fz / k
+  int slips_to_stop = 2;      // automatic distance: stop after this many slip events
+  bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
+  int path_frame_every = 0;   // relaxation-path frames through slip events every N iterations
+                              // (0: none)
+  minimize::MinimizerOptions minimizer;  // tolerance, method, ...
+  fft::FFTOptions fft;                   // threads and planning of the GF transforms
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+// One field snapshot of the contact (MODEL.md section 5), on the block of sites.
+struct Snapshot {
+  std::string label;   // "peak", "slip_001_before", "slip_001_after", "slip_001_path"
+  int iteration = -1;  // minimiser iteration of a relaxation-path frame, else -1
+  double Dx = 0.0, Fx = 0.0, Fz = 0.0, energy = 0.0;
+  LatticeBlock block;  // site (i0, i1) is at ((origin0 + i0) d, (origin1 + i1) d)
+  // Per block site, block-major (i0 * n1 + i1):
+  std::vector<double> ux, uy;             // displacement (d)
+  std::vector<double> sx, sy;             // relative position s = X + u - (Dx, 0) (d)
+  std::vector<double> tau_x, tau_y;       // local shear stress f / d^2 (G)
+  std::vector<double> tau_max, pressure;  // envelope and Hertz pressure (G)
+  std::vector<std::uint8_t> in_contact;
+};
+
+struct TraceRow {
+  double Dx = 0.0, Fx = 0.0, Fz = 0.0, energy = 0.0;
+  int iterations = 0;  // minimiser iterations of this step
+  std::size_t gf_applications = 0;
+  double max_force = 0.0;  // residual reached
+  bool slip = false;       // a slip event happened during this step
+  int slipped_sites = 0;   // sites whose registry index changed in this step
+};
+
+struct SlideResult {
+  std::vector<TraceRow> trace;  // accepted steps, Dx increasing (first row: Dx = 0)
+  double mu = 0.0;              // max Fx / Fz
+  double mu_over_alpha = 0.0;
+  double peak_Dx = 0.0;
+  double peak_precision = 0.0;  // uncertainty of mu from the step resolution at the peak
+  bool mu_is_lower_bound = false;
+  double Fz = 0.0;            // discrete Hertz load at the peak
+  double Fz_continuum = 0.0;  // 4 E* a^3 / (3 R)
+  double kinetic = 0.0;       // mean Fx / Fz after the first slip (0 if none)
+  double kinetic_over_static = 0.0;
+  int slip_events = 0;
+  double distance = 0.0;  // Dx reached
+  std::string stop_reason;
+  int steps = 0;          // accepted steps
+  int minimizations = 0;  // including undone trial steps
+  std::size_t gf_applications = 0;
+  std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
+  long long iterations = 0;
+  double wall_s = 0.0;
+  bool failed = false;  // a minimisation did not converge; see stop_reason
+  Shape2 block, fft_grid;
+  std::size_t contact_sites = 0;  // unknown sites at Dx = 0
+  std::vector<Snapshot> snapshots;
+};
+
+// Progress: (Dx, distance target or cap, slip events so far).
+using SlideProgress = std::function<void(double, double, int)>;
+
+SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
+                  const SlideProgress& progress = {});
+
+}  // namespace asperity::slide
