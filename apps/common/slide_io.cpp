@@ -1,0 +1,235 @@
+// Scene reading and outputs of the sliding tools; see slide_io.hpp.
+#include "common/slide_io.hpp"
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "common/cli.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/snapshot_io.hpp"
+#include "common/toml_reader.hpp"
+
+namespace asperity::app {
+
+SlideScene read_slide_scene(const std::string& path) {
+  SlideScene s;
+  auto r = SceneReader::from_file(path);
+  auto& c = s.contact;
+  c.a = r.number("contact.a", c.a, Range::closed(1.0, 4096.0));
+  c.R = r.number("contact.R", c.R, Range::positive());
+  c.alpha = r.number("contact.alpha", c.alpha, Range::open_closed(0.0, 10.0));
+  c.material.G = r.number("material.G", c.material.G, Range::positive());
+  c.material.nu = r.number("material.nu", c.material.nu, Range::closed(0.0, 0.5));
+  auto& o = s.options;
+  o.protocol = slide::protocol_from_string(
+      r.string("slide.protocol", slide::to_string(o.protocol), {"adaptive", "reference"}));
+  o.step = r.number("slide.step", o.step, Range::open_closed(0.0, 0.5));
+  o.max_step = r.number("slide.max_step", o.max_step, Range::open_closed(0.0, 0.5));
+  o.min_step = r.number("slide.min_step", o.min_step, Range::open_closed(0.0, 0.5));
+  o.distance = r.number("slide.distance", o.distance, Range::non_negative());
+  o.max_distance = r.number("slide.max_distance", o.max_distance, Range::non_negative());
+  o.slips_to_stop = r.integer("slide.slips_to_stop", o.slips_to_stop, Range::closed(1, 1000));
+  o.path_frame_every =
+      r.integer("slide.path_frame_every", o.path_frame_every, Range::closed(0, 1000000));
+  auto& m = o.minimizer;
+  m.method = minimize::method_from_string(
+      r.string("solver.method", minimize::to_string(m.method), {"lbfgs", "cg", "fire"}));
+  m.force_tolerance = r.number("solver.tolerance", m.force_tolerance, Range::open(0.0, 1.0));
+  m.max_iterations = r.integer("solver.max_iterations", m.max_iterations, Range::at_least(1));
+  m.memory = r.integer("solver.memory", m.memory, Range::closed(1, 100));
+  m.max_displacement =
+      r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
+  o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
+  o.fft.planner = fft::planner_from_string(
+      r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
+  r.reject_unknown();
+  if (o.min_step > o.max_step) {
+    throw std::invalid_argument(path + ": slide.min_step = " + std::to_string(o.min_step) +
+                                ": allowed: <= slide.max_step = " + std::to_string(o.max_step));
+  }
+  if (!(c.a < c.R)) {
+    throw std::invalid_argument(path + ": contact.a = " + std::to_string(c.a) +
+                                ": allowed: < contact.R = " + std::to_string(c.R));
+  }
+  return s;
+}
+
+nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& r) {
+  const auto& c = scene.contact;
+  const auto& o = scene.options;
+  return {
+      {"model", "lfm"},
+      {"a", c.a},
+      {"R", c.R},
+      {"alpha", c.alpha},
+      {"G", c.material.G},
+      {"nu", c.material.nu},
+      {"a_over_bcore0", c.a_over_bcore0()},
+      {"lambda", c.lambda()},
+      {"Fz", r.Fz},
+      {"Fz_continuum", r.Fz_continuum},
+      {"mu", r.mu},
+      {"mu_over_alpha", r.mu_over_alpha},
+      {"mu_is_lower_bound", r.mu_is_lower_bound},
+      {"peak_Dx", r.peak_Dx},
+      {"peak_precision", r.peak_precision},
+      {"kinetic", r.kinetic},
+      {"kinetic_over_static", r.kinetic_over_static},
+      {"slip_events", r.slip_events},
+      {"distance", r.distance},
+      {"distance_requested",
+       o.distance == 0.0 ? nlohmann::json("automatic") : nlohmann::json(o.distance)},
+      {"stop_reason", r.stop_reason},
+      {"failed", r.failed},
+      {"steps", r.steps},
+      {"minimizations", r.minimizations},
+      {"iterations", r.iterations},
+      {"gf_applications", r.gf_applications},
+      {"gradient_evaluations", r.gradient_evaluations},
+      {"tolerance", o.minimizer.force_tolerance},
+      {"solver", minimize::to_string(o.minimizer.method)},
+      {"protocol", slide::to_string(o.protocol)},
+      {"step", o.protocol == slide::Protocol::reference ? o.step : o.max_step},
+      {"min_step", o.protocol == slide::Protocol::reference ? o.step : o.min_step},
+      {"grid",
+       {{"block", {r.block.n0, r.block.n1}},
+        {"fft_grid", {r.fft_grid.n0, r.fft_grid.n1}},
+        {"contact_sites", r.contact_sites}}},
+      {"wall_s", r.wall_s},
+      {"threads", o.fft.threads},
+      {"provenance", provenance_json()},
+  };
+}
+
+namespace {
+
+// Cattaneo-Mindlin traction of a Hertz contact under Q = mu Fz with local coefficient alpha,
+// over alpha p0: sqrt(1 - rho^2) - (c/a) sqrt(c^2/a^2 - rho^2) inside the stick zone,
+// c/a = (1 - mu/alpha)^(1/3) (Johnson, Contact Mechanics, 7.2).
+double cattaneo_mindlin(double rho, double mu_over_alpha) {
+  if (rho >= 1.0) return 0.0;
+  const double slip = std::sqrt(1.0 - rho * rho);
+  const double c = std::cbrt(std::max(0.0, 1.0 - mu_over_alpha));
+  return rho < c ? slip - c * std::sqrt(c * c - rho * rho) : slip;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::path& dir,
+                                                       const SlideScene& scene,
+                                                       const slide::SlideResult& r) {
+  ensure_directory(dir);
+  std::vector<std::filesystem::path> written;
+  const auto& c = scene.contact;
+  const double alpha = c.alpha;
+
+  CsvTable trace({"Dx", "Fx", "Fz", "Fx_over_Fz", "energy", "iterations", "gf_applications",
+                  "max_force", "slip", "slipped_sites"});
+  Series fx{.title = "Fx / (alpha Fz)", .style = "lines lw 2"};
+  Series slips{.title = "slip events", .style = "points pt 7 ps 1.2"};
+  for (const auto& row : r.trace) {
+    trace.add_row({row.Dx, row.Fx, row.Fz, row.Fx / row.Fz, row.energy,
+                   static_cast<long long>(row.iterations),
+                   static_cast<long long>(row.gf_applications), row.max_force,
+                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites)});
+    fx.x.push_back(row.Dx / c.d);
+    fx.y.push_back(row.Fx / (alpha * row.Fz));
+    if (row.slip) {
+      slips.x.push_back(row.Dx / c.d);
+      slips.y.push_back(row.Fx / (alpha * row.Fz));
+    }
+  }
+  char title[200];
+  std::snprintf(title, sizeof title,
+                "a = %.0f d, R = %.0f d, alpha = %.2f: a/b_core^0 = %.2f, mu/alpha = %.4f%s", c.a,
+                c.R, alpha, c.a_over_bcore0(), r.mu_over_alpha,
+                r.mu_is_lower_bound ? " (lower bound)" : "");
+  std::vector<Series> trace_series{fx};
+  if (!slips.x.empty()) trace_series.push_back(slips);
+  plot_png(dir / "trace.png", trace_series,
+           {.title = title, .xlabel = "Dx / d", .ylabel = "Fx / (alpha Fz)"});
+  written.push_back(dir / "trace.png");
+
+  // Peak snapshot: stress profiles along the axes through the tip centre, and the map.
+  const auto& peak = r.snapshots.front();
+  const auto& blk = peak.block;
+  const double p0 = c.hertz().p0;
+  Series along_x{.title = "tau_x, y = 0", .style = "points pt 7 ps 0.6"};
+  Series along_y{.title = "tau_x, x = Dx", .style = "points pt 6 ps 0.6"};
+  Series envelope{.title = "tau_max = alpha p(r)", .style = "lines dt 2"};
+  Series mindlin{.title = "Cattaneo-Mindlin", .style = "lines lw 2"};
+  std::vector<double> mx, my, map;
+  const int ix_tip = static_cast<int>(std::lround(peak.Dx / c.d)) - blk.origin0;
+  for (int i0 = 0; i0 < blk.shape.n0; ++i0)
+    mx.push_back(blk.x(i0, c.d));
+  for (int i1 = 0; i1 < blk.shape.n1; ++i1)
+    my.push_back(blk.y(i1, c.d));
+  map.assign(blk.shape.count(), std::nan(""));
+  for (int i0 = 0; i0 < blk.shape.n0; ++i0) {
+    for (int i1 = 0; i1 < blk.shape.n1; ++i1) {
+      const std::size_t i = blk.shape.index(i0, i1);
+      if (!peak.in_contact[i]) continue;
+      map[i] = peak.tau_x[i] / peak.tau_max[i];
+      const double t = peak.tau_x[i] / (alpha * p0);
+      if (blk.y(i1, c.d) == 0.0) {
+        along_x.x.push_back((blk.x(i0, c.d) - peak.Dx) / c.a);
+        along_x.y.push_back(t);
+      }
+      if (i0 == ix_tip) {
+        along_y.x.push_back(blk.y(i1, c.d) / c.a);
+        along_y.y.push_back(t);
+      }
+    }
+  }
+  for (int k = -200; k <= 200; ++k) {
+    const double rho = k / 200.0;
+    envelope.x.push_back(rho);
+    envelope.y.push_back(std::sqrt(std::max(0.0, 1.0 - rho * rho)));
+    mindlin.x.push_back(rho);
+    mindlin.y.push_back(cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
+  }
+  plot_png(dir / "stress_profiles.png", {along_x, along_y, envelope, mindlin},
+           {.title = "Shear stress at the friction peak (Dx = " + std::to_string(peak.Dx) + " d)",
+            .xlabel = "r / a (along x: (x - Dx)/a; along y: y/a)",
+            .ylabel = "tau / (alpha p0)"});
+  written.push_back(dir / "stress_profiles.png");
+  heatmap_png(
+      dir / "stress_map.png", mx, my, map,
+      {.title = "tau_x / tau_max at the friction peak (Dx = " + std::to_string(peak.Dx) + " d)",
+       .xlabel = "x / d",
+       .ylabel = "y / d",
+       .extra_commands = {"set size ratio -1"}},
+      "tau_x / tau_max", std::pair{-1.0, 1.0});
+  written.push_back(dir / "stress_map.png");
+
+  // Snapshots: one NetCDF file per label (relaxation paths hold their frames in order).
+  const auto snap_dir = ensure_directory(dir / "snapshots");
+  nlohmann::json attributes = {{"model", "lfm"},
+                               {"a", c.a},
+                               {"R", c.R},
+                               {"alpha", alpha},
+                               {"G", c.material.G},
+                               {"nu", c.material.nu},
+                               {"a_over_bcore0", c.a_over_bcore0()},
+                               {"tolerance", scene.options.minimizer.force_tolerance}};
+  std::map<std::string, std::vector<slide::Snapshot>> groups;
+  std::vector<std::string> order;
+  for (const auto& snap : r.snapshots) {
+    if (!groups.contains(snap.label)) order.push_back(snap.label);
+    groups[snap.label].push_back(snap);
+  }
+  for (const auto& label : order) {
+    write_snapshots(snap_dir / (label + ".nc"), groups[label], attributes);
+    written.push_back(snap_dir / (label + ".nc"));
+  }
+
+  trace.write(dir / "trace.csv");
+  written.push_back(dir / "trace.csv");
+  write_json(dir / "summary.json", slide_summary(scene, r));
+  written.push_back(dir / "summary.json");
+  return written;
+}
+
+}  // namespace asperity::app

@@ -1,0 +1,225 @@
+// NetCDF snapshot files: round trip, metadata, invalid input and damaged files.
+#include <netcdf.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/output_files.hpp"
+#include "common/snapshot_io.hpp"
+
+namespace asperity::app {
+namespace {
+
+namespace fs = std::filesystem;
+using slide::Snapshot;
+
+// A 3 x 4 block whose values all differ between frames and sites, with a few special doubles.
+Snapshot frame(int k, std::string label, int iteration, int origin0, int origin1) {
+  Snapshot s;
+  s.label = std::move(label);
+  s.iteration = iteration;
+  s.Dx = 0.1 * k + 1.0 / 3.0;
+  s.Fx = -std::sqrt(2.0 + k);
+  s.Fz = 1e300 * (k + 1);
+  s.energy = std::nextafter(1.0 + k, 2.0 + k);
+  s.block = {{3, 4}, origin0, origin1};
+  const auto values = [&](double scale) {
+    std::vector<double> v;
+    for (std::size_t i = 0; i < s.block.shape.count(); ++i)
+      v.push_back(scale * std::exp(0.37 * static_cast<double>(i) + k));
+    return v;
+  };
+  s.ux = values(1.0);
+  s.uy = values(-2.0);
+  s.sx = values(3.0);
+  s.sy = values(1e-310);  // subnormal
+  s.tau_x = values(-0.5);
+  s.tau_y = values(0.25);
+  s.tau_max = values(7.0);
+  s.pressure = values(11.0);
+  s.ux[0] = -0.0;
+  s.uy[1] = std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i < s.block.shape.count(); ++i)
+    s.in_contact.push_back(static_cast<std::uint8_t>((i + static_cast<std::size_t>(k)) % 2));
+  return s;
+}
+
+std::vector<Snapshot> frames() {
+  return {frame(0, "peak", -1, -5, -6), frame(1, "slip_001_path", 17, -4, -6),
+          frame(2, "x", 0, 10, 3)};
+}
+
+std::vector<std::uint64_t> bits(const std::vector<double>& v) {
+  std::vector<std::uint64_t> b;
+  for (double x : v)
+    b.push_back(std::bit_cast<std::uint64_t>(x));
+  return b;
+}
+
+template <class F>
+std::string invalid_argument_message(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no std::invalid_argument thrown";
+  return {};
+}
+
+class SnapshotIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("asperity_snapshot_io_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    ensure_directory(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::size_t entries() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {}));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SnapshotIo, RoundTripIsBitIdentical) {
+  const fs::path nc = dir_ / "snapshots.nc";
+  const std::vector<Snapshot> written = frames();
+  write_snapshots(nc, written, nlohmann::json::object());
+  EXPECT_EQ(entries(), 1u);  // no temporary left
+  const std::vector<Snapshot> read = read_snapshots(nc);
+  ASSERT_EQ(read.size(), written.size());
+  for (std::size_t k = 0; k < read.size(); ++k) {
+    const Snapshot &a = written[k], &b = read[k];
+    SCOPED_TRACE("frame " + std::to_string(k));
+    EXPECT_EQ(b.label, a.label);
+    EXPECT_EQ(b.iteration, a.iteration);
+    EXPECT_EQ(b.block.shape, a.block.shape);
+    EXPECT_EQ(b.block.origin0, a.block.origin0);
+    EXPECT_EQ(b.block.origin1, a.block.origin1);
+    EXPECT_EQ(bits({b.Dx, b.Fx, b.Fz, b.energy}), bits({a.Dx, a.Fx, a.Fz, a.energy}));
+    for (auto field : {&Snapshot::ux, &Snapshot::uy, &Snapshot::sx, &Snapshot::sy, &Snapshot::tau_x,
+                       &Snapshot::tau_y, &Snapshot::tau_max, &Snapshot::pressure})
+      EXPECT_EQ(bits(b.*field), bits(a.*field));
+    EXPECT_EQ(b.in_contact, a.in_contact);
+  }
+}
+
+TEST_F(SnapshotIo, MetadataAndAttributes) {
+  const fs::path nc = dir_ / "s.nc";
+  write_snapshots(nc, frames(),
+                  {{"alpha", 0.25}, {"scene", "default"}, {"adaptive", true}, {"n", {1, 2}}});
+  int id = -1;
+  ASSERT_EQ(nc_open(nc.c_str(), NC_NOWRITE, &id), NC_NOERR);
+  const auto text = [&](int var, const char* name) {
+    std::size_t length = 0;
+    if (nc_inq_attlen(id, var, name, &length) != NC_NOERR) return std::string("<missing>");
+    std::string s(length, '\0');
+    EXPECT_EQ(nc_get_att_text(id, var, name, s.data()), NC_NOERR);
+    return s;
+  };
+  EXPECT_EQ(text(NC_GLOBAL, "Conventions"), "CF-1.8");
+  EXPECT_EQ(text(NC_GLOBAL, "label"), "peak");
+  EXPECT_NE(text(NC_GLOBAL, "title"), "<missing>");
+  EXPECT_EQ(text(NC_GLOBAL, "scene"), "default");
+  EXPECT_EQ(text(NC_GLOBAL, "n"), "[1,2]");
+  double alpha = 0.0;
+  int adaptive = -1;
+  EXPECT_EQ(nc_get_att_double(id, NC_GLOBAL, "alpha", &alpha), NC_NOERR);
+  EXPECT_EQ(nc_get_att_int(id, NC_GLOBAL, "adaptive", &adaptive), NC_NOERR);
+  EXPECT_EQ(alpha, 0.25);
+  EXPECT_EQ(adaptive, 1);
+
+  int nvars = 0, var = -1;
+  ASSERT_EQ(nc_inq_nvars(id, &nvars), NC_NOERR);
+  EXPECT_EQ(nvars, 19);
+  for (int v = 0; v < nvars; ++v) {
+    EXPECT_NE(text(v, "units"), "<missing>") << "variable " << v;
+    EXPECT_NE(text(v, "long_name"), "<missing>") << "variable " << v;
+  }
+  ASSERT_EQ(nc_inq_varid(id, "Fx", &var), NC_NOERR);
+  EXPECT_EQ(text(var, "units"), "G d^2");
+  double x[3] = {}, y[4] = {};
+  ASSERT_EQ(nc_inq_varid(id, "x", &var), NC_NOERR);
+  ASSERT_EQ(nc_get_var_double(id, var, x), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(id, "y", &var), NC_NOERR);
+  ASSERT_EQ(nc_get_var_double(id, var, y), NC_NOERR);
+  EXPECT_EQ(x[0], -5.0);  // first frame's block
+  EXPECT_EQ(x[2], -3.0);
+  EXPECT_EQ(y[0], -6.0);
+  EXPECT_EQ(y[3], -3.0);
+  nc_type type = NC_NAT;
+  ASSERT_EQ(nc_inq_varid(id, "in_contact", &var), NC_NOERR);
+  ASSERT_EQ(nc_inq_vartype(id, var, &type), NC_NOERR);
+  EXPECT_EQ(type, NC_BYTE);
+  EXPECT_EQ(nc_close(id), NC_NOERR);
+}
+
+TEST_F(SnapshotIo, InvalidInputThrowsAndWritesNothing) {
+  const fs::path nc = dir_ / "s.nc";
+  EXPECT_THROW(write_snapshots(nc, {}, {}), std::invalid_argument);
+  std::vector<Snapshot> f = frames();
+  f[1].block.shape = {4, 3};
+  EXPECT_NE(invalid_argument_message([&] { write_snapshots(nc, f, {}); }).find("frame 1"),
+            std::string::npos);
+  f = frames();
+  f[2].pressure.pop_back();
+  EXPECT_NE(invalid_argument_message([&] { write_snapshots(nc, f, {}); }).find("'pressure'"),
+            std::string::npos);
+  EXPECT_THROW(write_snapshots(nc, frames(), nlohmann::json::array()), std::invalid_argument);
+  EXPECT_EQ(entries(), 0u);
+  EXPECT_THROW(write_snapshots(dir_ / "missing" / "s.nc", frames(), {}), std::runtime_error);
+}
+
+TEST_F(SnapshotIo, DamagedFilesThrowInvalidArgument) {
+  const fs::path nc = dir_ / "s.nc";
+  EXPECT_NE(invalid_argument_message([&] { read_snapshots(nc); }).find(nc.string()),
+            std::string::npos);
+
+  write_snapshots(nc, frames(), {});
+  fs::resize_file(nc, fs::file_size(nc) / 2);
+  const std::string truncated = invalid_argument_message([&] { read_snapshots(nc); });
+  EXPECT_NE(truncated.find(nc.string()), std::string::npos) << truncated;
+
+  write_snapshots(nc, frames(), {});
+  int id = -1;
+  ASSERT_EQ(nc_open(nc.c_str(), NC_WRITE, &id), NC_NOERR);
+  ASSERT_EQ(nc_redef(id), NC_NOERR);
+  int var = -1;
+  ASSERT_EQ(nc_inq_varid(id, "ux", &var), NC_NOERR);
+  ASSERT_EQ(nc_rename_var(id, var, "ux_old"), NC_NOERR);
+  ASSERT_EQ(nc_close(id), NC_NOERR);
+  EXPECT_NE(invalid_argument_message([&] { read_snapshots(nc); }).find("variable 'ux' missing"),
+            std::string::npos);
+}
+
+TEST_F(SnapshotIo, NcdumpReadsTheHeader) {
+  if (std::system("command -v ncdump > /dev/null 2>&1") != 0) GTEST_SKIP() << "no ncdump";
+  const fs::path nc = dir_ / "s.nc";
+  write_snapshots(nc, frames(), {{"alpha", 0.25}});
+  const fs::path out = dir_ / "header.txt";
+  ASSERT_EQ(std::system(("ncdump -h '" + nc.string() + "' > '" + out.string() + "' 2>&1").c_str()),
+            0);
+  std::ifstream in(out);
+  const std::string header((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(header.find(":Conventions = \"CF-1.8\""), std::string::npos) << header;
+  EXPECT_NE(header.find("double ux(frame, x, y)"), std::string::npos) << header;
+}
+
+}  // namespace
+}  // namespace asperity::app
