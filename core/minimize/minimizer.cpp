@@ -355,6 +355,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         res.termination = Termination::converged;
         break;
       }
+      res.lowest_eigenvalue = std::numeric_limits<double>::quiet_NaN();  // of a state left
       if (++res.escapes > options.max_escapes) {
         res.termination = Termination::unstable;
         break;

@@ -432,54 +432,88 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   }
 
   // mu and its resolution. Before a slip the peak is the last stable state: the instability
-  // lies within one step after it. A smooth maximum is refined by the parabola through the
-  // samples around it.
+  // lies within one step after it, and mu is resolved to that step times the slope. A smooth
+  // maximum (Regime I) is refined, in the adaptive protocol, by parabolic search on Dx in the
+  // bracket of its neighbours (each point relaxed from the peak state); the reference protocol
+  // keeps the classic sampled maximum, and reports the parabola's excess as its precision.
   res.mu = best;
   res.peak_Dx = peak->Dx;
   res.Fz = peak->Fz;
-  const auto it = std::find_if(res.trace.begin(), res.trace.end(),
-                               [&](const TraceRow& row) { return row.Dx == peak->Dx; });
-  if (it != res.trace.end() && it + 1 != res.trace.end()) {
-    const auto next = it + 1;
+  const auto at_peak = std::find_if(res.trace.begin(), res.trace.end(),
+                                    [&](const TraceRow& row) { return row.Dx == peak->Dx; });
+  const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
+  if (at_peak != res.trace.begin() && at_peak != res.trace.end() &&
+      at_peak + 1 != res.trace.end()) {
+    const auto prev = at_peak - 1, next = at_peak + 1;
     if (next->slip) {
-      res.peak_precision = std::abs(next->Dx - it->Dx) *
-                           std::abs((it->Fx - (it - 1)->Fx) / (it->Dx - (it - 1)->Dx)) / it->Fz;
-    } else if (it != res.trace.begin()) {
-      const auto prev = it - 1;
-      const double x0 = prev->Dx, x1 = it->Dx, x2 = next->Dx;
-      const double y0 = prev->Fx / prev->Fz, y1 = it->Fx / it->Fz, y2 = next->Fx / next->Fz;
-      const double denom = (x0 - x1) * (x0 - x2) * (x1 - x2);
-      const double A = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / denom;
-      const double B = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / denom;
-      if (A < 0.0) {
-        const double xv = -B / (2.0 * A);
-        if (xv > x0 && xv < x2) {
-          const double C = y1 - A * x1 * x1 - B * x1;
-          const double yv = A * xv * xv + B * xv + C;
-          if (options.protocol == Protocol::adaptive) {
-            res.peak_precision = yv - best;
-            res.mu = yv;
-            res.peak_Dx = xv;
-          } else {
-            res.peak_precision = yv - best;
-          }
+      res.peak_precision = (next->Dx - at_peak->Dx) *
+                           std::abs((ratio(*at_peak) - ratio(*prev)) / (at_peak->Dx - prev->Dx));
+    } else {
+      double x0 = prev->Dx, x1 = at_peak->Dx, x2 = next->Dx;
+      double y0 = ratio(*prev), y1 = ratio(*at_peak), y2 = ratio(*next);
+      const auto vertex = [&](double& yv) {
+        const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
+        const double curv = (d12 - d01) / (x2 - x0);
+        const double xv = 0.5 * (x0 + x1) - d01 / (2.0 * curv);
+        yv = y1 + (xv - x1) * (d01 + curv * (xv - x0));  // Newton form through the 3 points
+        return curv < 0.0 ? xv : x1;
+      };
+      double yv = y1;
+      double xv = vertex(yv);
+      res.peak_precision = std::max(0.0, yv - y1);
+      for (int k = 0;
+           k < 30 && options.protocol == Protocol::adaptive && x2 - x0 > 2.0 * options.min_step;
+           ++k) {
+        xv = std::clamp(vertex(yv), x0 + 0.25 * options.min_step, x2 - 0.25 * options.min_step);
+        if (std::abs(xv - x1) < 0.25 * options.min_step) {
+          xv = x1 + (x2 - x1 > x1 - x0 ? 0.5 : -0.5) * options.min_step;
         }
+        State probe = *peak;
+        const auto r = slider.relax(probe, xv, nullptr);
+        count(r);
+        if (failed(r, xv)) break;
+        const bool off_branch = slider.slipped_sites(*peak, probe) > 0;
+        const double y =
+            off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
+        if (y > y1) {
+          (xv < x1 ? x2 : x0) = x1;
+          (xv < x1 ? y2 : y0) = y1;
+          x1 = xv;
+          y1 = y;
+          peak = probe;
+        } else {
+          (xv < x1 ? x0 : x2) = xv;
+          (xv < x1 ? y0 : y2) = y;
+        }
+        if (!std::isfinite(y0) || !std::isfinite(y2)) break;
+        vertex(yv);
+        res.peak_precision = std::max(0.0, yv - y1);
+        if (res.peak_precision < 1e-9 * std::abs(y1)) break;
       }
+      res.mu = std::max(best, y1);
+      res.peak_Dx = x1;
+      res.Fz = peak->Fz;
     }
   }
   res.mu_over_alpha = res.mu / scene.alpha;
   res.distance = state.Dx;
   const auto first_slip = std::find_if(res.trace.begin(), res.trace.end(),
                                        [](const TraceRow& row) { return row.slip; });
-  if (first_slip != res.trace.end()) {
-    // Mean over Dx (trapezoid), not over steps: adaptive steps are uneven.
+  // Kinetic friction: the mean of Fx/Fz over Dx (trapezoid: adaptive steps are uneven) after
+  // the first slip; without slips (smooth sliding) over the last whole period d.
+  auto from = first_slip;
+  if (from == res.trace.end() && state.Dx >= d) {
+    from = std::find_if(res.trace.begin(), res.trace.end(),
+                        [&](const TraceRow& row) { return row.Dx >= state.Dx - d - 1e-12; });
+  }
+  if (from != res.trace.end()) {
     double area = 0.0, span = 0.0;
-    for (auto a = first_slip; a + 1 != res.trace.end(); ++a) {
+    for (auto a = from; a + 1 != res.trace.end(); ++a) {
       const double w = (a + 1)->Dx - a->Dx;
       area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
       span += w;
     }
-    res.kinetic = span > 0.0 ? area / span : first_slip->Fx / first_slip->Fz;
+    res.kinetic = span > 0.0 ? area / span : from->Fx / from->Fz;
     res.kinetic_over_static = res.kinetic / res.mu;
   }
   res.snapshots.insert(res.snapshots.begin(), slider.snapshot(*peak, "peak"));

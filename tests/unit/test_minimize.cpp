@@ -1,0 +1,161 @@
+// Unit tier: the lateral force model's interface physics and the minimisers (MODEL.md 3,
+// SOLVERS.md): force and curvature against finite differences, all methods reaching the same
+// minimum, and a state started exactly on a saddle being left rather than returned.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "elastic/surface_gf.hpp"
+#include "interface/lfm.hpp"
+#include "minimize/minimizer.hpp"
+
+using namespace asperity;
+
+namespace {
+
+// minimize::Problem on the contact sites of a block (the same restriction the slider uses).
+class Contact final : public minimize::Problem {
+ public:
+  Contact(const interface::ContactScene& scene, double Dx)
+      : block_(LatticeBlock::centred_disk(scene.a + 2.0)),
+        gf_(scene.material, elastic::Components::in_plane, block_.shape),
+        lfm_(scene, block_),
+        f_(gf_.size()),
+        u_(gf_.size()) {
+    lfm_.set_tip(Dx);
+  }
+  [[nodiscard]] std::size_t size() const override { return 2 * lfm_.contact_sites().size(); }
+  void compliance(std::span<const double> f, std::span<double> u) override {
+    const auto& s = lfm_.contact_sites();
+    const std::size_t m = s.size(), n = block_.shape.count();
+    std::fill(f_.begin(), f_.end(), 0.0);
+    for (std::size_t j = 0; j < m; ++j) {
+      f_[s[j]] = f[j];
+      f_[n + s[j]] = f[m + j];
+    }
+    gf_.apply(f_, u_);
+    for (std::size_t j = 0; j < m; ++j) {
+      u[j] = u_[s[j]];
+      u[m + j] = u_[n + s[j]];
+    }
+  }
+  double interface(std::span<const double> u, std::span<double> f) const override {
+    return lfm_.energy_and_force(u, f);
+  }
+  void curvature(std::span<const double> u, std::span<double> h) const override {
+    lfm_.curvature(u, h);
+  }
+  [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
+  const interface::LateralForceModel& lfm() const { return lfm_; }
+
+ private:
+  LatticeBlock block_;
+  elastic::FreeSurfaceGF gf_;
+  interface::LateralForceModel lfm_;
+  std::vector<double> f_, u_;
+};
+
+double friction(const Contact& c, const std::vector<double>& u) {
+  std::vector<double> f(u.size());
+  c.lfm().energy_and_force(u, f);
+  double fx = 0.0;
+  for (std::size_t j = 0; j < u.size() / 2; ++j)
+    fx += f[j];
+  return fx;
+}
+
+}  // namespace
+
+TEST(LateralForceModel, ForceAndCurvatureAreDerivativesOfTheEnergy) {
+  interface::ContactScene scene {
+    .a = 6.0, .R = 100.0
+  };
+  Contact c(scene, 0.37);
+  const std::size_t n = c.size();
+  std::vector<double> u(n), f(n), f2(n), h(n), h2(n);
+  for (std::size_t i = 0; i < n; ++i)
+    u[i] = 0.3 * std::sin(1.7 * static_cast<double>(i));
+  const double v = c.interface(u, f);
+  c.curvature(u, h);
+  for (std::size_t i : {std::size_t{0}, n / 3, n / 2 + 1, n - 1}) {
+    const double step = 1e-6;
+    std::vector<double> up = u, um = u;
+    up[i] += step;
+    um[i] -= step;
+    const double dv = (c.interface(up, f2) - c.interface(um, f2)) / (2 * step);
+    EXPECT_NEAR(-dv, f[i], 1e-8) << "site " << i;
+    c.interface(up, f2);
+    const double df = f2[i];
+    c.interface(um, f2);
+    EXPECT_NEAR(-(df - f2[i]) / (2 * step), h[i], 1e-7) << "site " << i;
+  }
+  // Registry everywhere: no energy, no force.
+  std::vector<double> zero(n, 0.0);
+  Contact at_origin(scene, 0.0);
+  EXPECT_NEAR(at_origin.interface(zero, f), 0.0, 1e-14);
+  (void)v;
+}
+
+TEST(Minimizer, AllMethodsReachTheSameMinimum) {
+  // A stuck state of a Regime II contact: tip at Dx = 0.3 d, starting from registry.
+  const interface::ContactScene scene { .a = 10.0, .R = 100.0 };
+  double reference_fx = 0.0, reference_e = 0.0;
+  for (auto method : {minimize::Method::lbfgs, minimize::Method::cg, minimize::Method::fire}) {
+    Contact c(scene, 0.3);
+    std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0);
+    minimize::MinimizerOptions o{.method = method, .force_tolerance = 1e-9};
+    const auto r = minimize::minimize(c, u, f, o);
+    ASSERT_EQ(r.termination, Termination::converged) << to_string(method);
+    EXPECT_LE(r.max_force, 1e-9);
+    // The pair stays consistent: u = G f.
+    std::vector<double> g(u.size());
+    c.compliance(f, g);
+    for (std::size_t i = 0; i < u.size(); ++i)
+      ASSERT_NEAR(g[i], u[i], 1e-9);
+    const double fx = friction(c, u);
+    if (method == minimize::Method::lbfgs) {
+      reference_fx = fx;
+      reference_e = r.energy;
+    } else {
+      EXPECT_NEAR(fx, reference_fx, 1e-7 * std::abs(reference_fx)) << to_string(method);
+      EXPECT_NEAR(r.energy, reference_e, 1e-9 * std::abs(reference_e)) << to_string(method);
+    }
+    std::printf("%s: %d iterations, %zu GF applications\n", to_string(method).c_str(), r.iterations,
+                r.gf_applications);
+  }
+}
+
+TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
+  // Tip at Dx = d/2 with u = 0: every site sits on the top of its registry barrier along x and
+  // feels no force. With lambda = 2 pi alpha Fz / (d k) > 1 the rigid mode is unstable, so this
+  // is a saddle; a minimiser must not return it as converged.
+  const interface::ContactScene scene { .a = 10.0, .R = 100.0 };
+  ASSERT_GT(scene.lambda(), 1.0);
+  for (auto check : {minimize::StabilityCheck::perturb, minimize::StabilityCheck::lanczos}) {
+    Contact c(scene, 0.5);
+    std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0), fint(c.size());
+    const double e0 = c.interface(u, fint);
+    const auto r = minimize::minimize(c, u, f, {.stability = check});
+    EXPECT_EQ(r.termination, Termination::converged);
+    EXPECT_GE(r.escapes, 1);
+    EXPECT_LT(r.energy, e0 - 1e-3 * std::abs(e0));
+    // The final state's lowest eigenvalue, where it had to be computed, is not negative.
+    if (check == minimize::StabilityCheck::lanczos && !std::isnan(r.lowest_eigenvalue)) {
+      EXPECT_GE(r.lowest_eigenvalue, 0.0);
+    }
+  }
+  // Without a check the saddle is (wrongly) accepted: the check is what makes the difference.
+  Contact c(scene, 0.5);
+  std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0);
+  const auto r = minimize::minimize(c, u, f, {.stability = minimize::StabilityCheck::none});
+  EXPECT_EQ(r.iterations, 0);
+}
+
+TEST(Minimizer, RejectsBadOptions) {
+  EXPECT_THROW(minimize::MinimizerOptions{.force_tolerance = 0.0}.validate(),
+               std::invalid_argument);
+  EXPECT_THROW(minimize::MinimizerOptions{.max_displacement = -1.0}.validate(),
+               std::invalid_argument);
+  EXPECT_THROW(minimize::method_from_string("newton"), std::invalid_argument);
+}
