@@ -67,63 +67,77 @@ struct Point {
 };
 
 // Line search along (du, df) satisfying the strong Wolfe conditions on the slope, with the
-// Armijo condition relaxed by the energy resolution. Bracketing by doubling (up to t_max),
-// zoom by safeguarded cubic interpolation of the slopes. Returns false if no point with an
-// energy not above the start (within round-off) was found.
+// Armijo condition relaxed by the energy resolution (Nocedal & Wright, algorithms 3.5 and 3.6:
+// bracketing by doubling up to t_max, then zoom by safeguarded secant steps on the slope).
+// Returns false if no point with an energy within round-off of the start and a flatter slope
+// was found.
 bool line_search(Evaluator& eval, const Point& x, std::span<const double> du,
                  std::span<const double> df, double d0, double t_init, double t_max, double c2,
                  Point& out) {
   constexpr double c1 = 1e-4;
   const double slack = energy_slack(x.e);
+  // Fallback when the conditions cannot be met at this precision: of the points whose energy is
+  // within round-off of the start, the one with the flattest slope (slopes stay accurate when
+  // energy differences are lost).
+  double best_t = 0.0, best_slope = std::abs(d0);
   const auto at = [&](double t, double& e, double& d) {
     axpy_into(out.u, x.u, t, du);
     axpy_into(out.f, x.f, t, df);
     e = out.e = eval(out.u, out.f, out.r);
     d = dot(out.r, du);
-  };
-  const auto sufficient = [&](double t, double e) { return e <= x.e + c1 * t * d0 + slack; };
-  double t_lo = 0.0, e_lo = x.e, d_lo = d0;
-  double t_hi = 0.0, e_hi = 0.0, d_hi = 0.0;
-  bool bracketed = false;
-  double t = std::min(t_init, t_max);
-  double best_t = 0.0, best_e = x.e;
-  for (int k = 0; k < 40; ++k) {
-    double e = 0.0, d = 0.0;
-    at(t, e, d);
-    if (e < best_e) {
-      best_e = e;
+    if (e <= x.e + slack && std::abs(d) < best_slope) {
+      best_slope = std::abs(d);
       best_t = t;
     }
-    if (!sufficient(t, e) || (k > 0 && e > e_lo + slack)) {
-      bracketed = true;
-      t_hi = t, e_hi = e, d_hi = d;
-    } else {
-      if (std::abs(d) <= -c2 * d0) return true;
-      if (d >= 0.0) {
-        bracketed = true;
-        t_hi = t_lo, e_hi = e_lo, d_hi = d_lo;
-        t_lo = t, e_lo = e, d_lo = d;
+  };
+  const auto sufficient = [&](double t, double e) { return e <= x.e + c1 * t * d0 + slack; };
+  const auto curvature_ok = [&](double d) { return std::abs(d) <= -c2 * d0; };
+
+  const auto zoom = [&](double lo, double e_lo, double d_lo, double hi, double d_hi) {
+    for (int k = 0; k < 40; ++k) {
+      const double a = std::min(lo, hi), b = std::max(lo, hi);
+      if (b - a < 1e-14 * std::max(1.0, b)) return false;
+      double t = d_hi != d_lo ? lo - d_lo * (hi - lo) / (d_hi - d_lo) : 0.5 * (a + b);
+      const double margin = 0.1 * (b - a);
+      if (!(t > a + margin && t < b - margin)) t = 0.5 * (a + b);
+      double e = 0.0, d = 0.0;
+      at(t, e, d);
+      if (!sufficient(t, e) || e > e_lo + slack) {
+        hi = t;
+        d_hi = d;
       } else {
-        t_lo = t, e_lo = e, d_lo = d;
-        if (!bracketed) {
-          if (t >= t_max) return true;  // capped step: still a descent step
-          t = std::min(2.0 * t, t_max);
-          continue;
+        if (curvature_ok(d)) return true;
+        if (d * (hi - lo) >= 0.0) {
+          hi = lo;
+          d_hi = d_lo;
         }
+        lo = t;
+        e_lo = e;
+        d_lo = d;
       }
     }
-    // Zoom: cubic interpolation of the slopes between lo and hi, kept inside the bracket.
-    const double a = std::min(t_lo, t_hi), b = std::max(t_lo, t_hi);
-    double trial = 0.5 * (a + b);
-    const double denom = d_hi - d_lo;
-    if (std::abs(denom) > 0.0) trial = t_lo - d_lo * (t_hi - t_lo) / denom;  // secant on slope
-    const double margin = 0.1 * (b - a);
-    if (!(trial > a + margin && trial < b - margin)) trial = 0.5 * (a + b);
-    if (b - a < 1e-14 * std::max(1.0, b)) break;
-    t = trial;
-    (void)e_hi;
+    return false;
+  };
+
+  double t_prev = 0.0, e_prev = x.e, d_prev = d0;
+  double t = std::min(t_init, t_max);
+  for (int k = 0; k < 60; ++k) {
+    double e = 0.0, d = 0.0;
+    at(t, e, d);
+    if (!sufficient(t, e) || (k > 0 && e > e_prev + slack)) {
+      if (zoom(t_prev, e_prev, d_prev, t, d)) return true;
+      break;
+    }
+    if (curvature_ok(d)) return true;
+    if (d >= 0.0) {
+      if (zoom(t, e, d, t_prev, d_prev)) return true;
+      break;
+    }
+    if (t >= t_max) return true;  // capped step: still a descent step
+    t_prev = t, e_prev = e, d_prev = d;
+    t = std::min(2.0 * t, t_max);
   }
-  if (best_t > 0.0 && best_e <= x.e + slack) {
+  if (best_t > 0.0) {
     double e = 0.0, d = 0.0;
     at(best_t, e, d);
     return true;

@@ -18,6 +18,8 @@ TEST(SlideRefinement, StepAndToleranceConverged) {
   fine.minimizer.force_tolerance = 1e-7;
   const auto a = slide::slide(scene, coarse);
   const auto b = slide::slide(scene, fine);
+  ASSERT_FALSE(a.failed) << a.stop_reason;
+  ASSERT_FALSE(b.failed) << b.stop_reason;
   std::printf("reference 0.01 d / 1e-6: mu/alpha %.6f; 0.005 d / 1e-7: %.6f\n", a.mu_over_alpha,
               b.mu_over_alpha);
   EXPECT_NEAR(a.mu / b.mu, 1.0, 0.005);
@@ -27,6 +29,8 @@ TEST(SlideRefinement, StepAndToleranceConverged) {
   adaptive_fine.minimizer.force_tolerance = 1e-7;
   const auto c = slide::slide(scene, adaptive);
   const auto e = slide::slide(scene, adaptive_fine);
+  ASSERT_FALSE(c.failed) << c.stop_reason;
+  ASSERT_FALSE(e.failed) << e.stop_reason;
   std::printf("adaptive: mu/alpha %.6f; refined: %.6f\n", c.mu_over_alpha, e.mu_over_alpha);
   EXPECT_NEAR(c.mu / e.mu, 1.0, 0.005);
 }
