@@ -6,6 +6,9 @@
 // - cg: the classic reference, Polak-Ribiere+ conjugate gradients preconditioned with G.
 // - fire: FIRE (Bitzek et al., PRL 97, 170201, 2006) on the preconditioned force -G r, with
 //   powers and norms in the K metric (r.du, r.G r), which the pair makes free.
+// - newton: lbfgs down to newton_start, then a Newton-Krylov finish (KINSOL, solve/) on
+//   F(f) = f - f_int(G f) = 0 with J v = v + H_int G v (one GF application per product). Newton
+//   finds any stationary point, so the stability check below is what keeps it on minima.
 // Every method descends in energy (line searches accept no energy rise beyond round-off; FIRE
 // stops and restarts when the power turns negative) and caps the largest displacement of an
 // iteration, so that a state at an instability falls into the next minimum, not a distant one.
@@ -32,7 +35,7 @@
 
 namespace asperity::minimize {
 
-enum class Method { lbfgs, cg, fire };
+enum class Method { lbfgs, cg, fire, newton };
 enum class StabilityCheck { none, perturb, lanczos };
 std::string to_string(Method m);
 Method method_from_string(const std::string& name);  // throws std::invalid_argument
@@ -42,6 +45,7 @@ struct MinimizerOptions {
   double force_tolerance = 1e-6;  // stop when max |r_i| <= this (force per site, G d^2)
   int max_iterations = 20000;     // per minimisation, escapes included
   int memory = 8;                 // L-BFGS pairs kept
+  double newton_start = 1e-3;     // newton: switch to Newton-Krylov below this max |r| (G d^2)
   double max_displacement = 0.1;  // largest |du_i| in one iteration (d)
   int refresh_interval = 200;     // recompute u = G f every this many iterations (drift)
   StabilityCheck stability = StabilityCheck::perturb;  // check of converged states (see above)
