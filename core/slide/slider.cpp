@@ -114,13 +114,25 @@ class Slider {
     const std::vector<double> u_start = u;
     const bool record = frames != nullptr && options_.path_frame_every > 0;
     minimize::Observer observer;
+    // A long relaxation keeps at most max_path_frames frames: when full, every other frame is
+    // dropped and the interval doubles, so the frames stay evenly spread over the relaxation.
+    int interval = options_.path_frame_every;
     if (record || stop_on_slip) {
       observer = [&](int it, std::span<const double> uu, std::span<const double> ff) {
-        if (record && it % options_.path_frame_every == 0) {
-          State frame = s;
-          scatter(uu, frame.u);
-          scatter(ff, frame.f);
-          frames->push_back(snapshot(frame, "path", it));
+        if (record && it % interval == 0) {
+          if (static_cast<int>(frames->size()) >= options_.max_path_frames) {
+            std::size_t keep = 0;
+            for (std::size_t k = 1; k < frames->size(); k += 2)
+              (*frames)[keep++] = std::move((*frames)[k]);
+            frames->resize(keep);
+            interval *= 2;
+          }
+          if (it % interval == 0) {
+            State frame = s;
+            scatter(uu, frame.u);
+            scatter(ff, frame.f);
+            frames->push_back(snapshot(frame, "path", it));
+          }
         }
         if (!stop_on_slip) return false;
         for (std::size_t j = 0; j < m; ++j) {
@@ -286,6 +298,7 @@ void SlideOptions::validate() const {
   }
   if (slips_to_stop < 1) fail("slips_to_stop", slips_to_stop, ">= 1");
   if (path_frame_every < 0) fail("path_frame_every", path_frame_every, ">= 0");
+  if (max_path_frames < 2) fail("max_path_frames", max_path_frames, ">= 2");
   minimizer.validate();
   fft.validate();
 }
@@ -407,8 +420,11 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     state = std::move(trial);
     record(state, r, slip, sites);
     ++res.steps;
+    // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
+    // Regime I the trace repeats its first maximum a period later, and the first, which has
+    // samples on both sides, is the one to refine.
     const double ratio = state.Fx / state.Fz;
-    if (ratio > best) {
+    if (ratio > best + 1e-6 * std::abs(best)) {
       best = ratio;
       peak = state;
     }

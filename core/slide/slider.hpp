@@ -45,6 +45,7 @@ struct SlideOptions {
   bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
   int path_frame_every = 0;   // relaxation-path frames through slip events every N iterations
                               // (0: none)
+  int max_path_frames = 64;   // frames kept per slip event (the interval doubles when full)
   minimize::MinimizerOptions minimizer;  // tolerance, method, ...
   fft::FFTOptions fft;                   // threads and planning of the GF transforms
 
