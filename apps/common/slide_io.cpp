@@ -13,9 +13,10 @@
 
 namespace asperity::app {
 
-SlideScene read_slide_scene(const std::string& path) {
+namespace {
+
+SlideScene read_slide_keys(SceneReader& r) {
   SlideScene s;
-  auto r = SceneReader::from_file(path);
   auto& c = s.contact;
   c.a = r.number("contact.a", c.a, Range::closed(1.0, 4096.0));
   c.R = r.number("contact.R", c.R, Range::positive());
@@ -44,7 +45,14 @@ SlideScene read_slide_scene(const std::string& path) {
   o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
   o.fft.planner = fft::planner_from_string(
       r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
-  r.reject_unknown();
+  return s;
+}
+
+// Constraints between keys; checked after reject_unknown() where possible, so that a misspelled
+// key is reported as such rather than through the default that replaced it.
+void check_relations(const SlideScene& s, const std::string& path) {
+  const auto& c = s.contact;
+  const auto& o = s.options;
   if (o.min_step > o.max_step) {
     throw std::invalid_argument(path + ": slide.min_step = " + std::to_string(o.min_step) +
                                 ": allowed: <= slide.max_step = " + std::to_string(o.max_step));
@@ -53,6 +61,21 @@ SlideScene read_slide_scene(const std::string& path) {
     throw std::invalid_argument(path + ": contact.a = " + std::to_string(c.a) +
                                 ": allowed: < contact.R = " + std::to_string(c.R));
   }
+}
+
+}  // namespace
+
+SlideScene read_slide_scene(const std::string& path) {
+  auto reader = SceneReader::from_file(path);
+  SlideScene s = read_slide_keys(reader);
+  reader.reject_unknown();
+  check_relations(s, path);
+  return s;
+}
+
+SlideScene read_slide_scene(SceneReader& reader) {
+  SlideScene s = read_slide_keys(reader);
+  check_relations(s, reader.source_name());
   return s;
 }
 
@@ -115,25 +138,14 @@ double cattaneo_mindlin(double rho, double mu_over_alpha) {
   return rho < c ? slip - c * std::sqrt(c * c - rho * rho) : slip;
 }
 
-}  // namespace
-
-std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::path& dir,
-                                                       const SlideScene& scene,
-                                                       const slide::SlideResult& r) {
-  ensure_directory(dir);
-  std::vector<std::filesystem::path> written;
+// trace.png, stress_profiles.png and stress_map.png (peak snapshot) into dir.
+void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
+                   const slide::SlideResult& r, std::vector<std::filesystem::path>& written) {
   const auto& c = scene.contact;
   const double alpha = c.alpha;
-
-  CsvTable trace({"Dx", "Fx", "Fz", "Fx_over_Fz", "energy", "iterations", "gf_applications",
-                  "max_force", "slip", "slipped_sites"});
   Series fx{.title = "Fx / (alpha Fz)", .style = "lines lw 2"};
   Series slips{.title = "slip events", .style = "points pt 7 ps 1.2"};
   for (const auto& row : r.trace) {
-    trace.add_row({row.Dx, row.Fx, row.Fz, row.Fx / row.Fz, row.energy,
-                   static_cast<long long>(row.iterations),
-                   static_cast<long long>(row.gf_applications), row.max_force,
-                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites)});
     fx.x.push_back(row.Dx / c.d);
     fx.y.push_back(row.Fx / (alpha * row.Fz));
     if (row.slip) {
@@ -203,8 +215,14 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
        .extra_commands = {"set size ratio -1"}},
       "tau_x / tau_max", std::pair{-1.0, 1.0});
   written.push_back(dir / "stress_map.png");
+}
 
-  // Snapshots: one NetCDF file per label (relaxation paths hold their frames in order).
+// snapshots/<label>.nc: one NetCDF file per label (relaxation paths hold their frames in order).
+void write_snapshot_files(const std::filesystem::path& dir, const SlideScene& scene,
+                          const slide::SlideResult& r,
+                          std::vector<std::filesystem::path>& written) {
+  const auto& c = scene.contact;
+  const double alpha = c.alpha;
   const auto snap_dir = ensure_directory(dir / "snapshots");
   nlohmann::json attributes = {{"model", "lfm"},
                                {"a", c.a},
@@ -224,7 +242,26 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
     write_snapshots(snap_dir / (label + ".nc"), groups[label], attributes);
     written.push_back(snap_dir / (label + ".nc"));
   }
+}
 
+}  // namespace
+
+std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::path& dir,
+                                                       const SlideScene& scene,
+                                                       const slide::SlideResult& r,
+                                                       const SlideOutputOptions& options) {
+  ensure_directory(dir);
+  std::vector<std::filesystem::path> written;
+  CsvTable trace({"Dx", "Fx", "Fz", "Fx_over_Fz", "energy", "iterations", "gf_applications",
+                  "max_force", "slip", "slipped_sites"});
+  for (const auto& row : r.trace) {
+    trace.add_row({row.Dx, row.Fx, row.Fz, row.Fx / row.Fz, row.energy,
+                   static_cast<long long>(row.iterations),
+                   static_cast<long long>(row.gf_applications), row.max_force,
+                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites)});
+  }
+  if (options.figures) write_figures(dir, scene, r, written);
+  if (options.snapshots) write_snapshot_files(dir, scene, r, written);
   trace.write(dir / "trace.csv");
   written.push_back(dir / "trace.csv");
   write_json(dir / "summary.json", slide_summary(scene, r));

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -10,6 +11,8 @@
 #include "slide/slider.hpp"
 
 namespace asperity::app {
+
+class SceneReader;
 
 struct SlideScene {
   interface::ContactScene contact;
@@ -20,13 +23,27 @@ struct SlideScene {
 // out-of-range values throw std::invalid_argument naming the file, key, value and range.
 SlideScene read_slide_scene(const std::string& path);
 
+// Reads the slide-scene keys (contact, material, slide, solver, fft) from `reader` and checks
+// their relations, but leaves reject_unknown() to the caller: a tool whose scenes add tables of
+// their own (friction_sweep's [sweep]) reads those too before rejecting unknown keys.
+SlideScene read_slide_scene(SceneReader& reader);
+
 // summary.json contents: parameters, results, cost and accuracy (tolerances, steps, grid).
 nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& result);
 
-// Writes trace.csv, summary.json, the figures and the NetCDF snapshots into dir.
-// Returns the list of files written (figures first).
+// What write_slide_outputs writes besides trace.csv and summary.json. A sweep of many points
+// skips the figures (a gnuplot process each) and the snapshots (megabytes per point) by default.
+struct SlideOutputOptions {
+  bool figures = true;    // trace.png, stress_profiles.png, stress_map.png
+  bool snapshots = true;  // snapshots/<label>.nc, NetCDF field snapshots
+};
+
+// Writes trace.csv, summary.json and, as `options` asks, the figures and the NetCDF snapshots
+// into dir. Returns the list of files written (figures first). The NetCDF library is not
+// thread-safe: callers running points in parallel serialise calls that write snapshots.
 std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::path& dir,
                                                        const SlideScene& scene,
-                                                       const slide::SlideResult& result);
+                                                       const slide::SlideResult& result,
+                                                       const SlideOutputOptions& options = {});
 
 }  // namespace asperity::app

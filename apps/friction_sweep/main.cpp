@@ -1,0 +1,410 @@
+// friction_sweep: static friction of the lateral force model (MODEL.md sections 3 and 5) over
+// many (a, R) points, run in parallel. Reads a sweep scene (default:
+// data/scenes/sweep_default.toml), lets flags override it, and writes into the output directory
+// - sweep.csv: one row per point, sorted by R then a, rewritten after every finished point, so
+//   that an interrupted sweep loses only the points in flight; a later run with the same
+//   settings reuses its rows instead of recomputing them;
+// - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
+//   figures and snapshots of contact_slide);
+// - summary.json: settings, counts, wall time and the log-log slope of mu/alpha in Regime II;
+// - mu_vs_a_over_bcore0.png and kinetic_over_static.png.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/slide_io.hpp"
+#include "sweep.hpp"
+
+using namespace asperity;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Window of the Regime II slope fit (MODEL.md 8), and where the slope -2/3 guide starts.
+constexpr double kFitLo = 10.0, kFitHi = 60.0, kGuideFrom = 10.0;
+
+std::string describe_list(const std::vector<double>& v) {
+  std::string out;
+  char buf[32];
+  for (double x : v) {
+    std::snprintf(buf, sizeof buf, "%g", x);
+    out += (out.empty() ? "" : ", ") + std::string(buf);
+  }
+  return out;
+}
+
+void write_table(const fs::path& csv, const std::vector<std::optional<app::SweepRow>>& rows) {
+  app::CsvTable table(app::sweep_columns());
+  for (const auto& row : rows) {
+    if (row) table.add_row(row->cells);
+  }
+  table.write(csv);
+}
+
+// The sweep's settings for summary.json: every key of the scene but the per-point a and R.
+nlohmann::json scene_json(const app::SweepScene& s, int jobs) {
+  const auto& c = s.base.contact;
+  const auto& o = s.base.options;
+  const auto& m = o.minimizer;
+  nlohmann::json j = {
+      {"source", s.source},
+      {"R", s.R.values},
+      {"alpha", c.alpha},
+      {"G", c.material.G},
+      {"nu", c.material.nu},
+      {"d", c.d},
+      {"protocol", slide::to_string(o.protocol)},
+      {"step", o.step},
+      {"max_step", o.max_step},
+      {"min_step", o.min_step},
+      {"distance", o.distance == 0.0 ? nlohmann::json("automatic") : nlohmann::json(o.distance)},
+      {"max_distance", o.max_distance},
+      {"slips_to_stop", o.slips_to_stop},
+      {"solver", minimize::to_string(m.method)},
+      {"tolerance", m.force_tolerance},
+      {"max_iterations", m.max_iterations},
+      {"memory", m.memory},
+      {"max_displacement", m.max_displacement},
+      {"fft_threads", o.fft.threads},
+      {"fft_planner", fft::to_string(o.fft.planner)},
+      {"jobs", jobs},
+      {"settings", app::settings_fingerprint(s.base)},
+  };
+  if (s.a) j["a"] = s.a->values;
+  if (s.a_over_bcore0) j["a_over_bcore0"] = s.a_over_bcore0->values;
+  return j;
+}
+
+// Series per R, in increasing R; `pick` returns the y value or nothing to leave the row out.
+template <class Pick>
+std::vector<app::Series> series_per_R(const std::vector<app::SweepRow>& rows, Pick pick) {
+  std::map<double, app::Series> by_R;
+  for (const auto& r : rows) {
+    const std::optional<double> y = pick(r);
+    if (!y) continue;
+    auto& s = by_R[r.point.R];
+    if (s.title.empty()) {
+      char title[48];
+      std::snprintf(title, sizeof title, "R = %g d", r.point.R);
+      s.title = title;
+      s.style = "linespoints pt 7 ps 1.3";
+    }
+    s.x.push_back(r.a_over_bcore0);
+    s.y.push_back(*y);
+  }
+  std::vector<app::Series> out;
+  for (auto& [R, s] : by_R)
+    out.push_back(std::move(s));
+  return out;
+}
+
+// mu/alpha against a/b_core^0, log-log, with the Regime I limit and a Regime II guide. Returns
+// the files written.
+std::vector<fs::path> write_figures(const fs::path& dir, const app::SweepScene& s,
+                                    const std::vector<app::SweepRow>& rows) {
+  std::vector<fs::path> written;
+  char title[200];
+  std::snprintf(title, sizeof title, "Static friction: alpha = %g, nu = %g; %s, %s, tol %g",
+                s.base.contact.alpha, s.base.contact.material.nu,
+                slide::to_string(s.base.options.protocol).c_str(),
+                minimize::to_string(s.base.options.minimizer.method).c_str(),
+                s.base.options.minimizer.force_tolerance);
+
+  // log scales: non-positive values cannot be drawn; failed points are not measurements.
+  auto mu = series_per_R(rows, [](const app::SweepRow& r) -> std::optional<double> {
+    if (r.failed || !(r.mu_over_alpha > 0.0)) return std::nullopt;
+    return r.mu_over_alpha;
+  });
+  if (mu.empty()) {
+    std::fprintf(stderr, "friction_sweep: no finished point: mu_vs_a_over_bcore0.png skipped\n");
+  } else {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lo = inf, hi = 0.0, log_x = 0.0, log_y = 0.0, guide_lo = inf, guide_hi = 0.0;
+    int n_guide = 0;
+    app::Series bounds{.title = "lower bound (no peak within the distance)",
+                       .style = "points pt 8 ps 2.5 lc 'black'"};
+    for (const auto& r : rows) {
+      if (r.failed || !(r.mu_over_alpha > 0.0)) continue;
+      lo = std::min(lo, r.a_over_bcore0);
+      hi = std::max(hi, r.a_over_bcore0);
+      if (r.mu_is_lower_bound) {
+        bounds.x.push_back(r.a_over_bcore0);
+        bounds.y.push_back(r.mu_over_alpha);
+      }
+      if (r.a_over_bcore0 >= kGuideFrom && !r.mu_is_lower_bound) {
+        log_x += std::log(r.a_over_bcore0);
+        log_y += std::log(r.mu_over_alpha);
+        guide_lo = std::min(guide_lo, r.a_over_bcore0);
+        guide_hi = std::max(guide_hi, r.a_over_bcore0);
+        ++n_guide;
+      }
+    }
+    lo /= 1.5;
+    hi *= 1.5;
+    app::Series one{.x = {lo, hi},
+                    .y = {1.0, 1.0},
+                    .title = "mu/alpha = 1 (Regime I)",
+                    .style = "lines dt 2 lw 2 lc 'black'"};
+    mu.push_back(one);
+    if (!bounds.x.empty()) mu.push_back(bounds);
+    if (n_guide > 0) {
+      // Through the centre of the points on log axes: exp(mean log x), exp(mean log y).
+      const double x0 = std::exp(log_x / n_guide), y0 = std::exp(log_y / n_guide);
+      app::Series guide{.title = "slope -2/3 (Regime II)", .style = "lines dt 3 lw 2 lc 'gray40'"};
+      for (double x : {guide_lo / 1.5, guide_hi * 1.5}) {
+        guide.x.push_back(x);
+        guide.y.push_back(y0 * std::pow(x / x0, -2.0 / 3.0));
+      }
+      mu.push_back(guide);
+    }
+    const fs::path png = dir / "mu_vs_a_over_bcore0.png";
+    app::plot_png(png, mu,
+                  {.title = title,
+                   .xlabel = "a / b_core^0",
+                   .ylabel = "mu / alpha",
+                   .logx = true,
+                   .logy = true,
+                   .xrange = std::pair{lo, hi}});
+    written.push_back(png);
+  }
+
+  // Kinetic friction as the slider defines it: the mean of Fx/Fz after the first slip, or over
+  // the last period when nothing slipped (about 0: smooth sliding costs no work).
+  auto ratio = series_per_R(rows, [](const app::SweepRow& r) -> std::optional<double> {
+    if (r.failed || !std::isfinite(r.kinetic_over_static)) return std::nullopt;
+    return r.kinetic_over_static;
+  });
+  if (ratio.empty()) {
+    std::fprintf(stderr, "friction_sweep: no finished point: kinetic_over_static.png skipped\n");
+  } else {
+    const fs::path png = dir / "kinetic_over_static.png";
+    std::snprintf(
+        title, sizeof title,
+        "Kinetic (mean Fx/Fz after the first slip, else over the last period) over static "
+        "friction: alpha = %g",
+        s.base.contact.alpha);
+    app::plot_png(
+        png, ratio,
+        {.title = title, .xlabel = "a / b_core^0", .ylabel = "kinetic / static", .logx = true});
+    written.push_back(png);
+  }
+  return written;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+    CLI::App cli{"Static friction of the lateral force model over many (a, R) points"};
+    std::string scene_path = ASPERITY_DATA_DIR "/scenes/sweep_default.toml";
+    std::string out = "results/friction_sweep";
+    std::vector<double> R, a, targets;
+    std::optional<int> jobs;
+    bool figures = false;
+    cli.add_option("scene", scene_path, "Sweep scene file (TOML)")
+        ->check(CLI::ExistingFile)
+        ->capture_default_str();
+    auto* R_opt = cli.add_option("--R", R, "Sphere radii (d), comma-separated")->delimiter(',');
+    auto* a_opt = cli.add_option("--a", a, "Contact radii (d), comma-separated")->delimiter(',');
+    auto* x_opt = cli.add_option("--a-over-bcore0", targets,
+                                 "Targets of a/b_core^0, comma-separated (instead of --a)")
+                      ->delimiter(',');
+    a_opt->excludes(x_opt);
+    cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads / fft.threads)")
+        ->check(CLI::Range(1, 1024));
+    cli.add_flag("--figures", figures,
+                 "Per point also the figures and NetCDF snapshots (as contact_slide)");
+    cli.add_option("--out", out, "Output directory")->capture_default_str();
+    if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+
+    app::SweepScene s = app::read_sweep_scene(scene_path);
+    if (R_opt->count() > 0) s.R = {R, "--R"};
+    if (a_opt->count() > 0) {
+      s.a = app::ValueList{a, "--a"};
+      s.a_over_bcore0.reset();
+    }
+    if (x_opt->count() > 0) {
+      s.a_over_bcore0 = app::ValueList{targets, "--a-over-bcore0"};
+      s.a.reset();
+    }
+    if (jobs) s.jobs = *jobs;
+    s.base.contact.validate();
+    s.base.options.validate();
+    const std::vector<app::SweepPoint> points = app::sweep_points(s);  // validates s
+    const std::string settings = app::settings_fingerprint(s.base);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path dir = app::ensure_directory(out);
+    const fs::path csv = dir / "sweep.csv";
+    app::ResumedRows resumed = app::resume_rows(csv, points, settings);
+    std::vector<std::optional<app::SweepRow>> rows = std::move(resumed.rows);
+    // Cheapest first (cost grows as the a^2 contact sites): results start arriving at once.
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (!rows[k]) order.push_back(k);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t i, std::size_t j) { return points[i].a < points[j].a; });
+    const int n_jobs = std::min(s.effective_jobs(), static_cast<int>(order.size()));
+
+    std::fprintf(stderr,
+                 "friction_sweep: %zu points: R = %s d; %s = %s; alpha = %g, nu = %g; %s "
+                 "protocol, %s, tolerance %g\n",
+                 points.size(), describe_list(s.R.values).c_str(), s.a ? "a (d)" : "a/b_core^0",
+                 describe_list(s.a ? s.a->values : s.a_over_bcore0->values).c_str(),
+                 s.base.contact.alpha, s.base.contact.material.nu,
+                 slide::to_string(s.base.options.protocol).c_str(),
+                 minimize::to_string(s.base.options.minimizer.method).c_str(),
+                 s.base.options.minimizer.force_tolerance);
+    if (fs::exists(csv)) {
+      std::fprintf(stderr, "friction_sweep: reused %zu of %zu points from %s", resumed.reused,
+                   points.size(), csv.c_str());
+      // Dropped rows leave the table; their point folders stay until the points are run again.
+      std::string why;
+      for (const auto& [count, reason] : {std::pair{resumed.other_settings, "with other settings"},
+                                          std::pair{resumed.not_requested, "not in this sweep"},
+                                          std::pair{resumed.failed, "failed, run again"}}) {
+        if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
+      }
+      if (!why.empty()) std::fprintf(stderr, "; dropped rows: %s", why.c_str());
+      std::fprintf(stderr, "\n");
+    }
+    // The table now holds exactly the reused rows; points are added as they finish.
+    write_table(csv, rows);
+    if (!order.empty()) {
+      std::fprintf(stderr,
+                   "friction_sweep: running %zu point%s, %d at once, %d FFT thread%s each\n",
+                   order.size(), order.size() > 1 ? "s" : "", n_jobs, s.base.options.fft.threads,
+                   s.base.options.fft.threads > 1 ? "s" : "");
+    }
+
+    std::mutex table_mutex;   // rows, sweep.csv and the progress lines
+    std::mutex output_mutex;  // the NetCDF library is not thread-safe
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
+    std::size_t finished = 0;
+    const auto run_point = [&](std::size_t k) {
+      app::SlideScene ps = s.base;
+      ps.contact.a = points[k].a;
+      ps.contact.R = points[k].R;
+      const auto started = std::chrono::steady_clock::now();
+      app::SweepRow row;
+      try {
+        const slide::SlideResult result = slide::slide(ps.contact, ps.options);
+        {
+          std::unique_lock lock(output_mutex, std::defer_lock);
+          if (figures) lock.lock();
+          app::write_slide_outputs(dir / "points" / app::point_folder(points[k]), ps, result,
+                                   {.figures = figures, .snapshots = figures});
+        }
+        row = app::sweep_row(ps, result, settings);
+      } catch (const std::exception& e) {
+        // Recorded as a failed point; the other points go on.
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        row = app::error_row(ps, e.what(), seconds, settings);
+      }
+      const std::lock_guard lock(table_mutex);
+      ++finished;
+      std::fprintf(stderr,
+                   "friction_sweep: [%zu/%zu] a = %.4g d, R = %g d, a/b_core^0 = %.4g: "
+                   "mu/alpha = %.5f%s, %.1f s%s%s\n",
+                   finished, order.size(), row.point.a, row.point.R, row.a_over_bcore0,
+                   row.mu_over_alpha, row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                   row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
+      rows[k] = std::move(row);
+      try {
+        write_table(csv, rows);
+      } catch (...) {
+        if (!fatal) fatal = std::current_exception();
+        stop = true;
+      }
+    };
+    {
+      std::vector<std::jthread> pool;
+      for (int j = 0; j < n_jobs; ++j) {
+        pool.emplace_back([&] {
+          while (!stop) {
+            const std::size_t i = next++;
+            if (i >= order.size()) break;
+            run_point(order[i]);
+          }
+        });
+      }
+    }  // joins
+    if (fatal) std::rethrow_exception(fatal);
+
+    std::vector<app::SweepRow> done;
+    for (auto& row : rows)
+      done.push_back(std::move(*row));
+    const auto figure_files = write_figures(dir, s, done);
+    const nlohmann::json fit = app::fit_slope(done, kFitLo, kFitHi);
+    std::vector<const app::SweepRow*> failed;
+    double points_wall = 0.0;
+    for (const auto& r : done) {
+      if (r.failed) failed.push_back(&r);
+      if (std::isfinite(r.wall_s)) points_wall += r.wall_s;
+    }
+    nlohmann::json failed_json = nlohmann::json::array();
+    for (const auto* r : failed)
+      failed_json.push_back(
+          {{"a", r->point.a}, {"R", r->point.R}, {"stop_reason", r->stop_reason}});
+    nlohmann::json figure_names = nlohmann::json::array();
+    for (const auto& f : figure_files)
+      figure_names.push_back(f.filename().string());
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    app::write_json(dir / "summary.json", {{"tool", "friction_sweep"},
+                                           {"provenance", app::provenance_json()},
+                                           {"scene", scene_json(s, s.effective_jobs())},
+                                           {"points", points.size()},
+                                           {"computed", order.size()},
+                                           {"reused", resumed.reused},
+                                           {"failed", failed.size()},
+                                           {"failed_points", failed_json},
+                                           {"wall_s", wall},
+                                           {"points_wall_s", points_wall},
+                                           {"fit", fit},
+                                           {"table", "sweep.csv"},
+                                           {"figures", figure_names}});
+
+    std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n", points.size(),
+                order.size(), resumed.reused, failed.size(), wall);
+    if (fit["slope"].is_null()) {
+      std::printf("fit over a/b_core^0 in [%g, %g]: none (%zu points; %s)\n", kFitLo, kFitHi,
+                  fit["points"].get<std::size_t>(), fit["note"].get<std::string>().c_str());
+    } else {
+      std::printf("fit over a/b_core^0 in [%g, %g]: slope %.4f (%zu points; Regime II: -2/3)\n",
+                  kFitLo, kFitHi, fit["slope"].get<double>(), fit["points"].get<std::size_t>());
+    }
+    std::printf("results: %s %s\n", csv.c_str(), (dir / "summary.json").c_str());
+    std::printf("figures:%s", figure_files.empty() ? " none" : "");
+    for (const auto& f : figure_files)
+      std::printf(" %s", f.c_str());
+    std::printf("\n");
+    if (!failed.empty()) {
+      std::fprintf(stderr, "friction_sweep: %zu point%s failed:\n", failed.size(),
+                   failed.size() > 1 ? "s" : "");
+      for (const auto* r : failed)
+        std::fprintf(stderr, "  a = %g d, R = %g d: %s\n", r->point.a, r->point.R,
+                     r->stop_reason.c_str());
+      return 1;
+    }
+    return 0;
+  });
+}

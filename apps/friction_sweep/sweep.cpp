@@ -1,0 +1,380 @@
+// Sweep scene, points and results table of friction_sweep; see sweep.hpp.
+#include "sweep.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "common/toml_reader.hpp"
+
+namespace asperity::app {
+namespace {
+
+// Limits of contact.a in a slide scene (slide_io.cpp), applied to every point.
+constexpr double kMinA = 1.0, kMaxA = 4096.0;
+
+// Shortest form that reads back to the same double: fingerprints compare exactly.
+std::string exact(double v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, end);
+}
+
+std::string element(const ValueList& list, std::size_t i) {
+  return list.key + "[" + std::to_string(i) + "]";
+}
+
+bool close(double x, double y) {
+  return std::abs(x - y) <= 1e-9 * std::max(std::abs(x), std::abs(y));
+}
+
+// c = 4 / (pi (1 - nu)) in a / b_core^0 = c alpha a^2 / (R d).
+double bcore_factor(const interface::ContactScene& c) {
+  return 4.0 / (std::numbers::pi * (1.0 - c.material.nu));
+}
+
+void check_list(const ValueList& list) {
+  if (list.values.empty()) {
+    throw std::invalid_argument(list.key + ": empty list: give at least one value");
+  }
+  for (std::size_t i = 0; i < list.values.size(); ++i) {
+    const double v = list.values[i];
+    if (!std::isfinite(v) || !(v > 0.0)) {
+      throw std::invalid_argument(element(list, i) + " = " + exact(v) + ": allowed: > 0");
+    }
+  }
+}
+
+}  // namespace
+
+void SweepScene::validate() const {
+  check_list(R);
+  if (a && a_over_bcore0) {
+    throw std::invalid_argument(a->key + " and " + a_over_bcore0->key +
+                                ": give exactly one of them (contact radii or targets of "
+                                "a/b_core^0)");
+  }
+  if (!a && !a_over_bcore0) {
+    throw std::invalid_argument(source +
+                                ": [sweep]: missing a or a_over_bcore0: give exactly one of "
+                                "them (contact radii (d) or targets of a/b_core^0)");
+  }
+  check_list(a ? *a : *a_over_bcore0);
+  if (jobs < 0 || jobs > 1024) {
+    throw std::invalid_argument(source + ": sweep.jobs = " + std::to_string(jobs) +
+                                ": allowed: [1, 1024] (0: default)");
+  }
+}
+
+int SweepScene::effective_jobs() const {
+  if (jobs > 0) return jobs;
+  // hardware_concurrency() may be 0 when unknown.
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  return std::max(1, hardware / base.options.fft.threads);
+}
+
+SweepScene read_sweep_scene(const std::string& path) {
+  auto r = SceneReader::from_file(path);
+  // Each point sets a and R; a value given here would be silently replaced.
+  for (const char* key : {"contact.a", "contact.R"}) {
+    if (r.optional_number(key)) {
+      throw std::invalid_argument(path + ": " + key +
+                                  ": not allowed in a sweep scene: the points take a and R from "
+                                  "[sweep] (R, and a or a_over_bcore0)");
+    }
+  }
+  SweepScene s;
+  s.source = path;
+  s.base = read_slide_scene(r);
+  const std::string prefix = path + ": ";
+  auto R = r.optional_numbers("sweep.R", Range::positive());
+  if (!R) {
+    throw std::invalid_argument(prefix +
+                                "sweep.R: missing: give the sphere radii (d), e.g. R = [535]");
+  }
+  s.R = {std::move(*R), prefix + "sweep.R"};
+  if (auto a = r.optional_numbers("sweep.a", Range::positive())) {
+    s.a = ValueList{std::move(*a), prefix + "sweep.a"};
+  }
+  if (auto x = r.optional_numbers("sweep.a_over_bcore0", Range::positive())) {
+    s.a_over_bcore0 = ValueList{std::move(*x), prefix + "sweep.a_over_bcore0"};
+  }
+  s.jobs = r.integer("sweep.jobs", 0, Range::closed(1, 1024));
+  r.reject_unknown();
+  s.validate();
+  return s;
+}
+
+double contact_radius_for(const interface::ContactScene& c, double target) {
+  return std::sqrt(target * c.R * c.d / (bcore_factor(c) * c.alpha));
+}
+
+std::vector<SweepPoint> sweep_points(const SweepScene& s) {
+  s.validate();
+  std::vector<SweepPoint> points;
+  for (std::size_t j = 0; j < s.R.values.size(); ++j) {
+    interface::ContactScene c = s.base.contact;
+    c.R = s.R.values[j];
+    const auto& list = s.a ? *s.a : *s.a_over_bcore0;
+    for (std::size_t i = 0; i < list.values.size(); ++i) {
+      const double v = list.values[i];
+      const double a = s.a ? v : contact_radius_for(c, v);
+      if (a >= kMinA && a <= kMaxA && a < c.R) {
+        points.push_back({a, c.R});
+        continue;
+      }
+      const std::string with_R = " with R = " + exact(c.R) + " d (" + element(s.R, j) + ")";
+      if (s.a) {
+        throw std::invalid_argument(element(list, i) + " = " + exact(v) + with_R +
+                                    ": allowed: [1, 4096] d and < R");
+      }
+      // The same limits expressed in the target: x = c alpha a^2 / (R d) is increasing in a.
+      const double k = bcore_factor(c) * c.alpha / (c.R * c.d);
+      const bool capped = kMaxA < c.R;
+      char allowed[160];
+      std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * kMinA * kMinA,
+                    k * (capped ? kMaxA * kMaxA : c.R * c.R), capped ? "]" : ")");
+      throw std::invalid_argument(element(list, i) + " = " + exact(v) + with_R +
+                                  " needs a = " + exact(a) + " d: allowed: " + allowed +
+                                  " (a in [1, 4096] d and a < R)");
+    }
+  }
+  std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
+    return p.R != q.R ? p.R < q.R : p.a < q.a;
+  });
+  std::set<std::string> folders;
+  for (const auto& p : points) {
+    if (!folders.insert(point_folder(p)).second) {
+      throw std::invalid_argument("two points of the sweep share the folder points/" +
+                                  point_folder(p) +
+                                  " (equal to 6 significant digits): remove one from " +
+                                  (s.a ? s.a->key : s.a_over_bcore0->key) + " or " + s.R.key);
+    }
+  }
+  return points;
+}
+
+std::string point_folder(const SweepPoint& p) {
+  char name[96];
+  std::snprintf(name, sizeof name, "a%.6g_R%.6g", p.a, p.R);
+  return name;
+}
+
+std::string settings_fingerprint(const SlideScene& scene) {
+  const auto& o = scene.options;
+  const auto& m = o.minimizer;
+  const auto& c = scene.contact;
+  std::string s = slide::to_string(o.protocol);
+  // append() rather than " x=" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
+  const auto add = [&s](const char* key, const std::string& value) {
+    s.append(" ").append(key).append("=").append(value);
+  };
+  if (o.protocol == slide::Protocol::reference) {
+    add("step", exact(o.step));
+  } else {
+    add("step", exact(o.max_step) + "/" + exact(o.min_step));
+  }
+  if (o.distance > 0.0) {
+    add("distance", exact(o.distance));
+  } else {
+    add("distance", "auto");
+    add("cap", exact(o.max_distance));
+    add("slips", std::to_string(o.slips_to_stop));
+  }
+  if (!o.extrapolate) s.append(" no-extrapolation");
+  s.append(" ").append(minimize::to_string(m.method));
+  add("tol", exact(m.force_tolerance));
+  add("iter", std::to_string(m.max_iterations));
+  add("mem", std::to_string(m.memory));
+  add("dmax", exact(m.max_displacement));
+  add("alpha", exact(c.alpha));
+  add("G", exact(c.material.G));
+  add("nu", exact(c.material.nu));
+  return s;
+}
+
+const std::vector<std::string>& sweep_columns() {
+  static const std::vector<std::string> columns = {"a",
+                                                   "R",
+                                                   "alpha",
+                                                   "nu",
+                                                   "a_over_bcore0",
+                                                   "lambda",
+                                                   "mu",
+                                                   "mu_over_alpha",
+                                                   "mu_is_lower_bound",
+                                                   "kinetic_over_alpha",
+                                                   "kinetic_over_static",
+                                                   "slip_events",
+                                                   "distance",
+                                                   "stop_reason",
+                                                   "failed",
+                                                   "steps",
+                                                   "gf_applications",
+                                                   "wall_s",
+                                                   "settings"};
+  return columns;
+}
+
+SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
+                   const std::string& settings) {
+  const auto& c = scene.contact;
+  SweepRow row{.point = {c.a, c.R},
+               .a_over_bcore0 = c.a_over_bcore0(),
+               .mu_over_alpha = r.mu_over_alpha,
+               .kinetic_over_static = r.kinetic_over_static,
+               .slip_events = r.slip_events,
+               .mu_is_lower_bound = r.mu_is_lower_bound,
+               .failed = r.failed,
+               .stop_reason = r.stop_reason,
+               .wall_s = r.wall_s};
+  row.cells = {c.a,
+               c.R,
+               c.alpha,
+               c.material.nu,
+               c.a_over_bcore0(),
+               c.lambda(),
+               r.mu,
+               r.mu_over_alpha,
+               static_cast<long long>(r.mu_is_lower_bound),
+               r.kinetic / c.alpha,
+               r.kinetic_over_static,
+               static_cast<long long>(r.slip_events),
+               r.distance,
+               r.stop_reason,
+               static_cast<long long>(r.failed),
+               static_cast<long long>(r.steps),
+               static_cast<long long>(r.gf_applications),
+               r.wall_s,
+               settings};
+  return row;
+}
+
+SweepRow error_row(const SlideScene& scene, const std::string& message, double wall_s,
+                   const std::string& settings) {
+  const auto& c = scene.contact;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // One line per row keeps sweep.csv readable with line tools (gnuplot's messages have several).
+  std::string reason = "error: " + message;
+  for (std::size_t at; (at = reason.find('\n')) != std::string::npos;)
+    reason.replace(at, 1, "; ");
+  SweepRow row{.point = {c.a, c.R},
+               .a_over_bcore0 = c.a_over_bcore0(),
+               .mu_over_alpha = nan,
+               .kinetic_over_static = nan,
+               .failed = true,
+               .stop_reason = reason,
+               .wall_s = wall_s};
+  // In sweep_columns() order: the parameters, then no results.
+  row.cells = {c.a,        c.R, c.alpha, c.material.nu, c.a_over_bcore0(),
+               c.lambda(), nan, nan,     0LL,           nan,
+               nan,        0LL, nan,     reason,        1LL,
+               0LL,        0LL, wall_s,  settings};
+  return row;
+}
+
+ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
+                        const std::string& settings) {
+  ResumedRows out;
+  out.rows.resize(points.size());
+  if (!std::filesystem::exists(csv)) return out;
+  const CsvTable t = CsvTable::read(csv);
+  if (t.columns() != sweep_columns()) {
+    std::string expected;
+    for (const auto& name : sweep_columns())
+      expected += (expected.empty() ? "" : ",") + name;
+    throw std::invalid_argument(csv.string() +
+                                ": not a sweep table of this friction_sweep (columns differ "
+                                "from " +
+                                expected + "): move it away or choose another --out");
+  }
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const double a = t.number(i, "a"), R = t.number(i, "R");
+    const auto it = std::find_if(points.begin(), points.end(), [&](const SweepPoint& p) {
+      return close(p.a, a) && close(p.R, R);
+    });
+    if (it == points.end()) {
+      ++out.not_requested;
+      continue;
+    }
+    if (t.text(i, "settings") != settings) {
+      ++out.other_settings;
+      continue;
+    }
+    if (t.integer(i, "failed") != 0) {
+      ++out.failed;
+      continue;
+    }
+    auto& slot = out.rows[static_cast<std::size_t>(it - points.begin())];
+    if (slot) continue;  // a repeated row (edited file): the first one stands
+    SweepRow row{.point = {a, R},
+                 .a_over_bcore0 = t.number(i, "a_over_bcore0"),
+                 .mu_over_alpha = t.number(i, "mu_over_alpha"),
+                 .kinetic_over_static = t.number(i, "kinetic_over_static"),
+                 .slip_events = static_cast<int>(t.integer(i, "slip_events")),
+                 .mu_is_lower_bound = t.integer(i, "mu_is_lower_bound") != 0,
+                 .failed = false,
+                 .stop_reason = t.text(i, "stop_reason"),
+                 .wall_s = t.number(i, "wall_s")};
+    // The stored text, not re-formatted numbers: a resumed table is byte-identical.
+    for (std::size_t j = 0; j < t.columns().size(); ++j)
+      row.cells.push_back(t.cell(i, j));
+    slot = std::move(row);
+    ++out.reused;
+  }
+  return out;
+}
+
+nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi) {
+  std::vector<double> x, y;
+  for (const auto& r : rows) {
+    if (r.failed || r.mu_is_lower_bound || !(r.mu_over_alpha > 0.0)) continue;
+    if (r.a_over_bcore0 < lo || r.a_over_bcore0 > hi) continue;
+    x.push_back(std::log(r.a_over_bcore0));
+    y.push_back(std::log(r.mu_over_alpha));
+  }
+  nlohmann::json fit = {{"quantity", "log(mu/alpha) = log(prefactor) + slope log(a/b_core^0)"},
+                        {"window", {lo, hi}},
+                        {"points", x.size()},
+                        {"regime_ii_slope", -2.0 / 3.0}};
+  const double n = static_cast<double>(x.size());
+  double mx = 0.0, my = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    mx += x[i] / n;
+    my += y[i] / n;
+  }
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  // Points at a single a/b_core^0 (several R, one target) fix no slope.
+  if (x.size() < 2 || !(sxx > 1e-12 * n)) {
+    fit["slope"] = nullptr;
+    fit["note"] = "needs points at 2 or more distinct a/b_core^0 in the window";
+    return fit;
+  }
+  const double slope = sxy / sxx;
+  const double intercept = my - slope * mx;
+  fit["slope"] = slope;
+  fit["prefactor"] = std::exp(intercept);
+  if (x.size() > 2) {
+    double ss = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double e = y[i] - intercept - slope * x[i];
+      ss += e * e;
+    }
+    fit["slope_stderr"] = std::sqrt(ss / (n - 2.0) / sxx);
+  } else {
+    fit["slope_stderr"] = nullptr;  // two points: the line passes through both
+  }
+  return fit;
+}
+
+}  // namespace asperity::app

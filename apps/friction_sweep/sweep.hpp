@@ -1,0 +1,111 @@
+// friction_sweep: the sweep scene, its points, and the results table sweep.csv, which is also
+// the record a later run resumes from.
+//
+// A sweep scene is a slide scene (data/scenes/default.toml documents its keys) plus a [sweep]
+// table (data/scenes/sweep_default.toml documents it). contact.a and contact.R are not allowed:
+// the points take them from the [sweep] lists.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/output_files.hpp"
+#include "common/slide_io.hpp"
+
+namespace asperity::app {
+
+// A list of numbers with its origin, so that errors name what the user wrote.
+struct ValueList {
+  std::vector<double> values;
+  std::string key;  // "<file>: sweep.a", or the command-line flag "--a"
+};
+
+struct SweepScene {
+  std::string source;                      // scene file
+  SlideScene base;                         // settings shared by all points; a and R set per point
+  ValueList R;                             // sphere radii (d)
+  std::optional<ValueList> a;              // contact radii (d); exactly one of a, a_over_bcore0
+  std::optional<ValueList> a_over_bcore0;  // targets of the control parameter a / b_core^0
+  int jobs = 0;  // points run at once; 0: max(1, hardware threads / fft.threads)
+
+  // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty,
+  // values positive and finite, exactly one of a and a_over_bcore0. The a < R check needs the
+  // points: see sweep_points().
+  void validate() const;
+  // jobs, or its default on this machine.
+  [[nodiscard]] int effective_jobs() const;
+};
+
+// Reads a sweep scene; unknown keys, wrong types and out-of-range values throw
+// std::invalid_argument naming the file, key, value and range.
+SweepScene read_sweep_scene(const std::string& path);
+
+struct SweepPoint {
+  double a = 0.0;  // contact radius (d)
+  double R = 0.0;  // sphere radius (d)
+};
+
+// Contact radius at which a / b_core^0 = target: a = sqrt(target R d / (c alpha)),
+// c = 4 / (pi (1 - nu)) (MODEL.md 3).
+double contact_radius_for(const interface::ContactScene& contact, double target);
+
+// Every R with every a (or target), sorted by R then a: the order of sweep.csv. Throws
+// std::invalid_argument naming the key if a point has a outside [1, 4096] d or a >= R (the
+// limits of contact.a), or if two points coincide.
+std::vector<SweepPoint> sweep_points(const SweepScene& scene);
+
+// Point folder below DIR/points: "a<a>_R<R>" with 6 significant digits.
+std::string point_folder(const SweepPoint& p);
+
+// A short string of everything besides a and R that changes a point's result (protocol, steps,
+// distance, solver, tolerance, alpha, G, nu); rows are reused only under the same fingerprint.
+// FFT threads and planning change only round-off and are left out.
+std::string settings_fingerprint(const SlideScene& scene);
+
+// Columns of sweep.csv.
+const std::vector<std::string>& sweep_columns();
+
+// One row of sweep.csv, with what the figures, the fit and the summary need.
+struct SweepRow {
+  SweepPoint point;
+  double a_over_bcore0 = 0.0;
+  double mu_over_alpha = 0.0;
+  double kinetic_over_static = 0.0;
+  int slip_events = 0;
+  bool mu_is_lower_bound = false;
+  bool failed = false;
+  std::string stop_reason;
+  double wall_s = 0.0;
+  std::vector<CsvTable::Cell> cells;  // the row as written, in sweep_columns() order
+};
+
+// Row of a finished point.
+SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& result,
+                   const std::string& settings);
+// Row of a point whose run threw after wall_s seconds: results NaN, stop_reason
+// "error: <message>".
+SweepRow error_row(const SlideScene& scene, const std::string& message, double wall_s,
+                   const std::string& settings);
+
+// Rows of an existing sweep.csv that can stand in for points of this sweep: same a and R to a
+// relative 1e-9, same settings fingerprint, and not failed (a failed point is run again).
+struct ResumedRows {
+  std::vector<std::optional<SweepRow>> rows;  // per point of `points`
+  std::size_t reused = 0;
+  std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
+};
+// Throws std::invalid_argument if the file is not a sweep.csv of this version (other columns).
+ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
+                        const std::string& settings);
+
+// Least-squares fit of log(mu/alpha) = log(prefactor) + slope log(a/b_core^0) over the rows
+// with a/b_core^0 in [lo, hi] that neither failed nor are lower bounds. Needs 2 distinct
+// a/b_core^0 values; otherwise the json says why there is no fit.
+nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi);
+
+}  // namespace asperity::app
