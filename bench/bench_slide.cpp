@@ -45,6 +45,22 @@ int main(int argc, char** argv) {
     o.min_step = 1e-2;
     cases.push_back({"adaptive, min_step 0.01", o});
   }
+  for (double p : {1e-4, 1e-5}) {
+    auto o = with({});
+    o.minimizer.perturbation = p;
+    cases.push_back({"adaptive, stability push " + std::to_string(p).substr(0, 6) + " d", o});
+  }
+  {
+    auto o = with({});
+    o.minimizer.force_tolerance = 1e-5;
+    o.min_step = 1e-2;
+    cases.push_back({"adaptive, tolerance 1e-5, min_step 0.01", o});
+  }
+  {
+    auto o = with({});
+    o.minimizer.method = minimize::Method::newton;
+    cases.push_back({"adaptive, newton finish", o});
+  }
   {
     auto o = with({});
     o.minimizer.method = minimize::Method::cg;

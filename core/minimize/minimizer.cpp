@@ -379,6 +379,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         inner.max_iterations = std::max(1, options.max_iterations - it);
         const MinimizeResult again = minimize(problem, pu, pf, inner);
         it += again.iterations;
+        eval.evaluations += again.interface_evaluations;
         double moved = 0.0;
         for (std::size_t i = 0; i < n; ++i)
           moved = std::max(moved, std::abs(pu[i] - x.u[i]));

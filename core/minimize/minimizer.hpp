@@ -14,7 +14,7 @@
 // iteration, so that a state at an instability falls into the next minimum, not a distant one.
 // After convergence the state is checked for stability, when some interface curvature is
 // negative (otherwise K + H_int > 0 holds trivially), in one of two ways:
-// - perturb (default): a random push of 1e-3 d (a force field f' with u' = G f') and a second
+// - perturb (default): a random push of 1e-5 d (a force field f' with u' = G f') and a second
 //   minimisation; if it ends lower in energy and away from the state, the state was unstable
 //   and the new one is kept (and checked again). A descent method cannot stay on a saddle it
 //   was pushed off, and a symmetric state cannot hide an antisymmetric instability.
@@ -51,7 +51,7 @@ struct MinimizerOptions {
   StabilityCheck stability = StabilityCheck::perturb;  // check of converged states (see above)
   int max_escapes = 20;                                // unstable-state escapes per minimisation
   double escape_displacement = 0.05;  // largest |du_i| of the push off an unstable state (d)
-  double perturbation = 1e-3;         // largest |du_i| of the random push (perturb check) (d)
+  double perturbation = 1e-5;         // largest |du_i| of the random push (perturb check) (d)
 
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
