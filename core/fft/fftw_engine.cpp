@@ -13,6 +13,7 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <atomic>
 #include <barrier>
 #include <cassert>
 #include <mutex>
@@ -77,6 +78,11 @@ class FFTWEngine final : public Engine {
       destroy();
       throw;
     }
+    if (workers_ > 1) {
+      sync_ = std::make_unique<std::barrier<>>(workers_);
+      for (int t = 1; t < workers_; ++t)
+        pool_.emplace_back([this, t] { worker(t); });
+    }
     // MEASURE and PATIENT overwrite the arrays while planning: buffers are zeroed after.
     for (int f = 0; f < fields; ++f) {
       std::fill_n(input_[f], shape.count(), 0.0);
@@ -85,7 +91,10 @@ class FFTWEngine final : public Engine {
     }
   }
 
-  ~FFTWEngine() override { destroy(); }
+  ~FFTWEngine() override {
+    stop_workers();
+    destroy();
+  }
 
   void forward() override {
     for (int f = 0; f < fields(); ++f)
@@ -114,15 +123,14 @@ class FFTWEngine final : public Engine {
       convolve_part(0, 1, multiplier, nullptr);
       return;
     }
-    // One parallel region per call: rows, then column blocks, then rows again, each phase
-    // split over the workers, with a barrier between phases.
-    std::barrier sync(workers);
-    std::vector<std::jthread> pool;
-    for (int t = 1; t < workers; ++t) {
-      pool.emplace_back(
-          [this, t, workers, &multiplier, &sync] { convolve_part(t, workers, multiplier, &sync); });
-    }
-    convolve_part(0, workers, multiplier, &sync);
+    // One parallel region per call on the engine's own workers (started once: spawning threads
+    // per call cost more than the transforms of a small grid): rows, then column blocks, then
+    // rows again, each phase split over the workers, with a barrier between phases and at the end.
+    job_ = &multiplier;
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    convolve_part(0, workers, multiplier, sync_.get());
+    sync_->arrive_and_wait();  // the workers are done with the buffers
   }
 
   [[nodiscard]] std::string backend() const override { return "fftw3"; }
@@ -188,6 +196,26 @@ class FFTWEngine final : public Engine {
     if (forward_ == nullptr || inverse_ == nullptr || !columns_ok) {
       throw std::runtime_error("fft: FFTW could not plan the transforms");
     }
+  }
+
+  // Worker t > 0: waits (futex, no spinning) for a new convolution, takes its share.
+  void worker(int t) {
+    unsigned seen = 0;
+    for (;;) {
+      generation_.wait(seen, std::memory_order_acquire);
+      seen = generation_.load(std::memory_order_acquire);
+      if (stopping_.load(std::memory_order_acquire)) return;
+      convolve_part(t, workers_, *job_, sync_.get());
+      sync_->arrive_and_wait();
+    }
+  }
+
+  void stop_workers() {
+    if (pool_.empty()) return;
+    stopping_.store(true, std::memory_order_release);
+    generation_.fetch_add(1, std::memory_order_release);
+    generation_.notify_all();
+    pool_.clear();  // joins
   }
 
   // First row of worker t's batch: batches of floor(S/W) rows, the first S mod W one longer.
@@ -270,6 +298,11 @@ class FFTWEngine final : public Engine {
   std::vector<std::complex<double>*> scratch_;  // one per thread: fields x n0 x block_width
   fftw_plan forward_ = nullptr, inverse_ = nullptr;
   int workers_ = 1;  // threads used by convolve()
+  std::unique_ptr<std::barrier<>> sync_;
+  std::atomic<unsigned> generation_{0};  // bumped once per convolve() to wake the workers
+  std::atomic<bool> stopping_{false};
+  const Multiplier* job_ = nullptr;
+  std::vector<std::jthread> pool_;  // last member: joined first on destruction
   fftw_plan rows_forward_[2] = {nullptr, nullptr}, rows_inverse_[2] = {nullptr, nullptr};
   fftw_plan columns_forward_[2] = {nullptr, nullptr}, columns_inverse_[2] = {nullptr, nullptr};
 };

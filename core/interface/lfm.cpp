@@ -1,6 +1,8 @@
 // Lateral force model, MODEL.md section 3; equations in lfm.hpp.
 #include "interface/lfm.hpp"
 
+#include "interface/sincos.hpp"
+
 #include <cassert>
 #include <cmath>
 #include <numbers>
@@ -69,7 +71,8 @@ void LateralForceModel::set_tip(double Dx) {
       if (p > 0.0) {
         sites_.push_back(i);
         site_tau_.push_back(tau_max_[i]);
-        site_phase_x_.push_back(x);
+        // (X - Dx)/d reduced to [-1/2, 1/2]: only the registry phase matters.
+        site_phase_x_.push_back(x / d - std::round(x / d));
         load_ += p * d * d;
       }
     }
@@ -89,14 +92,13 @@ double LateralForceModel::energy_and_force(std::span<const double> u,
   const std::size_t m = sites_.size();
   assert(u.size() == 2 * m && f_int.size() == 2 * m);
   const double d = scene_.d;
-  const double k = 2.0 * std::numbers::pi / d;
   double v = 0.0;
   for (std::size_t j = 0; j < m; ++j) {
     const double t = site_tau_[j];
     // y sites are lattice multiples of d, so s_y enters through u_y alone.
-    const double sx = std::sin(k * (site_phase_x_[j] + u[j])),
-                 cx = std::cos(k * (site_phase_x_[j] + u[j]));
-    const double sy = std::sin(k * u[m + j]), cy = std::cos(k * u[m + j]);
+    double sx = 0.0, cx = 0.0, sy = 0.0, cy = 0.0;
+    sincos_2pi(site_phase_x_[j] + u[j] / d, sx, cx);
+    sincos_2pi(u[m + j] / d, sy, cy);
     v += t * (2.0 - cx - cy);
     f_int[j] = -t * d * d * sx;
     f_int[m + j] = -t * d * d * sy;
@@ -110,8 +112,11 @@ void LateralForceModel::curvature(std::span<const double> u, std::span<double> h
   const double k = 2.0 * std::numbers::pi / d;
   for (std::size_t j = 0; j < m; ++j) {
     const double c = site_tau_[j] * d * d * k;
-    h[j] = c * std::cos(k * (site_phase_x_[j] + u[j]));
-    h[m + j] = c * std::cos(k * u[m + j]);
+    double sn = 0.0, cx = 0.0, cy = 0.0;
+    sincos_2pi(site_phase_x_[j] + u[j] / d, sn, cx);
+    sincos_2pi(u[m + j] / d, sn, cy);
+    h[j] = c * cx;
+    h[m + j] = c * cy;
   }
 }
 

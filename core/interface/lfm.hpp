@@ -71,7 +71,7 @@ class LateralForceModel {
   double Dx_ = 0.0;
   std::vector<double> tau_max_, pressure_;
   std::vector<std::size_t> sites_;
-  std::vector<double> site_tau_, site_phase_x_;  // per contact site: tau_max, X - Dx
+  std::vector<double> site_tau_, site_phase_x_;  // per contact site: tau_max, (X - Dx)/d mod 1
   double load_ = 0.0;
 };
 
