@@ -344,7 +344,8 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   count(first);
   res.contact_sites = slider.lfm().contact_sites().size();
   record(state, first, false, 0);
-  std::optional<State> peak, previous;
+  std::optional<State> peak, previous, runner_up;
+  double runner_up_ratio = -std::numeric_limits<double>::infinity();
   double best = state.Fx / state.Fz;
   peak = state;
   double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
@@ -425,6 +426,8 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     // samples on both sides, is the one to refine.
     const double ratio = state.Fx / state.Fz;
     if (ratio > best + 1e-6 * std::abs(best)) {
+      runner_up = std::move(peak);
+      runner_up_ratio = best;
       best = ratio;
       peak = state;
     }
@@ -452,6 +455,13 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   // maximum (Regime I) is refined, in the adaptive protocol, by parabolic search on Dx in the
   // bracket of its neighbours (each point relaxed from the peak state); the reference protocol
   // keeps the classic sampled maximum, and reports the parabola's excess as its precision.
+  // A maximum at the very end of the trace cannot be refined; if it only repeats an earlier one
+  // within the minimiser's noise (Regime I a period later; 1e-6 relative is seen), the earlier
+  // one, which has samples on both sides, is the peak.
+  if (runner_up && peak->Dx == res.trace.back().Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
+    peak = std::move(runner_up);
+    best = runner_up_ratio;
+  }
   res.mu = best;
   res.peak_Dx = peak->Dx;
   res.Fz = peak->Fz;
