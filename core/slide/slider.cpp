@@ -131,6 +131,14 @@ class Slider {
             State frame = s;
             scatter(uu, frame.u);
             scatter(ff, frame.f);
+            std::vector<double> fint(uu.size());
+            const double v = lfm_.energy_and_force(uu, fint);
+            frame.Fx = 0.0;
+            double fu = 0.0;
+            for (std::size_t j = 0; j < m; ++j) frame.Fx += fint[j];
+            for (std::size_t j = 0; j < uu.size(); ++j) fu += ff[j] * uu[j];
+            frame.Fz = lfm_.load();
+            frame.energy = 0.5 * fu + v;
             frames->push_back(snapshot(frame, "path", it));
           }
         }
