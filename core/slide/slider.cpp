@@ -135,8 +135,10 @@ class Slider {
             const double v = lfm_.energy_and_force(uu, fint);
             frame.Fx = 0.0;
             double fu = 0.0;
-            for (std::size_t j = 0; j < m; ++j) frame.Fx += fint[j];
-            for (std::size_t j = 0; j < uu.size(); ++j) fu += ff[j] * uu[j];
+            for (std::size_t j = 0; j < m; ++j)
+              frame.Fx += fint[j];
+            for (std::size_t j = 0; j < uu.size(); ++j)
+              fu += ff[j] * uu[j];
             frame.Fz = lfm_.load();
             frame.energy = 0.5 * fu + v;
             frames->push_back(snapshot(frame, "path", it));
@@ -352,7 +354,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   count(first);
   res.contact_sites = slider.lfm().contact_sites().size();
   record(state, first, false, 0);
-  std::optional<State> peak, previous, runner_up;
+  std::optional<State> peak, previous, earlier, runner_up;
   double runner_up_ratio = -std::numeric_limits<double>::infinity();
   double best = state.Fx / state.Fz;
   peak = state;
@@ -387,14 +389,30 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
       }
     }
     State trial = state;
-    // Warm start on a smooth branch: extrapolate the force field linearly in Dx from the last
-    // two states (u follows as G f). After a slip the branch is new: no extrapolation.
-    if (options.extrapolate && previous && !res.trace.back().slip && state.Dx > previous->Dx) {
-      State prev = *previous;
-      if (prev.shift != trial.shift) slider.align(prev, trial.shift);
-      const double w = (Dx - state.Dx) / (state.Dx - prev.Dx);
-      for (std::size_t i = 0; i < trial.f.size(); ++i)
-        trial.f[i] += w * (state.f[i] - prev.f[i]);
+    // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or
+    // three states of the branch (Lagrange; u follows as G f). After a slip the branch is new.
+    const std::size_t rows = res.trace.size();
+    const bool on_branch1 = previous && !res.trace.back().slip && state.Dx > previous->Dx;
+    const bool on_branch2 = on_branch1 && earlier && rows >= 3 && !res.trace[rows - 2].slip &&
+                            previous->Dx > earlier->Dx;
+    if (options.extrapolate && on_branch1) {
+      State p1 = *previous;
+      if (p1.shift != trial.shift) slider.align(p1, trial.shift);
+      if (on_branch2) {
+        State p2 = *earlier;
+        if (p2.shift != trial.shift) slider.align(p2, trial.shift);
+        const double x0 = p2.Dx, x1 = p1.Dx, x2 = state.Dx;
+        const double l0 = (Dx - x1) * (Dx - x2) / ((x0 - x1) * (x0 - x2));
+        const double l1 = (Dx - x0) * (Dx - x2) / ((x1 - x0) * (x1 - x2));
+        const double l2 = (Dx - x0) * (Dx - x1) / ((x2 - x0) * (x2 - x1));
+        for (std::size_t i = 0; i < trial.f.size(); ++i) {
+          trial.f[i] = l0 * p2.f[i] + l1 * p1.f[i] + l2 * state.f[i];
+        }
+      } else {
+        const double w = (Dx - state.Dx) / (state.Dx - p1.Dx);
+        for (std::size_t i = 0; i < trial.f.size(); ++i)
+          trial.f[i] += w * (state.f[i] - p1.f[i]);
+      }
     }
     std::vector<Snapshot> frames;
     const bool want_frames = options.path_frame_every > 0 && !may_undo;
@@ -425,6 +443,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
         res.snapshots.push_back(std::move(frame));
       }
     }
+    earlier = std::move(previous);
     previous = std::move(state);
     state = std::move(trial);
     record(state, r, slip, sites);
