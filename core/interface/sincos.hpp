@@ -33,9 +33,13 @@ inline void sincos_2pi(double s, double& sine, double& cosine) {
                               x2 * (-1.0 / 3628800 + x2 * (1.0 / 479001600 +
                                                            x2 * (-1.0 / 87178291200 +
                                                                  x2 * (1.0 / 20922789888000))))))));
+  // Quadrant q: rotate by q quarter turns, as selects rather than branches (the quadrants of
+  // neighbouring sites are random during a slip, and mispredicted branches cost more than this).
   const int q = static_cast<int>(qd) & 3;  // -2 -> 2, -1 -> 3
-  sine = q == 0 ? sn : q == 1 ? cs : q == 2 ? -sn : -cs;
-  cosine = q == 0 ? cs : q == 1 ? -sn : q == 2 ? -cs : sn;
+  const double a = (q & 1) != 0 ? cs : sn;
+  const double b = (q & 1) != 0 ? sn : cs;
+  sine = (q & 2) != 0 ? -a : a;
+  cosine = ((q + 1) & 2) != 0 ? -b : b;
 }
 
 }  // namespace asperity::interface
