@@ -45,10 +45,12 @@ int main(int argc, char** argv) {
     o.min_step = 1e-2;
     cases.push_back({"adaptive, min_step 0.01", o});
   }
-  for (double p : {1e-4, 1e-5}) {
+  for (double p : {1e-3, 1e-4}) {
     auto o = with({});
     o.minimizer.perturbation = p;
-    cases.push_back({"adaptive, stability push " + std::to_string(p).substr(0, 6) + " d", o});
+    char name[64];
+    std::snprintf(name, sizeof name, "adaptive, stability push %g d", p);
+    cases.push_back({name, o});
   }
   {
     auto o = with({});

@@ -94,6 +94,8 @@ NewtonKrylovResult newton_krylov(std::span<double> x, const Residual& residual,
   if (k.mem == nullptr) throw std::runtime_error("KINSOL: KINCreate failed");
   check(KINInit(k.mem, kinsol_residual, k.x), "KINInit");
   check(KINSetUserData(k.mem, &cb), "KINSetUserData");
+  // Failures are returned as a termination and handled by the caller, not printed.
+  check(KINSetErrFile(k.mem, nullptr), "KINSetErrFile");
   check(KINSetFuncNormTol(k.mem, options.tolerance), "KINSetFuncNormTol");
   check(KINSetScaledStepTol(k.mem, 1e-15), "KINSetScaledStepTol");
   check(KINSetNumMaxIters(k.mem, options.max_iterations), "KINSetNumMaxIters");
