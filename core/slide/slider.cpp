@@ -10,47 +10,11 @@
 #include <stdexcept>
 
 #include "elastic/surface_gf.hpp"
+#include "slide/lfm_problem.hpp"
 
 namespace asperity::slide {
 
 namespace {
-
-// minimize::Problem on the contact sites of the block: G restricted to them.
-class LfmProblem final : public minimize::Problem {
- public:
-  LfmProblem(elastic::FreeSurfaceGF& gf, const interface::LateralForceModel& lfm)
-      : gf_(gf), lfm_(lfm), f_(gf.size(), 0.0), u_(gf.size(), 0.0) {}
-
-  [[nodiscard]] std::size_t size() const override { return 2 * lfm_.contact_sites().size(); }
-
-  void compliance(std::span<const double> f, std::span<double> u) override {
-    const auto& sites = lfm_.contact_sites();
-    const std::size_t m = sites.size(), n = lfm_.block().shape.count();
-    for (std::size_t j = 0; j < m; ++j) {
-      f_[sites[j]] = f[j];
-      f_[n + sites[j]] = f[m + j];
-    }
-    gf_.apply(f_, u_);
-    for (std::size_t j = 0; j < m; ++j) {
-      u[j] = u_[sites[j]];
-      u[m + j] = u_[n + sites[j]];
-      f_[sites[j]] = f_[n + sites[j]] = 0.0;  // the scratch stays zero off the call
-    }
-  }
-
-  double interface(std::span<const double> u, std::span<double> f_int) const override {
-    return lfm_.energy_and_force(u, f_int);
-  }
-  void curvature(std::span<const double> u, std::span<double> h) const override {
-    lfm_.curvature(u, h);
-  }
-  [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
-
- private:
-  elastic::FreeSurfaceGF& gf_;
-  const interface::LateralForceModel& lfm_;
-  std::vector<double> f_, u_;
-};
 
 // The state of the slide: full-block force and displacement fields (component-major) at a
 // tip position, with the block offset (in lattice steps) that follows the tip.

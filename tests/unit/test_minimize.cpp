@@ -10,56 +10,30 @@
 #include "interface/lfm.hpp"
 #include "interface/sincos.hpp"
 #include "minimize/minimizer.hpp"
+#include "slide/lfm_problem.hpp"
 
 using namespace asperity;
 
 namespace {
 
-// minimize::Problem on the contact sites of a block (the same restriction the slider uses).
-class Contact final : public minimize::Problem {
- public:
+// The slider's problem (slide/lfm_problem.hpp) on a block around the tip, with its GF and LFM.
+struct Contact {
   Contact(const interface::ContactScene& scene, double Dx)
-      : block_(LatticeBlock::centred_disk(scene.a + 2.0)),
-        gf_(scene.material, elastic::Components::in_plane, block_.shape),
-        lfm_(scene, block_),
-        f_(gf_.size()),
-        u_(gf_.size()) {
-    lfm_.set_tip(Dx);
+      : block(LatticeBlock::centred_disk(scene.a + 2.0)),
+        gf(scene.material, elastic::Components::in_plane, block.shape),
+        lfm(scene, block),
+        problem(gf, lfm) {
+    lfm.set_tip(Dx);
   }
-  [[nodiscard]] std::size_t size() const override { return 2 * lfm_.contact_sites().size(); }
-  void compliance(std::span<const double> f, std::span<double> u) override {
-    const auto& s = lfm_.contact_sites();
-    const std::size_t m = s.size(), n = block_.shape.count();
-    std::fill(f_.begin(), f_.end(), 0.0);
-    for (std::size_t j = 0; j < m; ++j) {
-      f_[s[j]] = f[j];
-      f_[n + s[j]] = f[m + j];
-    }
-    gf_.apply(f_, u_);
-    for (std::size_t j = 0; j < m; ++j) {
-      u[j] = u_[s[j]];
-      u[m + j] = u_[n + s[j]];
-    }
-  }
-  double interface(std::span<const double> u, std::span<double> f) const override {
-    return lfm_.energy_and_force(u, f);
-  }
-  void curvature(std::span<const double> u, std::span<double> h) const override {
-    lfm_.curvature(u, h);
-  }
-  [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
-  const interface::LateralForceModel& lfm() const { return lfm_; }
-
- private:
-  LatticeBlock block_;
-  elastic::FreeSurfaceGF gf_;
-  interface::LateralForceModel lfm_;
-  std::vector<double> f_, u_;
+  LatticeBlock block;
+  elastic::FreeSurfaceGF gf;
+  interface::LateralForceModel lfm;
+  slide::LfmProblem problem;
 };
 
 double friction(const Contact& c, const std::vector<double>& u) {
   std::vector<double> f(u.size());
-  c.lfm().energy_and_force(u, f);
+  c.lfm.energy_and_force(u, f);
   double fx = 0.0;
   for (std::size_t j = 0; j < u.size() / 2; ++j)
     fx += f[j];
@@ -73,28 +47,28 @@ TEST(LateralForceModel, ForceAndCurvatureAreDerivativesOfTheEnergy) {
     .a = 6.0, .R = 100.0
   };
   Contact c(scene, 0.37);
-  const std::size_t n = c.size();
+  const std::size_t n = c.problem.size();
   std::vector<double> u(n), f(n), f2(n), h(n), h2(n);
   for (std::size_t i = 0; i < n; ++i)
     u[i] = 0.3 * std::sin(1.7 * static_cast<double>(i));
-  const double v = c.interface(u, f);
-  c.curvature(u, h);
+  const double v = c.problem.interface(u, f);
+  c.problem.curvature(u, h);
   for (std::size_t i : {std::size_t{0}, n / 3, n / 2 + 1, n - 1}) {
     const double step = 1e-6;
     std::vector<double> up = u, um = u;
     up[i] += step;
     um[i] -= step;
-    const double dv = (c.interface(up, f2) - c.interface(um, f2)) / (2 * step);
+    const double dv = (c.problem.interface(up, f2) - c.problem.interface(um, f2)) / (2 * step);
     EXPECT_NEAR(-dv, f[i], 1e-8) << "site " << i;
-    c.interface(up, f2);
+    c.problem.interface(up, f2);
     const double df = f2[i];
-    c.interface(um, f2);
+    c.problem.interface(um, f2);
     EXPECT_NEAR(-(df - f2[i]) / (2 * step), h[i], 1e-7) << "site " << i;
   }
   // Registry everywhere: no energy, no force.
   std::vector<double> zero(n, 0.0);
   Contact at_origin(scene, 0.0);
-  EXPECT_NEAR(at_origin.interface(zero, f), 0.0, 1e-14);
+  EXPECT_NEAR(at_origin.problem.interface(zero, f), 0.0, 1e-14);
   (void)v;
 }
 
@@ -105,14 +79,14 @@ TEST(Minimizer, AllMethodsReachTheSameMinimum) {
   for (auto method : {minimize::Method::lbfgs, minimize::Method::cg, minimize::Method::fire,
                       minimize::Method::newton}) {
     Contact c(scene, 0.3);
-    std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0);
+    std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
     minimize::MinimizerOptions o{.method = method, .force_tolerance = 1e-9};
-    const auto r = minimize::minimize(c, u, f, o);
+    const auto r = minimize::minimize(c.problem, u, f, o);
     ASSERT_EQ(r.termination, Termination::converged) << to_string(method);
     EXPECT_LE(r.max_force, 1e-9);
     // The pair stays consistent: u = G f.
     std::vector<double> g(u.size());
-    c.compliance(f, g);
+    c.problem.compliance(f, g);
     for (std::size_t i = 0; i < u.size(); ++i)
       ASSERT_NEAR(g[i], u[i], 1e-9);
     const double fx = friction(c, u);
@@ -136,9 +110,9 @@ TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
   ASSERT_GT(scene.lambda(), 1.0);
   for (auto check : {minimize::StabilityCheck::perturb, minimize::StabilityCheck::lanczos}) {
     Contact c(scene, 0.5);
-    std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0), fint(c.size());
-    const double e0 = c.interface(u, fint);
-    const auto r = minimize::minimize(c, u, f, {.stability = check});
+    std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0), fint(c.problem.size());
+    const double e0 = c.problem.interface(u, fint);
+    const auto r = minimize::minimize(c.problem, u, f, {.stability = check});
     EXPECT_EQ(r.termination, Termination::converged);
     EXPECT_GE(r.escapes, 1);
     EXPECT_LT(r.energy, e0 - 1e-3 * std::abs(e0));
@@ -149,8 +123,8 @@ TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
   }
   // Without a check the saddle is (wrongly) accepted: the check is what makes the difference.
   Contact c(scene, 0.5);
-  std::vector<double> u(c.size(), 0.0), f(c.size(), 0.0);
-  const auto r = minimize::minimize(c, u, f, {.stability = minimize::StabilityCheck::none});
+  std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
+  const auto r = minimize::minimize(c.problem, u, f, {.stability = minimize::StabilityCheck::none});
   EXPECT_EQ(r.iterations, 0);
 }
 
