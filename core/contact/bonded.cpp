@@ -1,6 +1,8 @@
 // Matrix-free conjugate gradients on the masked Green's function; see bonded.hpp.
 #include "contact/bonded.hpp"
 
+#include "common/validate.hpp"
+
 #include <Eigen/Core>
 #include <Eigen/IterativeLinearSolvers>
 #include <cmath>
@@ -77,14 +79,8 @@ struct generic_product_impl<asperity::contact::MaskedGF, Rhs, SparseShape, Dense
 namespace asperity::contact {
 
 void BondedOptions::validate() const {
-  if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
-    throw std::invalid_argument("BondedOptions.tolerance: got " + std::to_string(tolerance) +
-                                ", allowed: finite and > 0");
-  }
-  if (max_iterations < 1) {
-    throw std::invalid_argument("BondedOptions.max_iterations: got " +
-                                std::to_string(max_iterations) + ", allowed: >= 1");
-  }
+  require_positive("BondedOptions.tolerance", tolerance);
+  require_at_least("BondedOptions.max_iterations", max_iterations, 1);
 }
 
 BondedResult solve_bonded(elastic::FreeSurfaceGF& gf, std::span<const std::uint8_t> mask,

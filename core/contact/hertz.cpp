@@ -1,6 +1,8 @@
 // Hertz relations of MODEL.md section 1; see hertz.hpp.
 #include "contact/hertz.hpp"
 
+#include "common/validate.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -8,19 +10,10 @@
 
 namespace asperity::contact {
 
-namespace {
-void require_positive(double v, const char* what) {
-  if (!std::isfinite(v) || !(v > 0.0)) {
-    throw std::invalid_argument(std::string("Hertz: ") + what + ": got " + std::to_string(v) +
-                                ", allowed: finite and > 0");
-  }
-}
-}  // namespace
-
 Hertz Hertz::from_radius(const elastic::Material& m, double R, double a) {
   m.validate();
-  require_positive(R, "R");
-  require_positive(a, "a");
+  require_positive("Hertz.R", R);
+  require_positive("Hertz.a", a);
   Hertz h;
   h.R = R;
   h.a = a;
@@ -32,7 +25,7 @@ Hertz Hertz::from_radius(const elastic::Material& m, double R, double a) {
 }
 
 Hertz Hertz::from_load(const elastic::Material& m, double R, double load) {
-  require_positive(load, "load");
+  require_positive("Hertz.load", load);
   m.validate();
   return from_radius(m, R, std::cbrt(3.0 * load * R / (4.0 * m.contact_modulus())));
 }

@@ -1,6 +1,8 @@
 // Polonsky & Keer constrained conjugate gradients, load-controlled; see normal_contact.hpp.
 #include "contact/normal_contact.hpp"
 
+#include "common/validate.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,14 +10,8 @@
 namespace asperity::contact {
 
 void NormalContactOptions::validate() const {
-  if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
-    throw std::invalid_argument("NormalContactOptions.tolerance: got " + std::to_string(tolerance) +
-                                ", allowed: finite and > 0");
-  }
-  if (max_iterations < 1) {
-    throw std::invalid_argument("NormalContactOptions.max_iterations: got " +
-                                std::to_string(max_iterations) + ", allowed: >= 1");
-  }
+  require_positive("NormalContactOptions.tolerance", tolerance);
+  require_at_least("NormalContactOptions.max_iterations", max_iterations, 1);
 }
 
 NormalContactResult solve_normal_contact(elastic::FreeSurfaceGF& gf,

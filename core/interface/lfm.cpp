@@ -1,6 +1,7 @@
 // Lateral force model, MODEL.md section 3; equations in lfm.hpp.
 #include "interface/lfm.hpp"
 
+#include "common/validate.hpp"
 #include "interface/sincos.hpp"
 
 #include <cassert>
@@ -12,16 +13,10 @@
 namespace asperity::interface {
 
 void ContactScene::validate() const {
-  const auto positive = [](double v, const char* what) {
-    if (!std::isfinite(v) || !(v > 0.0)) {
-      throw std::invalid_argument(std::string("ContactScene.") + what + ": got " +
-                                  std::to_string(v) + ", allowed: finite and > 0");
-    }
-  };
-  positive(a, "a");
-  positive(R, "R");
-  positive(alpha, "alpha");
-  positive(d, "d");
+  require_positive("ContactScene.a", a);
+  require_positive("ContactScene.R", R);
+  require_positive("ContactScene.alpha", alpha);
+  require_positive("ContactScene.d", d);
   material.validate();
   if (!(a < R)) {
     throw std::invalid_argument("ContactScene.a: got " + std::to_string(a) +

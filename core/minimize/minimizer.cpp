@@ -1,6 +1,7 @@
 // Minimisers of SOLVERS.md in the pair representation; see minimizer.hpp for the methods.
 #include "minimize/minimizer.hpp"
 
+#include "common/validate.hpp"
 #include "solve/newton_krylov.hpp"
 
 #include <Spectra/SymEigsSolver.h>
@@ -240,29 +241,17 @@ Method method_from_string(const std::string& name) {
 }
 
 void MinimizerOptions::validate() const {
-  const auto fail = [](const std::string& what, double v, const std::string& allowed) {
-    throw std::invalid_argument("MinimizerOptions." + what + ": got " + std::to_string(v) +
-                                ", allowed: " + allowed);
-  };
-  if (!(force_tolerance > 0.0) || !std::isfinite(force_tolerance)) {
-    fail("force_tolerance", force_tolerance, "finite and > 0");
+  require_positive("MinimizerOptions.force_tolerance", force_tolerance);
+  require_at_least("MinimizerOptions.max_iterations", max_iterations, 1);
+  if (memory < 1 || memory > 100) {
+    reject("MinimizerOptions.memory", std::to_string(memory), "1 to 100");
   }
-  if (max_iterations < 1) fail("max_iterations", max_iterations, ">= 1");
-  if (memory < 1 || memory > 100) fail("memory", memory, "1 to 100");
-  if (!(max_displacement > 0.0) || !std::isfinite(max_displacement)) {
-    fail("max_displacement", max_displacement, "finite and > 0");
-  }
-  if (refresh_interval < 1) fail("refresh_interval", refresh_interval, ">= 1");
-  if (!(newton_start > 0.0) || !std::isfinite(newton_start)) {
-    fail("newton_start", newton_start, "finite and > 0");
-  }
-  if (max_escapes < 0) fail("max_escapes", max_escapes, ">= 0");
-  if (!(escape_displacement > 0.0) || !std::isfinite(escape_displacement)) {
-    fail("escape_displacement", escape_displacement, "finite and > 0");
-  }
-  if (!(perturbation > 0.0) || !std::isfinite(perturbation)) {
-    fail("perturbation", perturbation, "finite and > 0");
-  }
+  require_positive("MinimizerOptions.max_displacement", max_displacement);
+  require_at_least("MinimizerOptions.refresh_interval", refresh_interval, 1);
+  require_positive("MinimizerOptions.newton_start", newton_start);
+  require_at_least("MinimizerOptions.max_escapes", max_escapes, 0);
+  require_positive("MinimizerOptions.escape_displacement", escape_displacement);
+  require_positive("MinimizerOptions.perturbation", perturbation);
 }
 
 Stability lowest_mode(Problem& problem, std::span<const double> u) {

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "common/validate.hpp"
 #include "elastic/surface_gf.hpp"
 #include "slide/lfm_problem.hpp"
 
@@ -258,8 +259,7 @@ Protocol protocol_from_string(const std::string& name) {
 
 void SlideOptions::validate() const {
   const auto fail = [](const std::string& what, double v, const std::string& allowed) {
-    throw std::invalid_argument("SlideOptions." + what + ": got " + std::to_string(v) +
-                                ", allowed: " + allowed);
+    reject("SlideOptions." + what, std::to_string(v), allowed);
   };
   if (!(step > 0.0 && step <= 0.5)) fail("step", step, "0 < step <= 0.5 d");
   if (!(max_step > 0.0 && max_step <= 0.5)) fail("max_step", max_step, "0 < max_step <= 0.5 d");

@@ -1,6 +1,8 @@
 // KINSOL behind solve::newton_krylov; see newton_krylov.hpp.
 #include "solve/newton_krylov.hpp"
 
+#include "common/validate.hpp"
+
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_spgmr.h>
@@ -62,18 +64,9 @@ void check(int flag, const char* what) {
 }  // namespace
 
 void NewtonKrylovOptions::validate() const {
-  if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
-    throw std::invalid_argument("NewtonKrylovOptions.tolerance: got " + std::to_string(tolerance) +
-                                ", allowed: finite and > 0");
-  }
-  if (max_iterations < 1) {
-    throw std::invalid_argument("NewtonKrylovOptions.max_iterations: got " +
-                                std::to_string(max_iterations) + ", allowed: >= 1");
-  }
-  if (krylov_dimension < 1) {
-    throw std::invalid_argument("NewtonKrylovOptions.krylov_dimension: got " +
-                                std::to_string(krylov_dimension) + ", allowed: >= 1");
-  }
+  require_positive("NewtonKrylovOptions.tolerance", tolerance);
+  require_at_least("NewtonKrylovOptions.max_iterations", max_iterations, 1);
+  require_at_least("NewtonKrylovOptions.krylov_dimension", krylov_dimension, 1);
 }
 
 NewtonKrylovResult newton_krylov(std::span<double> x, const Residual& residual,
