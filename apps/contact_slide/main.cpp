@@ -2,6 +2,7 @@
 // model (MODEL.md sections 3 and 5). Reads a scene (default: data/scenes/default.toml), lets
 // flags override it, and writes trace.csv, summary.json, figures and NetCDF snapshots.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -55,16 +56,21 @@ int main(int argc, char** argv) {
                  minimize::to_string(s.options.minimizer.method).c_str(),
                  s.options.minimizer.force_tolerance);
     const bool tty = isatty(2) != 0;
-    const auto progress = [tty](double Dx, double limit, int slips) {
-      static int shown = -1;
-      const int tenth = static_cast<int>(100.0 * Dx / limit);
+    // In a log (no terminal) a line at each slip event and otherwise every 10 s: the automatic
+    // distance is capped generously, so fractions of the cap say little.
+    const auto progress = [tty, last = std::chrono::steady_clock::now(), last_slips = 0](
+                              double Dx, double limit, int slips) mutable {
       if (tty) {
         std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx, limit,
                      slips);
-      } else if (tenth / 10 != shown) {
-        shown = tenth / 10;
+        return;
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (slips != last_slips || now - last > std::chrono::seconds(10)) {
         std::fprintf(stderr, "  Dx = %.4f d of at most %.2f d, slip events: %d\n", Dx, limit,
                      slips);
+        last = now;
+        last_slips = slips;
       }
     };
     const slide::SlideResult r = slide::slide(s.contact, s.options, progress);
