@@ -329,12 +329,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   double slip_at = std::numeric_limits<double>::infinity();
   while (!stopped) {
     if (state.Dx >= limit - 1e-12) {
-      if (automatic) {
-        res.stop_reason = "distance cap reached";
-        res.mu_is_lower_bound = res.slip_events == 0 && first_max_Dx < 0.0;
-      } else {
-        res.stop_reason = "distance reached";
-      }
+      res.stop_reason = automatic ? "distance cap reached" : "distance reached";
       break;
     }
     // Adaptive: a bracket [state.Dx, slip_at] around a known instability is bisected until it
@@ -453,6 +448,9 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     peak = std::move(runner_up);
     best = runner_up_ratio;
   }
+  // Still rising at the last sample (cap or a fixed distance hit on the loading ramp): the
+  // static peak lies further on, mu is only a lower bound.
+  res.mu_is_lower_bound = peak->Dx == res.trace.back().Dx;
   res.mu = best;
   res.peak_Dx = peak->Dx;
   res.Fz = peak->Fz;

@@ -81,7 +81,7 @@ struct SlideResult {
   double mu_over_alpha = 0.0;
   double peak_Dx = 0.0;
   double peak_precision = 0.0;  // uncertainty of mu from the step resolution at the peak
-  bool mu_is_lower_bound = false;
+  bool mu_is_lower_bound = false;  // the maximum is the last sample: the slide ended on the ramp
   double Fz = 0.0;            // discrete Hertz load at the peak
   double Fz_continuum = 0.0;  // 4 E* a^3 / (3 R)
   double kinetic = 0.0;       // mean Fx / Fz after the first slip (0 if none)

@@ -37,3 +37,12 @@ TEST(RegimeOne, RigidSinusoidalSliding) {
     }
   }
 }
+
+TEST(RegimeOne, ShortFixedDistanceIsALowerBound) {
+  // Stopped on the loading ramp (0.1 d, before the maximum at d/4): mu is flagged, not trusted.
+  const interface::ContactScene scene { .a = 5.0, .R = 5000.0, .alpha = 0.7 };
+  const auto r = slide::slide(scene, {.distance = 0.1});
+  EXPECT_TRUE(r.mu_is_lower_bound);
+  EXPECT_EQ(r.stop_reason, "distance reached");
+  EXPECT_LT(r.mu_over_alpha, 0.6);
+}
