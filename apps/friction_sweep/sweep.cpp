@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "common/cli.hpp"
 #include "common/toml_reader.hpp"
 
 namespace asperity::app {
@@ -196,6 +197,9 @@ std::string settings_fingerprint(const SlideScene& scene) {
   add("alpha", exact(c.alpha));
   add("G", exact(c.material.G));
   add("nu", exact(c.material.nu));
+  // The code's own defaults (stability check, warm starts, ...) are not scene keys: rows of
+  // another build are recomputed rather than trusted.
+  add("code", app::provenance_string());
   return s;
 }
 

@@ -45,7 +45,8 @@ struct FourierBlock {
   int rows = 0;
   std::complex<double>* field[max_fields] = {};
 };
-// Multiplies a block in place. It may be called concurrently on different blocks.
+// Multiplies a block in place. It may be called concurrently on different blocks, and must not
+// throw (the workers of a convolution wait for each other).
 using Multiplier = std::function<void(const FourierBlock&)>;
 
 // Batched transforms of `fields` real 2D arrays of one shape. The engine owns three aligned

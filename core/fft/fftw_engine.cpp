@@ -80,8 +80,14 @@ class FFTWEngine final : public Engine {
     }
     if (workers_ > 1) {
       sync_ = std::make_unique<std::barrier<>>(workers_);
-      for (int t = 1; t < workers_; ++t)
-        pool_.emplace_back([this, t] { worker(t); });
+      try {
+        for (int t = 1; t < workers_; ++t)
+          pool_.emplace_back([this, t] { worker(t); });
+      } catch (...) {  // e.g. a thread limit: release the started workers, plans and buffers
+        stop_workers();
+        destroy();
+        throw;
+      }
     }
     // MEASURE and PATIENT overwrite the arrays while planning: buffers are zeroed after.
     for (int f = 0; f < fields; ++f) {
@@ -302,7 +308,7 @@ class FFTWEngine final : public Engine {
   std::atomic<unsigned> generation_{0};  // bumped once per convolve() to wake the workers
   std::atomic<bool> stopping_{false};
   const Multiplier* job_ = nullptr;
-  std::vector<std::jthread> pool_;  // last member: joined first on destruction
+  std::vector<std::jthread> pool_;  // stopped and joined by stop_workers() before destroy()
   fftw_plan rows_forward_[2] = {nullptr, nullptr}, rows_inverse_[2] = {nullptr, nullptr};
   fftw_plan columns_forward_[2] = {nullptr, nullptr}, columns_inverse_[2] = {nullptr, nullptr};
 };

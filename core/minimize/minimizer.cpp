@@ -338,7 +338,9 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
 
   bool newton_tried = false;
   int it = 0;
-  for (; it < options.max_iterations; ++it) {
+  // Every exit from the loop sets its termination; running out of iterations leaves this one.
+  res.termination = n == 0 ? Termination::converged : Termination::max_iterations;
+  for (; n > 0 && it < options.max_iterations; ++it) {
     if (!std::isfinite(x.e) || !finite(x.r)) {
       res.termination = Termination::diverged;
       break;
@@ -357,8 +359,40 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       }
       res.stability_checked = true;
       bool unstable = false;
-      if (options.stability == StabilityCheck::perturb) {
-        // Push, relax without a check, and compare.
+      bool use_push = options.stability == StabilityCheck::perturb;
+      if (!use_push) {
+        Stability st = lowest_mode(problem, x.u);
+        res.lowest_eigenvalue = st.lowest;
+        if (!st.converged || !std::isfinite(st.lowest) || st.direction_u.empty()) {
+          use_push = true;  // Lanczos undecided: the push decides instead
+        } else {
+          // Scale of A: its Rayleigh quotient along the mode's own G-image is ~ |G|.
+          const double scale =
+              std::max(1e-300, dot(st.direction_u, st.direction_f) /
+                                   std::max(1e-300, dot(st.direction_f, st.direction_f)));
+          unstable = st.lowest < -1e-8 * scale;
+          if (unstable) {
+            // Leave the saddle along its unstable mode, on the side of lower energy.
+            const double eta =
+                options.escape_displacement / std::max(1e-300, max_abs(st.direction_u));
+            double best_e = std::numeric_limits<double>::infinity();
+            double best_sign = 1.0;
+            for (double sign : {1.0, -1.0}) {
+              axpy_into(trial.u, x.u, sign * eta, st.direction_u);
+              axpy_into(trial.f, x.f, sign * eta, st.direction_f);
+              const double e = eval(trial.u, trial.f, trial.r);
+              if (e < best_e) best_e = e, best_sign = sign;
+            }
+            axpy_into(x.u, x.u, best_sign * eta, st.direction_u);
+            axpy_into(x.f, x.f, best_sign * eta, st.direction_f);
+            x.e = eval(x.u, x.f, x.r);
+          }
+        }
+      }
+      if (use_push) {
+        // Push, relax without a check (on a budget of its own), and compare. A relaxation that
+        // ends lower in energy than the state, converged or not, shows the state was not a
+        // minimum: the lower state is kept and minimised on.
         std::mt19937 gen(static_cast<unsigned>(n + static_cast<std::size_t>(it)));
         std::uniform_real_distribution<double> dist(-1.0, 1.0);
         for (double& v : q)
@@ -370,42 +404,19 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         axpy_into(pf, x.f, eta, q);
         MinimizerOptions inner = options;
         inner.stability = StabilityCheck::none;
-        inner.max_iterations = std::max(1, options.max_iterations - it);
+        inner.max_iterations = std::min(options.max_iterations, 2000);
         const MinimizeResult again = minimize(problem, pu, pf, inner);
         it += again.iterations;
         eval.evaluations += again.interface_evaluations;
         double moved = 0.0;
         for (std::size_t i = 0; i < n; ++i)
           moved = std::max(moved, std::abs(pu[i] - x.u[i]));
-        unstable = again.termination == Termination::converged &&
-                   again.energy < x.e - energy_slack(x.e) && moved > 10.0 * options.perturbation;
+        const bool lower = std::isfinite(again.energy) && again.energy < x.e - energy_slack(x.e);
+        unstable = lower && (moved > 10.0 * options.perturbation ||
+                             again.termination != Termination::converged);
         if (unstable) {
           x.u = std::move(pu);
           x.f = std::move(pf);
-          x.e = eval(x.u, x.f, x.r);
-        }
-      } else {
-        Stability st = lowest_mode(problem, x.u);
-        res.lowest_eigenvalue = st.lowest;
-        // Scale of A: its Rayleigh quotient along the mode's own G-image is ~ |G|.
-        const double scale =
-            std::max(1e-300, dot(st.direction_u, st.direction_f) /
-                                 std::max(1e-300, dot(st.direction_f, st.direction_f)));
-        unstable = st.lowest < -1e-8 * scale && !st.direction_u.empty();
-        if (unstable) {
-          // Leave the saddle along its unstable mode, on the side of lower energy.
-          const double eta =
-              options.escape_displacement / std::max(1e-300, max_abs(st.direction_u));
-          double best_e = std::numeric_limits<double>::infinity();
-          double best_sign = 1.0;
-          for (double sign : {1.0, -1.0}) {
-            axpy_into(trial.u, x.u, sign * eta, st.direction_u);
-            axpy_into(trial.f, x.f, sign * eta, st.direction_f);
-            const double e = eval(trial.u, trial.f, trial.r);
-            if (e < best_e) best_e = e, best_sign = sign;
-          }
-          axpy_into(x.u, x.u, best_sign * eta, st.direction_u);
-          axpy_into(x.f, x.f, best_sign * eta, st.direction_f);
           x.e = eval(x.u, x.f, x.r);
         }
       }
@@ -590,9 +601,6 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       ++it;
       break;
     }
-  }
-  if (it >= options.max_iterations && res.termination != Termination::interrupted) {
-    res.termination = Termination::max_iterations;
   }
   res.iterations = it;
   res.energy = x.e;

@@ -444,7 +444,10 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   // A maximum at the very end of the trace cannot be refined; if it only repeats an earlier one
   // within the minimiser's noise (Regime I a period later; 1e-6 relative is seen), the earlier
   // one, which has samples on both sides, is the peak.
-  if (runner_up && peak->Dx == res.trace.back().Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
+  // (Not when the runner-up is the sample just before: that is a ramp, cut off by the distance.)
+  const std::size_t n_rows = res.trace.size();
+  if (runner_up && n_rows >= 2 && peak->Dx == res.trace.back().Dx &&
+      runner_up->Dx < res.trace[n_rows - 2].Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
     peak = std::move(runner_up);
     best = runner_up_ratio;
   }
@@ -521,6 +524,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     from = std::find_if(res.trace.begin(), res.trace.end(),
                         [&](const TraceRow& row) { return row.Dx >= state.Dx - d - 1e-12; });
   }
+  res.kinetic = res.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
   if (from != res.trace.end()) {
     double area = 0.0, span = 0.0;
     for (auto a = from; a + 1 != res.trace.end(); ++a) {

@@ -80,11 +80,12 @@ struct SlideResult {
   double mu = 0.0;              // max Fx / Fz
   double mu_over_alpha = 0.0;
   double peak_Dx = 0.0;
-  double peak_precision = 0.0;  // uncertainty of mu from the step resolution at the peak
+  double peak_precision = 0.0;     // uncertainty of mu from the step resolution at the peak
   bool mu_is_lower_bound = false;  // the maximum is the last sample: the slide ended on the ramp
-  double Fz = 0.0;            // discrete Hertz load at the peak
-  double Fz_continuum = 0.0;  // 4 E* a^3 / (3 R)
-  double kinetic = 0.0;       // mean Fx / Fz after the first slip (0 if none)
+  double Fz = 0.0;                 // discrete Hertz load at the peak
+  double Fz_continuum = 0.0;       // 4 E* a^3 / (3 R)
+  double kinetic = 0.0;            // mean Fx / Fz after the first slip; without slips over the last
+                                   // period d; NaN if not measured (no slip, slide shorter than d)
   double kinetic_over_static = 0.0;
   int slip_events = 0;
   double distance = 0.0;  // Dx reached
