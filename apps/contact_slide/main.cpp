@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "common/cli.hpp"
+#include "common/cli_checks.hpp"
 #include "common/slide_io.hpp"
 
 using namespace asperity;
@@ -22,15 +23,20 @@ int main(int argc, char** argv) {
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    cli.add_option("--a", a, "Contact radius (d)");
-    cli.add_option("--R", R, "Sphere radius (d)");
-    cli.add_option("--alpha", alpha, "Local friction coefficient");
-    cli.add_option("--nu", nu, "Poisson ratio");
-    cli.add_option("--distance", distance, "Sliding distance (d); 0: automatic");
-    cli.add_option("--protocol", protocol, "adaptive | reference");
-    cli.add_option("--solver", solver, "lbfgs | cg | fire");
-    cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)");
-    cli.add_option("--threads", threads, "FFT threads");
+    cli.add_option("--a", a, "Contact radius (d)")->check(app::finite_number(1.0, 4096.0));
+    cli.add_option("--R", R, "Sphere radius (d)")->check(app::positive());
+    cli.add_option("--alpha", alpha, "Local friction coefficient")
+        ->check(app::finite_number(0.0, 10.0, true));
+    cli.add_option("--nu", nu, "Poisson ratio")->check(app::finite_number(0.0, 0.5));
+    cli.add_option("--distance", distance, "Sliding distance (d); 0: automatic")
+        ->check(app::non_negative());
+    cli.add_option("--protocol", protocol, "adaptive | reference")
+        ->check(CLI::IsMember({"adaptive", "reference"}));
+    cli.add_option("--solver", solver, "lbfgs | cg | fire | newton")
+        ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton"}));
+    cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
+        ->check(app::finite_number(0.0, 1.0, true));
+    cli.add_option("--threads", threads, "FFT threads")->check(CLI::Range(1, 1024));
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 

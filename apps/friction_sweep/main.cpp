@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/cli_checks.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/slide_io.hpp"
@@ -218,11 +219,16 @@ int main(int argc, char** argv) {
     cli.add_option("scene", scene_path, "Sweep scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    auto* R_opt = cli.add_option("--R", R, "Sphere radii (d), comma-separated")->delimiter(',');
-    auto* a_opt = cli.add_option("--a", a, "Contact radii (d), comma-separated")->delimiter(',');
+    auto* R_opt = cli.add_option("--R", R, "Sphere radii (d), comma-separated")
+                      ->delimiter(',')
+                      ->check(app::positive());
+    auto* a_opt = cli.add_option("--a", a, "Contact radii (d), comma-separated")
+                      ->delimiter(',')
+                      ->check(app::positive());
     auto* x_opt = cli.add_option("--a-over-bcore0", targets,
                                  "Targets of a/b_core^0, comma-separated (instead of --a)")
-                      ->delimiter(',');
+                      ->delimiter(',')
+                      ->check(app::positive());
     a_opt->excludes(x_opt);
     cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads / fft.threads)")
         ->check(CLI::Range(1, 1024));

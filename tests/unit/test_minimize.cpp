@@ -157,3 +157,32 @@ TEST(LateralForceModel, FastSincosMatchesLibm) {
   }
   EXPECT_LT(worst, 4e-16);
 }
+
+TEST(Minimizer, InjectedNanStopsAtOnce) {
+  // An interface force that turns NaN (a bug, or a state out of range) is caught at the next
+  // iteration and reported as diverged, not iterated on or returned as converged.
+  struct Poisoned final : minimize::Problem {
+    explicit Poisoned(minimize::Problem& p) : inner(p) {}
+    [[nodiscard]] std::size_t size() const override { return inner.size(); }
+    void compliance(std::span<const double> f, std::span<double> u) override {
+      inner.compliance(f, u);
+    }
+    double interface(std::span<const double> u, std::span<double> f) const override {
+      const double v = inner.interface(u, f);
+      if (++calls > 3) f[f.size() / 2] = std::nan("");
+      return v;
+    }
+    void curvature(std::span<const double> u, std::span<double> h) const override {
+      inner.curvature(u, h);
+    }
+    [[nodiscard]] std::size_t gf_applications() const override { return inner.gf_applications(); }
+    minimize::Problem& inner;
+    mutable int calls = 0;
+  };
+  Contact c({.a = 10.0, .R = 100.0}, 0.3);
+  Poisoned p(c.problem);
+  std::vector<double> u(p.size(), 0.0), f(p.size(), 0.0);
+  const auto r = minimize::minimize(p, u, f, {});
+  EXPECT_EQ(r.termination, Termination::diverged);
+  EXPECT_LE(p.calls, 6);
+}

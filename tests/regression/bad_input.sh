@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Regression tier: bad scenes and flags are rejected before any work, with exit status 2 and a
+# message that names the offending key or flag. Usage: bad_input.sh BIN_DIR WORK_DIR
+set -uo pipefail
+bin=$1
+work=$2
+rm -rf "$work" && mkdir -p "$work"
+cases=0
+failures=0
+
+# check TOOL EXPECTED ARGS...: TOOL must exit 2 and print EXPECTED on stderr.
+check() {
+  local tool=$1 expected=$2
+  shift 2
+  cases=$((cases + 1))
+  local err rc
+  err=$("$bin/$tool" "$@" --out "$work/out" 2>&1 >/dev/null)
+  rc=$?
+  if [ "$rc" -ne 2 ] || ! grep -qF -- "$expected" <<<"$err"; then
+    echo "FAIL: $tool $* -> exit $rc, expected 2 and '$expected' in: $err"
+    failures=$((failures + 1))
+  fi
+}
+
+# scene NAME: writes standard input to $work/NAME.toml and prints the path.
+scene() {
+  cat >"$work/$1.toml"
+  echo "$work/$1.toml"
+}
+
+cs=contact_slide
+check $cs "contact.radius" "$(scene s1 <<<$'[contact]\nradius = 5')"
+check $cs "contact.a" "$(scene s2 <<<$'[contact]\na = -3')"
+check $cs "contact.a" "$(scene s3 <<<$'[contact]\na = "abc"')"
+check $cs "contact.a" "$(scene s4 <<<$'[contact]\na = nan')"
+check $cs "contact.a" "$(scene s5 <<<$'[contact]\na = inf')"
+check $cs "contact.R" "$(scene s6 <<<$'[contact]\nR = 0')"
+check $cs "contact.alpha" "$(scene s7 <<<$'[contact]\nalpha = 0')"
+check $cs "contact.a" "$(scene s8 <<<$'[contact]\na = 600\nR = 535')"
+check $cs "material.nu" "$(scene s9 <<<$'[material]\nnu = 0.6')"
+check $cs "material.G" "$(scene s10 <<<$'[material]\nG = -1')"
+check $cs "slide.protocol" "$(scene s11 <<<$'[slide]\nprotocol = "fast"')"
+check $cs "slide.step" "$(scene s12 <<<$'[slide]\nstep = 0')"
+check $cs "slide.max_step" "$(scene s13 <<<$'[slide]\nmax_step = 2')"
+check $cs "slide.min_step" "$(scene s14 <<<$'[slide]\nmax_step = 0.2\nmin_step = 0.3')"
+check $cs "slide.distance" "$(scene s15 <<<$'[slide]\ndistance = -1')"
+check $cs "slide.slips_to_stop" "$(scene s16 <<<$'[slide]\nslips_to_stop = 0')"
+check $cs "slide.path_frame_every" "$(scene s17 <<<$'[slide]\npath_frame_every = -5')"
+check $cs "solver.method" "$(scene s18 <<<$'[solver]\nmethod = "steepest"')"
+check $cs "solver.tolerance" "$(scene s19 <<<$'[solver]\ntolerance = 0')"
+check $cs "solver.max_iterations" "$(scene s20 <<<$'[solver]\nmax_iterations = 0')"
+check $cs "solver.memory" "$(scene s21 <<<$'[solver]\nmemory = 0')"
+check $cs "solver.max_displacement" "$(scene s22 <<<$'[solver]\nmax_displacement = 1')"
+check $cs "fft.threads" "$(scene s23 <<<$'[fft]\nthreads = 0')"
+check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
+check $cs "s25.toml:2" "$(scene s25 <<<$'[contact]\na = = 3')"
+check $cs "a (line 1)" "$(scene s26 <<<$'a = 3')"
+check $cs "contact.a" "$(scene s27 <<<$'[contact]\na = [1, 2]')"
+check $cs "--a" --a -1
+check $cs "--a" --a nan
+check $cs "--R" --R inf
+check $cs "--alpha" --alpha 0
+check $cs "--nu" --nu 0.7
+check $cs "--protocol" --protocol fast
+check $cs "--solver" --solver steepest
+check $cs "--tolerance" --tolerance 0
+check $cs "--threads" --threads 0
+check $cs "--distance" --distance -1
+check $cs "--bogus" --bogus
+check $cs "scene" "$work/no_such_scene.toml"
+
+fs=friction_sweep
+check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
+check $fs "sweep" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
+check $fs "sweep.a" "$(scene w3 <<<$'[sweep]\nR = [535]\na = [-1]')"
+check $fs "contact.a" "$(scene w4 <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na = 5')"
+check $fs "sweep.jobs" "$(scene w5 <<<$'[sweep]\nR = [535]\na = [5]\njobs = 0')"
+check $fs "--R" --R 535,nan
+check $fs "--jobs" --jobs 0
+
+gv=gf_validate
+check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"
+check $gv "hertz.radius" "$(scene g2 <<<$'[hertz]\nradius = 5')"
+check $gv "--threads" --threads 0
+
+echo "$((cases - failures)) passed, $failures failed"
+[ "$failures" -eq 0 ]
