@@ -36,12 +36,14 @@ SlideScene read_slide_keys(SceneReader& r) {
       r.integer("slide.path_frame_every", o.path_frame_every, Range::closed(0, 1000000));
   auto& m = o.minimizer;
   m.method = minimize::method_from_string(
-      r.string("solver.method", minimize::to_string(m.method), {"lbfgs", "cg", "fire"}));
+      r.string("solver.method", minimize::to_string(m.method), {"lbfgs", "cg", "fire", "newton"}));
   m.force_tolerance = r.number("solver.tolerance", m.force_tolerance, Range::open(0.0, 1.0));
   m.max_iterations = r.integer("solver.max_iterations", m.max_iterations, Range::at_least(1));
   m.memory = r.integer("solver.memory", m.memory, Range::closed(1, 100));
   m.max_displacement =
       r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
+  m.stability = minimize::stability_from_string(r.string(
+      "solver.stability", minimize::to_string(m.stability), {"perturb", "lanczos", "none"}));
   o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
   o.fft.planner = fft::planner_from_string(
       r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
@@ -113,6 +115,7 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"gradient_evaluations", r.gradient_evaluations},
       {"tolerance", o.minimizer.force_tolerance},
       {"solver", minimize::to_string(o.minimizer.method)},
+      {"stability_check", minimize::to_string(o.minimizer.stability)},
       {"protocol", slide::to_string(o.protocol)},
       {"step", o.protocol == slide::Protocol::reference ? o.step : o.max_step},
       {"min_step", o.protocol == slide::Protocol::reference ? o.step : o.min_step},

@@ -231,6 +231,26 @@ std::string to_string(Method m) {
   return "lbfgs";
 }
 
+std::string to_string(StabilityCheck c) {
+  switch (c) {
+    case StabilityCheck::none:
+      return "none";
+    case StabilityCheck::perturb:
+      return "perturb";
+    case StabilityCheck::lanczos:
+      return "lanczos";
+  }
+  return "perturb";
+}
+
+StabilityCheck stability_from_string(const std::string& name) {
+  if (name == "none") return StabilityCheck::none;
+  if (name == "perturb") return StabilityCheck::perturb;
+  if (name == "lanczos") return StabilityCheck::lanczos;
+  throw std::invalid_argument("stability check: got '" + name +
+                              "', allowed: none, perturb, lanczos");
+}
+
 Method method_from_string(const std::string& name) {
   if (name == "lbfgs") return Method::lbfgs;
   if (name == "cg") return Method::cg;

@@ -17,7 +17,9 @@
 // - perturb (default): a random push of 1e-5 d (a force field f' with u' = G f') and a second
 //   minimisation; if it ends lower in energy and away from the state, the state was unstable
 //   and the new one is kept (and checked again). A descent method cannot stay on a saddle it
-//   was pushed off, and a symmetric state cannot hide an antisymmetric instability.
+//   was pushed off, and a symmetric state cannot hide an antisymmetric instability. Limit: very
+//   near a fold the unstable mode grows so slowly that the second minimisation may meet the
+//   force tolerance first; the lanczos check has no such blind spot.
 // - lanczos: the lowest eigenvalue of the Hessian K + H_int by Lanczos (Spectra) in the
 //   congruent form A = G + G H_int G (same inertia, Sylvester); an unstable state is left along
 //   its eigenvector. Exact, but the spectrum of A is clustered at its low end, so it costs
@@ -37,6 +39,8 @@ namespace asperity::minimize {
 
 enum class Method { lbfgs, cg, fire, newton };
 enum class StabilityCheck { none, perturb, lanczos };
+std::string to_string(StabilityCheck c);
+StabilityCheck stability_from_string(const std::string& name);  // throws std::invalid_argument
 std::string to_string(Method m);
 Method method_from_string(const std::string& name);  // throws std::invalid_argument
 
