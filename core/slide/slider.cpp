@@ -56,7 +56,8 @@ class Slider {
   minimize::MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames,
                                  bool stop_on_slip = false) {
     const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
-    if (target_shift != s.shift) roll(s, target_shift - s.shift);
+    // Rolled rows come in without displacements; u = G f below recomputes them.
+    if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
     lfm_ = interface::LateralForceModel(scene_, block_at(s.shift));
     lfm_.set_tip(Dx);
     s.Dx = Dx;
@@ -230,10 +231,6 @@ class Slider {
       }
     }
     s.shift += k;
-  }
-  void roll(State& s, int k) {
-    roll_fields(s, k);
-    gf_.apply(s.f, s.u);  // rows that came in need their displacement
   }
 
   interface::ContactScene scene_;
