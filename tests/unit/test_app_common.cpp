@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include "scratch.hpp"
+
 #include "common/cli.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
@@ -22,19 +24,11 @@
 namespace asperity::app {
 namespace {
 
+using asperity::test_support::invalid_argument_message;
+
 namespace fs = std::filesystem;
 
 // Message of the std::invalid_argument thrown by `f`, or a failure if none is thrown.
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument thrown";
-  return {};
-}
 
 SceneReader scene(std::string_view text) {
   return SceneReader::from_string(text, "scene.toml");
@@ -122,26 +116,12 @@ TEST(SceneReader, ParseErrorNamesFileAndLine) {
   EXPECT_THROW(SceneReader::from_file("/nonexistent/scene.toml"), std::invalid_argument);
 }
 
-class FilesTest : public ::testing::Test {
+class FilesTest : public asperity::test_support::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("asperity_app_common_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    ensure_directory(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
   }
-  std::size_t entries() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {}));
-  }
-
-  fs::path dir_;
 };
 
 TEST_F(FilesTest, AtomicWriteReplacesContentAndLeavesNoTemporaries) {

@@ -16,11 +16,15 @@
 
 #include <gtest/gtest.h>
 
+#include "scratch.hpp"
+
 #include "common/output_files.hpp"
 #include "common/snapshot_io.hpp"
 
 namespace asperity::app {
 namespace {
+
+using asperity::test_support::invalid_argument_message;
 
 namespace fs = std::filesystem;
 using slide::Snapshot;
@@ -68,34 +72,7 @@ std::vector<std::uint64_t> bits(const std::vector<double>& v) {
   return b;
 }
 
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument thrown";
-  return {};
-}
-
-class SnapshotIo : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("asperity_snapshot_io_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    ensure_directory(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::size_t entries() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {}));
-  }
-
-  fs::path dir_;
-};
+class SnapshotIo : public asperity::test_support::ScratchDirTest {};
 
 TEST_F(SnapshotIo, RoundTripIsBitIdentical) {
   const fs::path nc = dir_ / "snapshots.nc";
