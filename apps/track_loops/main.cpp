@@ -1,0 +1,308 @@
+// track_loops: finds, traces and follows dislocation lines and loops in NetCDF snapshots of the
+// contact simulator or of a Peierls cell (MODEL.md section 7; tracking/). Frames of all files,
+// in the order given, form one sequence.
+//
+// Writes into --out: lines.json (every frame and its lines), events.csv (nucleation, growth,
+// retreat, arrest, annihilation, merge, split, reconnection), frame_NNNN.png (tau_x / tau_max
+// over the contact with the lines drawn on top, coloured by character) and summary.json.
+#include <netcdf.h>
+
+#include <CLI/CLI.hpp>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "common/cli.hpp"
+#include "common/cli_checks.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/snapshot_io.hpp"
+#include "tracking/lines.hpp"
+#include "tracking/tracker.hpp"
+
+using namespace asperity;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Global attribute `periodic` (written by peierls_scan for a whole periodic cell); absent: 0.
+// read_snapshots() has already checked that the file is readable.
+bool periodic_attribute(const fs::path& nc) {
+  int id = 0;
+  if (nc_open(nc.c_str(), NC_NOWRITE, &id) != NC_NOERR) return false;
+  int value = 0;
+  nc_type type = NC_NAT;
+  std::size_t length = 0;
+  bool periodic = false;
+  if (nc_inq_att(id, NC_GLOBAL, "periodic", &type, &length) == NC_NOERR && length == 1 &&
+      type != NC_CHAR && nc_get_att_int(id, NC_GLOBAL, "periodic", &value) == NC_NOERR) {
+    periodic = value != 0;
+  }
+  nc_close(id);
+  return periodic;
+}
+
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
+
+std::string join_ids(const std::vector<int>& ids) {
+  std::string s;
+  for (const int id : ids)
+    s += (s.empty() ? "" : " ") + std::to_string(id);
+  return s;
+}
+
+nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameLines& f,
+                         double centre_fraction) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : l.points)
+    points.push_back({p.x, p.y});
+  const double slipped =
+      l.slipped_region >= 0
+          ? static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()) *
+                f.d * f.d
+          : 0.0;
+  return {{"id", id},
+          {"kind", tracking::to_string(l.kind)},
+          {"burgers_x", l.burgers * f.d},
+          {"registry_consistency", l.registry_consistency},
+          {"interior_ends", l.interior_ends},
+          {"length", l.length},
+          {"area", l.kind == tracking::LineKind::loop ? nlohmann::json(l.area) : nullptr},
+          {"centroid", {l.centroid.x, l.centroid.y}},
+          {"bbox", {l.x_min, l.y_min, l.x_max, l.y_max}},
+          {"x_extent", l.x_max - l.x_min},
+          {"y_extent", l.y_max - l.y_min},
+          {"aspect_ratio", finite_or_null(l.aspect_ratio)},
+          {"screw_fraction", l.screw_fraction},
+          {"edge_fraction", l.edge_fraction},
+          {"mean_angle_deg", l.mean_angle_deg},
+          {"slipped_area", slipped},
+          {"location", tracking::location_class(f, l.centroid, centre_fraction)},
+          {"points", points},
+          {"angle_deg", l.angle_deg}};
+}
+
+// tau_x / tau_max over the contact with the lines on top: segments split by character into
+// screw (< 30 deg from b), mixed and edge (> 60 deg).
+void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::FrameLines& f,
+                const std::string& title) {
+  const auto& blk = s.block;
+  std::vector<double> x, y, map(blk.shape.count(), std::nan(""));
+  for (int i0 = 0; i0 < blk.shape.n0; ++i0)
+    x.push_back(blk.x(i0, f.d));
+  for (int i1 = 0; i1 < blk.shape.n1; ++i1)
+    y.push_back(blk.y(i1, f.d));
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    const bool contact = s.in_contact.empty() || s.in_contact[i] != 0;
+    if (contact && s.tau_max[i] > 0.0) map[i] = s.tau_x[i] / s.tau_max[i];
+  }
+  // One series per run of segments of one class: gnuplot's splot joins points across gaps.
+  const std::array<std::string, 3> titles = {"screw (< 30 deg)", "mixed", "edge (> 60 deg)"};
+  const std::array<std::string, 3> colours = {"#ffffff", "#ff9900", "#ff0000"};
+  std::array<bool, 3> titled{};
+  std::vector<app::Series> overlays;
+  for (const auto& l : f.lines) {
+    const std::size_t m = l.points.size();
+    int current = -1;
+    for (std::size_t k = 0; k < l.angle_deg.size(); ++k) {
+      const int c = l.angle_deg[k] < 30.0 ? 0 : (l.angle_deg[k] > 60.0 ? 2 : 1);
+      const auto& a = l.points[k];
+      const auto& b = l.points[(k + 1) % m];
+      if (c != current) {
+        const auto cc = static_cast<std::size_t>(c);
+        overlays.push_back({.x = {a.x},
+                            .y = {a.y},
+                            .title = titled[cc] ? "" : titles[cc],
+                            .style = "lines lw 3 lc rgb '" + colours[cc] + "'"});
+        titled[cc] = true;
+        current = c;
+      }
+      overlays.back().x.push_back(b.x);
+      overlays.back().y.push_back(b.y);
+    }
+  }
+  app::heatmap_png(
+      png, x, y, map,
+      {.title = title,
+       .xlabel = "x / d",
+       .ylabel = "y / d",
+       .width = 800,
+       .height = 720,
+       .extra_commands = {"set size ratio -1", "set key outside top center horizontal"}},
+      "tau_x / tau_max", std::pair{-1.0, 1.0}, overlays);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+    CLI::App cli{"Find, trace and follow dislocation lines and loops in NetCDF snapshots"};
+    std::vector<std::string> files;
+    std::string out = "results/track_loops";
+    tracking::DetectOptions detect;
+    tracking::TrackOptions track;
+    int plot_every = 1;
+    bool force_periodic = false;
+    cli.add_option("snapshots", files,
+                   "NetCDF snapshot files (contact_slide snapshots/*.nc, peierls_scan cells); "
+                   "their frames form one sequence in the order given")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cli.add_option("--out", out, "Output directory")->capture_default_str();
+    cli.add_option("--min-length", detect.min_length, "Drop lines shorter than this (d)")
+        ->check(app::non_negative())
+        ->capture_default_str();
+    cli.add_option("--slip-sign", detect.slip_sign,
+                   "Registry-index change of a slipping site: -1 sliding along +x, +1 along -x")
+        ->check(CLI::IsMember({-1, 1}))
+        ->capture_default_str();
+    cli.add_option("--min-overlap", track.min_overlap,
+                   "Overlap of slipped regions linking lines of consecutive frames")
+        ->check(app::finite_number(0.0, 1.0, true))
+        ->capture_default_str();
+    cli.add_option("--max-centroid-distance", track.max_centroid_distance,
+                   "Centroids closer than this link lines of consecutive frames (d)")
+        ->check(app::non_negative())
+        ->capture_default_str();
+    cli.add_option("--max-motion", track.max_motion, "Largest motion of a line between frames (d)")
+        ->check(app::non_negative())
+        ->capture_default_str();
+    cli.add_option("--arrest-area", track.arrest_area,
+                   "Slipped-area change below which a line is arrested (d^2)")
+        ->check(app::non_negative())
+        ->capture_default_str();
+    cli.add_option("--plot-every", plot_every, "A figure every N frames (0: none)")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
+    cli.add_flag("--periodic", force_periodic,
+                 "Treat every block as a whole periodic cell (default: the file's `periodic` "
+                 "attribute)");
+    if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+    detect.validate();
+    track.validate();
+
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path dir = app::ensure_directory(out);
+    tracking::Tracker tracker(track);
+    nlohmann::json frames_json = nlohmann::json::array(), inputs = nlohmann::json::array();
+    struct FrameInfo {
+      std::string file, label;
+      int frame_in_file = 0, iteration = -1;
+      double Dx = 0.0;
+    };
+    std::vector<FrameInfo> info;
+    std::map<std::string, int> kinds;
+    std::size_t max_lines = 0, figures = 0;
+    double detect_s = 0.0, detect_max_s = 0.0;
+    for (const auto& file : files) {
+      // Read every file before writing anything about it: a bad file stops the run early.
+      const std::vector<slide::Snapshot> snaps = app::read_snapshots(file);
+      const bool periodic = force_periodic || periodic_attribute(file);
+      inputs.push_back({{"file", fs::absolute(file).string()},
+                        {"frames", snaps.size()},
+                        {"periodic", periodic}});
+      for (std::size_t k = 0; k < snaps.size(); ++k) {
+        const auto& s = snaps[k];
+        const int index = static_cast<int>(info.size());
+        const auto t0 = std::chrono::steady_clock::now();
+        const tracking::FrameLines f = tracking::find_lines(tracking::view_of(s, periodic), detect);
+        const double dt =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        detect_s += dt;
+        detect_max_s = std::max(detect_max_s, dt);
+        const std::vector<int> ids = tracker.add(f);
+        info.push_back(
+            {fs::path(file).filename().string(), s.label, static_cast<int>(k), s.iteration, s.Dx});
+        max_lines = std::max(max_lines, f.lines.size());
+        nlohmann::json lines = nlohmann::json::array();
+        for (std::size_t j = 0; j < f.lines.size(); ++j) {
+          lines.push_back(line_json(f.lines[j], ids[j], f, track.centre_fraction));
+          ++kinds[tracking::to_string(f.lines[j].kind)];
+        }
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%04d.png", index);
+        const bool plot = plot_every > 0 && index % plot_every == 0;
+        if (plot) {
+          std::ostringstream title;
+          title << s.label << " #" << k << " (iteration " << s.iteration << ", Dx = " << s.Dx
+                << " d): " << f.lines.size() << " line(s)";
+          plot_frame(dir / name, s, f, title.str());
+          ++figures;
+        }
+        frames_json.push_back({{"frame", index},
+                               {"file", info.back().file},
+                               {"frame_in_file", k},
+                               {"label", s.label},
+                               {"iteration", s.iteration},
+                               {"Dx", s.Dx},
+                               {"periodic", periodic},
+                               {"contact_sites", f.contact_sites},
+                               {"contact_centre", {f.contact_centre.x, f.contact_centre.y}},
+                               {"contact_radius", f.contact_radius},
+                               {"core_crossings", f.core_crossings},
+                               {"registry_crossings_rejected", f.registry_crossings},
+                               {"dropped_short", f.dropped_short},
+                               {"figure", plot ? nlohmann::json(name) : nullptr},
+                               {"lines", lines}});
+      }
+    }
+
+    app::CsvTable events({"frame", "file", "label", "iteration", "Dx", "type", "before_ids",
+                          "after_ids", "x", "y", "location", "slipped_area_change"});
+    std::map<std::string, int> counts;
+    for (const auto& e : tracker.events()) {
+      const FrameInfo& fi = info[static_cast<std::size_t>(e.frame)];
+      events.add_row({static_cast<long long>(e.frame), fi.file, fi.label,
+                      static_cast<long long>(fi.iteration), fi.Dx, tracking::to_string(e.type),
+                      join_ids(e.before), join_ids(e.after), e.where.x, e.where.y, e.location,
+                      e.slipped_area_change});
+      ++counts[tracking::to_string(e.type)];
+    }
+    events.write(dir / "events.csv");
+    app::write_json(dir / "lines.json",
+                    {{"description",
+                      "per frame of the sequence: the dislocation lines found (MODEL.md 7); "
+                      "lengths in d, areas in d^2, angles in degrees from b = burgers_x x-hat "
+                      "(0: screw, 90: edge); ids persist across frames (events.csv)"},
+                     {"frames", frames_json}});
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    app::write_json(dir / "summary.json", {{"inputs", inputs},
+                                           {"options",
+                                            {{"min_length", detect.min_length},
+                                             {"slip_sign", detect.slip_sign},
+                                             {"tangent_half_window", detect.tangent_half_window},
+                                             {"screw_angle_deg", detect.screw_angle_deg},
+                                             {"min_overlap", track.min_overlap},
+                                             {"max_centroid_distance", track.max_centroid_distance},
+                                             {"max_motion", track.max_motion},
+                                             {"arrest_area", track.arrest_area},
+                                             {"centre_fraction", track.centre_fraction},
+                                             {"plot_every", plot_every}}},
+                                           {"results",
+                                            {{"frames", info.size()},
+                                             {"max_lines_per_frame", max_lines},
+                                             {"lines_by_kind", kinds},
+                                             {"events_by_type", counts},
+                                             {"figures", figures}}},
+                                           {"run",
+                                            {{"detect_s", detect_s},
+                                             {"detect_max_frame_s", detect_max_s},
+                                             {"wall_s", wall},
+                                             {"provenance", app::provenance_json()}}}});
+
+    std::printf("%zu frame(s), at most %zu line(s) per frame; events:", info.size(), max_lines);
+    if (counts.empty()) std::printf(" none");
+    for (const auto& [type, count] : counts)
+      std::printf(" %s %d", type.c_str(), count);
+    std::printf("\nresults: %s, %s, %s (%zu figure(s))\n", (dir / "lines.json").c_str(),
+                (dir / "events.csv").c_str(), (dir / "summary.json").c_str(), figures);
+    return 0;
+  });
+}

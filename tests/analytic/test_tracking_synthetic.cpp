@@ -1,0 +1,228 @@
+// Dislocation lines in synthetic snapshots with known answers (MODEL.md section 7; tracking/).
+//
+// Fields (tracking/synthetic.hpp): elliptical slipped islands with a Peierls-Nabarro profile
+// sigma = 1/2 - atan(h / w) / pi across their edges (h: signed distance to the ellipse), on a
+// Hertz-like contact of radius 60 d, s_x = X - sigma d + registry offset + noise and
+// tau_x = -tau_max sin(2 pi s_x / d) (+ noise). The cores are the ellipses themselves.
+//
+// Answers and tolerances:
+// - islands: one line per island, loops for islands inside the contact and an open line for
+//   the island cut by the contact edge; semi-axes (half the extents) within 1 d, centroid within
+//   0.5 d, aspect ratio within 10 %, enclosed area within 5 % of pi ax ay, b = -d x-hat
+//   (index -1 inside a counter-clockwise loop); vertices within 0.05 d of the ellipse without
+//   noise or offset for w >= 2 (the linear interpolation error of a smooth core; 0.1 d for the
+//   narrow w = 1), 0.5 d with noise (0.02 d
+//   on s_x, 5 % of tau_max on tau_x), 0.6 d with a registry offset A, which moves the core
+//   itself by up to A pi w (0.31 d for A = 0.1, w = 1; 0.47 d for A = 0.05, w = 3); registry
+//   index consistent with the stress sign at > 99.9 % of the crossings without noise, > 80 % with
+//   noise (noise flips tau_x at sites within ~0.01 d of the core).
+// - registry only (offsets of 0.3 d that make tau_x change sign, plus noise): no lines.
+// - sequences: a loop that appears at frame 1, shrinks and is gone at frame 8 gives exactly one
+//   nucleation (frame 1) and one annihilation (frame 8); two loops that grow into each other
+//   give exactly one merge (the first frame where they overlap) and, run backwards, one split.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <ostream>
+
+#include "tracking/lines.hpp"
+#include "tracking/synthetic.hpp"
+#include "tracking/tracker.hpp"
+
+using namespace asperity;
+using namespace asperity::tracking;
+
+namespace {
+
+SyntheticOptions contact_options() {
+  SyntheticOptions o;
+  o.block = LatticeBlock{.shape = {130, 130}, .origin0 = -65, .origin1 = -65};
+  o.contact_radius = 60.0;
+  return o;
+}
+
+double ellipse_distance(const Point& p, const Island& e) {
+  // Radial distance to the ellipse: enough for points within a fraction of d of it.
+  const double ux = (p.x - e.cx) / e.ax, uy = (p.y - e.cy) / e.ay;
+  const double r = std::hypot(ux, uy);
+  const double gx = ux / e.ax, gy = uy / e.ay;
+  return (r - 1.0) * r / std::hypot(gx, gy);
+}
+
+struct Case {
+  const char* name;
+  double core_width, registry_offset, noise_s, noise_tau, vertex_tolerance, min_consistency;
+};
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class Islands : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Islands, CountShapeCentroidAndKind) {
+  const Case c = GetParam();
+  SyntheticOptions o = contact_options();
+  o.core_width = c.core_width;
+  o.registry_offset = c.registry_offset;
+  o.noise_s = c.noise_s;
+  o.noise_tau = c.noise_tau;
+  const std::vector<Island> loops = {
+      {-25, 20, 12, 6}, {20, 25, 6, 4}, {0, -25, 20, 10}, {32, -4, 3, 3}, {-40, -8, 5, 9}};
+  const Island open{57, 0, 10, 8};  // cut by the contact edge at r = 60
+  std::vector<Island> all = loops;
+  all.push_back(open);
+  const SyntheticField field = synthetic_field(o, all);
+  const FrameLines f = find_lines(field.view());
+
+  ASSERT_EQ(f.lines.size(), all.size());
+  int n_loops = 0, n_open = 0;
+  for (const Line& l : f.lines)
+    (l.kind == LineKind::loop ? n_loops : n_open) += 1;
+  EXPECT_EQ(n_loops, static_cast<int>(loops.size()));
+  EXPECT_EQ(n_open, 1);
+
+  double worst_vertex = 0.0, worst_axis = 0.0, worst_centroid = 0.0, worst_aspect = 0.0;
+  for (const Island& e : all) {
+    const Line* best = nullptr;
+    for (const Line& l : f.lines) {
+      if (!best || std::hypot(l.centroid.x - e.cx, l.centroid.y - e.cy) <
+                       std::hypot(best->centroid.x - e.cx, best->centroid.y - e.cy)) {
+        best = &l;
+      }
+    }
+    ASSERT_NE(best, nullptr);
+    const Line& l = *best;
+    EXPECT_EQ(l.burgers, -1);
+    EXPECT_GT(l.registry_consistency, c.min_consistency);
+    EXPECT_EQ(l.interior_ends, 0);
+    for (const Point& p : l.points)
+      worst_vertex = std::max(worst_vertex, std::abs(ellipse_distance(p, e)));
+    if (&e == &all.back()) {
+      EXPECT_EQ(l.kind, LineKind::open) << "island cut by the contact edge";
+      continue;
+    }
+    EXPECT_EQ(l.kind, LineKind::loop);
+    const double ax = 0.5 * (l.x_max - l.x_min), ay = 0.5 * (l.y_max - l.y_min);
+    worst_axis = std::max({worst_axis, std::abs(ax - e.ax), std::abs(ay - e.ay)});
+    worst_centroid = std::max(worst_centroid, std::hypot(l.centroid.x - e.cx, l.centroid.y - e.cy));
+    worst_aspect = std::max(worst_aspect, std::abs(l.aspect_ratio / (e.ax / e.ay) - 1.0));
+    EXPECT_NEAR(l.area, std::numbers::pi * e.ax * e.ay, 0.05 * std::numbers::pi * e.ax * e.ay);
+    EXPECT_NEAR(l.screw_fraction + l.edge_fraction, 1.0, 1e-12);
+  }
+  EXPECT_LT(worst_axis, 1.0);
+  EXPECT_LT(worst_centroid, 0.5);
+  EXPECT_LT(worst_aspect, 0.10);
+  EXPECT_LT(worst_vertex, c.vertex_tolerance);
+  RecordProperty("worst_axis_error_d", std::to_string(worst_axis));
+  RecordProperty("worst_centroid_error_d", std::to_string(worst_centroid));
+  RecordProperty("worst_aspect_error", std::to_string(worst_aspect));
+  RecordProperty("worst_vertex_distance_d", std::to_string(worst_vertex));
+  std::printf(
+      "%s: axes within %.3f d, centroids within %.3f d, aspect within %.2f %%, "
+      "vertices within %.3f d\n",
+      c.name, worst_axis, worst_centroid, 100.0 * worst_aspect, worst_vertex);
+}
+
+INSTANTIATE_TEST_SUITE_P(Synthetic, Islands,
+                         ::testing::Values(Case{"clean_w2", 2.0, 0.0, 0.0, 0.0, 0.05, 0.999},
+                                           Case{"clean_w1", 1.0, 0.0, 0.0, 0.0, 0.1, 0.999},
+                                           Case{"clean_w4", 4.0, 0.0, 0.0, 0.0, 0.05, 0.999},
+                                           Case{"noise_w2", 2.0, 0.0, 0.02, 0.05, 0.5, 0.8},
+                                           Case{"offset_noise_w1", 1.0, 0.1, 0.02, 0.05, 0.6, 0.8},
+                                           Case{"offset_w3", 3.0, 0.05, 0.0, 0.0, 0.6, 0.999}),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(Registry, ZeroCrossingsInRegistryAreNotCores) {
+  for (const double noise : {0.0, 0.02}) {
+    SyntheticOptions o = contact_options();
+    o.registry_offset = 0.3;
+    o.offset_wavelength = 20.0;
+    o.noise_s = noise;
+    o.noise_tau = noise;
+    const FrameLines f = find_lines(synthetic_field(o, {}).view());
+    EXPECT_GT(f.registry_crossings, 100u) << "the field must have zero crossings of tau_x";
+    EXPECT_EQ(f.core_crossings, 0u);
+    EXPECT_TRUE(f.lines.empty());
+  }
+}
+
+std::vector<Event> run(const std::vector<std::vector<Island>>& frames,
+                       std::vector<std::vector<int>>* ids = nullptr) {
+  Tracker tracker;
+  for (const auto& islands : frames) {
+    SyntheticOptions o = contact_options();
+    o.noise_s = 0.01;
+    o.noise_tau = 0.02;
+    const auto frame_ids = tracker.add(find_lines(synthetic_field(o, islands).view()));
+    if (ids) ids->push_back(frame_ids);
+  }
+  return tracker.events();
+}
+
+int count(const std::vector<Event>& events, EventType type) {
+  return static_cast<int>(std::count_if(events.begin(), events.end(),
+                                        [type](const Event& e) { return e.type == type; }));
+}
+
+TEST(Sequence, ShrinkingLoopNucleatesAndAnnihilates) {
+  std::vector<std::vector<Island>> frames(10);
+  for (int k = 1; k <= 7; ++k) {  // frames 1..7: a loop around (5, -3) shrinking
+    const double r = 16.0 - 2.0 * k;
+    frames[static_cast<std::size_t>(k)] = {{5, -3, 1.6 * r, r}};
+  }
+  std::vector<std::vector<int>> ids;
+  const auto events = run(frames, &ids);
+  ASSERT_EQ(count(events, EventType::nucleation), 1);
+  ASSERT_EQ(count(events, EventType::annihilation), 1);
+  EXPECT_EQ(count(events, EventType::merge) + count(events, EventType::split) +
+                count(events, EventType::reconnection),
+            0);
+  for (const Event& e : events) {
+    if (e.type == EventType::nucleation) {
+      EXPECT_EQ(e.frame, 1);
+      EXPECT_EQ(e.location, "centre");
+    }
+    if (e.type == EventType::annihilation) {
+      EXPECT_EQ(e.frame, 8);
+    }
+  }
+  for (int k = 1; k <= 7; ++k) {  // one persistent id
+    ASSERT_EQ(ids[static_cast<std::size_t>(k)].size(), 1u);
+    EXPECT_EQ(ids[static_cast<std::size_t>(k)][0], ids[1][0]);
+  }
+}
+
+TEST(Sequence, TwoLoopsMergeAndSplit) {
+  // Circles of radius 5.5 at x = +-(12 - 2k): separate for k <= 3, one island from k = 4.
+  std::vector<std::vector<Island>> frames;
+  for (int k = 0; k <= 5; ++k) {
+    const double c = 12.0 - 2.0 * k;
+    frames.push_back({{-c, 4, 5.5, 5.5}, {c, 4, 5.5, 5.5}});
+  }
+  const auto forward = run(frames);
+  ASSERT_EQ(count(forward, EventType::merge), 1);
+  EXPECT_EQ(count(forward, EventType::nucleation) + count(forward, EventType::annihilation) +
+                count(forward, EventType::split),
+            0);
+  for (const Event& e : forward) {
+    if (e.type != EventType::merge) continue;
+    EXPECT_EQ(e.frame, 4);
+    EXPECT_EQ(e.before.size(), 2u);
+    EXPECT_EQ(e.after.size(), 1u);
+  }
+  std::reverse(frames.begin(), frames.end());
+  const auto backward = run(frames);
+  ASSERT_EQ(count(backward, EventType::split), 1);
+  EXPECT_EQ(count(backward, EventType::merge), 0);
+  for (const Event& e : backward) {
+    if (e.type == EventType::split) {
+      EXPECT_EQ(e.frame, 2);
+    }
+  }
+}
+
+}  // namespace

@@ -1,0 +1,166 @@
+// tracking/ (MODEL.md section 7): option and input validation, line kinds in periodic cells,
+// orientation and sense conventions, and the tracker's bookkeeping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tracking/lines.hpp"
+#include "tracking/synthetic.hpp"
+#include "tracking/tracker.hpp"
+
+using namespace asperity;
+using namespace asperity::tracking;
+
+namespace {
+
+void expect_rejects(const auto& make_invalid, const std::string& field) {
+  try {
+    make_invalid();
+    FAIL() << "expected std::invalid_argument naming " << field;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(TrackingOptions, DefaultsAreValid) {
+  EXPECT_NO_THROW(DetectOptions{}.validate());
+  EXPECT_NO_THROW(TrackOptions{}.validate());
+  EXPECT_NO_THROW(SyntheticOptions{}.validate());
+}
+
+TEST(TrackingOptions, ViolationsNameTheField) {
+  expect_rejects([] { DetectOptions{.min_length = -1}.validate(); }, "DetectOptions.min_length");
+  expect_rejects([] { DetectOptions{.slip_sign = 0}.validate(); }, "DetectOptions.slip_sign");
+  expect_rejects([] { DetectOptions{.screw_angle_deg = 90}.validate(); },
+                 "DetectOptions.screw_angle_deg");
+  expect_rejects([] { TrackOptions{.min_overlap = 0}.validate(); }, "TrackOptions.min_overlap");
+  expect_rejects([] { TrackOptions{.max_centroid_distance = NAN}.validate(); },
+                 "TrackOptions.max_centroid_distance");
+  expect_rejects([] { Tracker(TrackOptions{.arrest_area = -1}); }, "TrackOptions.arrest_area");
+  expect_rejects([] { SyntheticOptions{.registry_offset = 0.5}.validate(); },
+                 "SyntheticOptions.registry_offset");
+}
+
+TEST(FieldView, SizesAndShapeAreChecked) {
+  const SyntheticField f = synthetic_field(SyntheticOptions{}, {});
+  FieldView v = f.view();
+  EXPECT_NO_THROW(v.validate());
+  v.tau_x = v.tau_x.subspan(1);
+  expect_rejects([&] { find_lines(v); }, "FieldView.tau_x");
+  v = f.view();
+  v.in_contact = {};  // allowed: contact from tau_max
+  EXPECT_NO_THROW(find_lines(v));
+  v.block.shape = {1, 4096};
+  expect_rejects([&] { v.validate(); }, "FieldView.block.shape");
+}
+
+TEST(Lines, EmptyAndUniformFieldsHaveNoLines) {
+  const FrameLines f = find_lines(synthetic_field(SyntheticOptions{}, {}).view());
+  EXPECT_TRUE(f.lines.empty());
+  EXPECT_EQ(f.contact_sites, 64u * 64u);
+}
+
+TEST(Lines, LoopSenseAndOrientation) {
+  // Index -1 inside (slip_sign -1): counter-clockwise, inside on the left: b = -d x-hat.
+  const FrameLines f = find_lines(synthetic_field(SyntheticOptions{}, {{0, 0, 12, 8}}).view());
+  ASSERT_EQ(f.lines.size(), 1u);
+  const Line& l = f.lines[0];
+  EXPECT_EQ(l.kind, LineKind::loop);
+  EXPECT_EQ(l.burgers, -1);
+  EXPECT_GT(l.area, 0.0);
+  ASSERT_GE(l.slipped_region, 0);
+  // The slipped region is the inside: about pi 12 8 sites.
+  EXPECT_NEAR(static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()),
+              std::numbers::pi * 96.0, 15.0);
+  EXPECT_TRUE(std::is_sorted(f.regions[0].begin(), f.regions[0].end()));
+  // The opposite sense: index +1 inside; the slipped side (lower index) is then outside.
+  SyntheticOptions o;
+  o.slip_sign = 1;
+  const FrameLines g = find_lines(synthetic_field(o, {{0, 0, 12, 8}}).view());
+  ASSERT_EQ(g.lines.size(), 1u);
+  EXPECT_EQ(g.lines[0].burgers, 1);
+  EXPECT_GT(g.regions[0].size(), 64u * 64u / 2);
+}
+
+TEST(Lines, BandInPeriodicCellGivesTwoWrappingScrewLines) {
+  SyntheticOptions o;
+  o.block = LatticeBlock{.shape = {48, 64}, .origin0 = 0, .origin1 = 0};
+  o.periodic = true;
+  const FrameLines f = find_lines(synthetic_field(o, {{10, 32.3, 1e7, 8}}).view());
+  ASSERT_EQ(f.lines.size(), 2u);
+  for (const Line& l : f.lines) {
+    EXPECT_EQ(l.kind, LineKind::wrapping);
+    EXPECT_NEAR(l.length, 48.0, 1e-6);
+    EXPECT_DOUBLE_EQ(l.screw_fraction, 1.0);
+    EXPECT_NEAR(l.mean_angle_deg, 0.0, 1e-6);
+    EXPECT_EQ(l.burgers, -1);  // open and wrapping lines: slipped side on the left
+    EXPECT_NEAR(std::abs(l.centroid.y - 32.3), 8.0, 0.05);
+  }
+  // The same band without periodicity: two open lines ending at the block's sides.
+  o.periodic = false;
+  const FrameLines g = find_lines(synthetic_field(o, {{10, 32.3, 1e7, 8}}).view());
+  ASSERT_EQ(g.lines.size(), 2u);
+  for (const Line& l : g.lines)
+    EXPECT_EQ(l.kind, LineKind::open);
+}
+
+TEST(Lines, EdgeBandIsEdgeCharacter) {
+  SyntheticOptions o;
+  o.block = LatticeBlock{.shape = {64, 48}, .origin0 = 0, .origin1 = 0};
+  o.periodic = true;
+  const FrameLines f = find_lines(synthetic_field(o, {{32.3, 0, 8, 1e7}}).view());
+  ASSERT_EQ(f.lines.size(), 2u);
+  for (const Line& l : f.lines) {
+    EXPECT_DOUBLE_EQ(l.edge_fraction, 1.0);
+    EXPECT_NEAR(l.mean_angle_deg, 90.0, 1e-6);
+  }
+}
+
+TEST(Lines, LoopAcrossPeriodicSidesIsOneLoop) {
+  SyntheticOptions o;
+  o.block = LatticeBlock{.shape = {64, 64}, .origin0 = 0, .origin1 = 0};
+  o.periodic = true;
+  const FrameLines f = find_lines(synthetic_field(o, {{0, 0, 10, 10}}).view());
+  ASSERT_EQ(f.lines.size(), 1u);
+  EXPECT_EQ(f.lines[0].kind, LineKind::loop);
+  EXPECT_NEAR(f.lines[0].area, std::numbers::pi * 100.0, 0.03 * std::numbers::pi * 100.0);
+  EXPECT_NEAR(f.lines[0].length, 2.0 * std::numbers::pi * 10.0, 1.0);
+  EXPECT_EQ(location_class(f, f.lines[0].centroid, 0.5), "cell");
+}
+
+TEST(Lines, LocationClasses) {
+  FrameLines f;
+  f.contact_radius = 40.0;
+  EXPECT_EQ(location_class(f, {5, 5}, 0.5), "centre");
+  EXPECT_EQ(location_class(f, {3, -38}, 0.5), "side");
+  EXPECT_EQ(location_class(f, {38, 3}, 0.5), "front");
+  EXPECT_EQ(location_class(f, {-38, 3}, 0.5), "back");
+}
+
+TEST(Lines, SiteKeysSortByXThenY) {
+  EXPECT_LT(site_key(-3, 100), site_key(-2, -100));
+  EXPECT_LT(site_key(4, -7), site_key(4, -6));
+  EXPECT_LT(site_key(-1, 2147483647), site_key(0, -2147483648LL));
+}
+
+TEST(Tracker, FirstFrameLinesGetIdsWithoutEvents) {
+  Tracker t;
+  const FrameLines f = find_lines(synthetic_field(SyntheticOptions{}, {{0, 0, 12, 8}}).view());
+  const auto ids = t.add(f);
+  ASSERT_EQ(ids.size(), 1u);
+  EXPECT_TRUE(t.events().empty());
+  const auto same = t.add(f);  // unchanged: arrested, same id
+  EXPECT_EQ(same, ids);
+  ASSERT_EQ(t.events().size(), 1u);
+  EXPECT_EQ(t.events()[0].type, EventType::arrest);
+  const auto none = t.add(FrameLines{});
+  EXPECT_TRUE(none.empty());
+  ASSERT_EQ(t.events().size(), 2u);
+  EXPECT_EQ(t.events()[1].type, EventType::annihilation);
+  EXPECT_EQ(t.frames(), 3);
+  EXPECT_EQ(to_string(EventType::reconnection), "reconnection");
+  EXPECT_EQ(to_string(LineKind::wrapping), "wrapping");
+}
+
+}  // namespace

@@ -1,0 +1,613 @@
+// Dislocation lines in one snapshot (MODEL.md section 7); see lines.hpp.
+#include "lines.hpp"
+
+#include <algorithm>
+#include <array>
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/connected_components.hpp>
+#include <boost/pending/disjoint_sets.hpp>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "common/validate.hpp"
+
+namespace asperity::tracking {
+
+void FieldView::validate() const {
+  const int min_n = periodic ? 3 : 2;
+  if (block.shape.n0 < min_n || block.shape.n1 < min_n) {
+    reject("FieldView.block.shape",
+           std::to_string(block.shape.n0) + " x " + std::to_string(block.shape.n1),
+           periodic ? "at least 3 x 3 for a periodic cell" : "at least 2 x 2");
+  }
+  require_positive("FieldView.d", d);
+  const std::size_t n = block.shape.count();
+  const auto check_size = [n](const char* name, std::size_t size, bool may_be_empty) {
+    if (size != n && !(may_be_empty && size == 0)) {
+      reject(std::string("FieldView.") + name, std::to_string(size) + " values",
+             "one per block site (" + std::to_string(n) + ")" + (may_be_empty ? " or none" : ""));
+    }
+  };
+  check_size("sx", sx.size(), false);
+  check_size("tau_x", tau_x.size(), false);
+  check_size("tau_max", tau_max.size(), false);
+  check_size("in_contact", in_contact.size(), true);
+}
+
+FieldView view_of(const slide::Snapshot& snapshot, bool periodic) {
+  return FieldView{.block = snapshot.block,
+                   .d = 1.0,
+                   .periodic = periodic,
+                   .sx = snapshot.sx,
+                   .tau_x = snapshot.tau_x,
+                   .tau_max = snapshot.tau_max,
+                   .in_contact = snapshot.in_contact};
+}
+
+std::string to_string(LineKind kind) {
+  switch (kind) {
+    case LineKind::loop:
+      return "loop";
+    case LineKind::open:
+      return "open";
+    case LineKind::wrapping:
+      return "wrapping";
+  }
+  return "unknown";
+}
+
+void DetectOptions::validate() const {
+  if (!std::isfinite(min_length) || min_length < 0.0) {
+    reject("DetectOptions.min_length", std::to_string(min_length), "finite and >= 0");
+  }
+  if (slip_sign != -1 && slip_sign != 1) {
+    reject("DetectOptions.slip_sign", std::to_string(slip_sign), "-1 or +1");
+  }
+  if (tangent_half_window < 0 || tangent_half_window > 16) {
+    reject("DetectOptions.tangent_half_window", std::to_string(tangent_half_window),
+           ">= 0 and <= 16");
+  }
+  if (!(screw_angle_deg > 0.0 && screw_angle_deg < 90.0)) {
+    reject("DetectOptions.screw_angle_deg", std::to_string(screw_angle_deg), "> 0 and < 90");
+  }
+}
+
+std::string location_class(const FrameLines& frame, Point p, double centre_fraction) {
+  if (frame.periodic) return "cell";
+  const double dx = p.x - frame.contact_centre.x, dy = p.y - frame.contact_centre.y;
+  if (std::hypot(dx, dy) < centre_fraction * frame.contact_radius) return "centre";
+  if (std::abs(dy) > std::abs(dx)) return "side";
+  return dx > 0.0 ? "front" : "back";
+}
+
+namespace {
+
+// A marching-squares segment remembers the crossing it starts from when oriented with the
+// positive stress (the higher registry index, see sense()) on its left.
+struct Segment {
+  std::size_t from = 0;
+};
+using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS,
+                                    boost::no_property, Segment>;
+
+constexpr std::int32_t kNoCrossing = -1;
+constexpr std::int32_t kRegistryCrossing = -2;  // tau_x changes sign, but s_x is near 0 mod d
+
+// A core crossing on the grid edge from site p to site q (q = p + one step along `axis`).
+struct Crossing {
+  std::size_t p = 0, q = 0;
+  int axis = 0;        // 0: edge along x, 1: along y
+  Point at;            // position (d), before unwrapping
+  int cells_seen = 0;  // cells of the processed region that contain this crossing
+};
+
+class Tracer {
+ public:
+  Tracer(const FieldView& f, const DetectOptions& o) : f_(f), o_(o) {
+    n0_ = f.block.shape.n0;
+    n1_ = f.block.shape.n1;
+  }
+
+  FrameLines run();
+
+ private:
+  std::size_t site(int i0, int i1) const { return f_.block.shape.index(i0, i1); }
+  // Neighbour along an axis, wrapping in a periodic cell; false at the block's side otherwise.
+  bool step(int i0, int i1, int axis, int& j0, int& j1) const {
+    j0 = i0 + (axis == 0 ? 1 : 0);
+    j1 = i1 + (axis == 1 ? 1 : 0);
+    if (j0 == n0_ || j1 == n1_) {
+      if (!f_.periodic) return false;
+      j0 %= n0_;
+      j1 %= n1_;
+    }
+    return true;
+  }
+  std::size_t edge_id(std::size_t p, int axis) const {
+    return 2 * p + static_cast<std::size_t>(axis);
+  }
+  double phase(std::size_t s) const {  // s_x / d - X / d: its rounding is the registry index
+    const auto i0 = static_cast<int>(s / static_cast<std::size_t>(n1_));
+    return f_.sx[s] / f_.d - static_cast<double>(f_.block.origin0 + i0);
+  }
+
+  void find_crossings();
+  void march(Graph& g);
+  void build_line(const std::vector<std::size_t>& nodes, const Graph& g, Line& line,
+                  std::vector<std::size_t>& order) const;
+  void measure(Line& line, std::vector<std::size_t>& order) const;
+  void sense(Line& line, const std::vector<std::size_t>& order, const Graph& g,
+             std::vector<std::size_t>& slipped_sites) const;
+
+  const FieldView& f_;
+  const DetectOptions& o_;
+  int n0_ = 0, n1_ = 0;
+  std::vector<std::uint8_t> valid_;
+  std::vector<double> t_;                // tau_x / tau_max on valid sites
+  std::vector<std::int32_t> edge_node_;  // per grid edge: crossing index or kNo/kRegistry
+  std::vector<Crossing> crossings_;
+  std::size_t registry_crossings_ = 0;
+};
+
+void Tracer::find_crossings() {
+  const std::size_t n = f_.block.shape.count();
+  valid_.assign(n, 0);
+  t_.assign(n, 0.0);
+  for (std::size_t s = 0; s < n; ++s) {
+    const bool contact = f_.in_contact.empty() || f_.in_contact[s] != 0;
+    if (contact && f_.tau_max[s] > 0.0 && std::isfinite(f_.tau_x[s]) && std::isfinite(f_.sx[s])) {
+      valid_[s] = 1;
+      t_[s] = f_.tau_x[s] / f_.tau_max[s];
+    }
+  }
+  edge_node_.assign(2 * n, kNoCrossing);
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  for (int i0 = 0; i0 < n0_; ++i0) {
+    for (int i1 = 0; i1 < n1_; ++i1) {
+      const std::size_t p = site(i0, i1);
+      if (!valid_[p]) continue;
+      for (int axis = 0; axis < 2; ++axis) {
+        int j0 = 0, j1 = 0;
+        if (!step(i0, i1, axis, j0, j1)) continue;
+        const std::size_t q = site(j0, j1);
+        if (!valid_[q] || (t_[p] >= 0.0) == (t_[q] >= 0.0)) continue;
+        // The branch at the zero: on a core s_x passes d/2 (mod d), where cos(2 pi s_x / d) < 0,
+        // and the registry index n = round(s_x / d - X / d) changes. Between sites closer than
+        // d/2 in phase, cos interpolated like the stress decides (robust to noise at the core);
+        // across larger jumps (cores narrower than d) interpolation cannot, and the index does.
+        const double pp = phase(p), pq = phase(q);
+        const bool jump = std::abs(pq - pp) > 0.5;
+        double frac = t_[p] / (t_[p] - t_[q]);
+        bool core = false;
+        if (jump) {
+          core = std::lround(pp) != std::lround(pq);
+          // The phase, not the stress, is nearly linear across such a jump.
+          const double half = std::floor(std::min(pp, pq) + 0.5) + 0.5;
+          frac = std::clamp((half - pp) / (pq - pp), 0.0, 1.0);
+        } else {
+          const double cp = std::cos(two_pi * pp), cq = std::cos(two_pi * pq);
+          core = cp + frac * (cq - cp) < 0.0;
+        }
+        if (!core) {
+          edge_node_[edge_id(p, axis)] = kRegistryCrossing;
+          ++registry_crossings_;
+          continue;
+        }
+        Crossing c;
+        c.p = p;
+        c.q = q;
+        c.axis = axis;
+        c.at = Point{(f_.block.origin0 + i0 + (axis == 0 ? frac : 0.0)) * f_.d,
+                     (f_.block.origin1 + i1 + (axis == 1 ? frac : 0.0)) * f_.d};
+        edge_node_[edge_id(p, axis)] = static_cast<std::int32_t>(crossings_.size());
+        crossings_.push_back(c);
+      }
+    }
+  }
+}
+
+void Tracer::march(Graph& g) {
+  // Cell (i0, i1) has corners c0 = (i0, i1), c1 = (i0+1, i1), c2 = (i0+1, i1+1), c3 = (i0, i1+1)
+  // and edges e0 = c0-c1, e1 = c1-c2, e2 = c3-c2, e3 = c0-c3; edge k lies between corners k and
+  // k+1 (mod 4).
+  for (int i0 = 0; i0 < n0_; ++i0) {
+    for (int i1 = 0; i1 < n1_; ++i1) {
+      int a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+      if (!step(i0, i1, 0, a0, a1) || !step(i0, i1, 1, b0, b1)) continue;
+      const std::size_t c0 = site(i0, i1), c1 = site(a0, a1), c3 = site(b0, b1);
+      const std::size_t c2 = site(a0, b1);
+      if (!valid_[c0] || !valid_[c1] || !valid_[c2] || !valid_[c3]) continue;
+      const std::array<std::int32_t, 4> e = {edge_node_[edge_id(c0, 0)], edge_node_[edge_id(c1, 1)],
+                                             edge_node_[edge_id(c3, 0)],
+                                             edge_node_[edge_id(c0, 1)]};
+      std::array<int, 4> crossed{};
+      int count = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (e[static_cast<std::size_t>(k)] != kNoCrossing)
+          crossed[static_cast<std::size_t>(count++)] = k;
+      }
+      if (count == 0) continue;
+      for (int k = 0; k < count; ++k) {
+        const std::int32_t node = e[static_cast<std::size_t>(crossed[static_cast<std::size_t>(k)])];
+        if (node >= 0) ++crossings_[static_cast<std::size_t>(node)].cells_seen;
+      }
+      const std::array<bool, 4> positive = {t_[c0] >= 0.0, t_[c1] >= 0.0, t_[c2] >= 0.0,
+                                            t_[c3] >= 0.0};
+      const auto add = [&](int ka, int kb) {
+        const std::int32_t na = e[static_cast<std::size_t>(ka)],
+                           nb = e[static_cast<std::size_t>(kb)];
+        if (na < 0 || nb < 0) return;
+        // Corners run counter-clockwise and corner k+1 follows edge k: if it is positive, the
+        // positive corners lie counter-clockwise from edge ka, and the segment has them on its
+        // left when run from kb to ka.
+        const bool from_b = positive[static_cast<std::size_t>((ka + 1) % 4)];
+        boost::add_edge(static_cast<std::size_t>(na), static_cast<std::size_t>(nb),
+                        Segment{static_cast<std::size_t>(from_b ? nb : na)}, g);
+      };
+      if (count == 2) {
+        add(crossed[0], crossed[1]);
+        continue;
+      }
+      // Saddle: the corners alternate in sign. The centre value (mean of the corners) decides
+      // which pair of opposite corners is joined; if that pairs a core crossing with a registry
+      // one while the other choice would not, the other choice is taken: a core contour and a
+      // registry contour never meet.
+      const double centre = 0.25 * (t_[c0] + t_[c1] + t_[c2] + t_[c3]);
+      bool cut_c1_c3 = (centre >= 0.0) == (t_[c0] >= 0.0);  // c0-c2 joined: cut corners 1 and 3
+      const auto pure = [&](int ka, int kb) {
+        return (e[static_cast<std::size_t>(ka)] >= 0) == (e[static_cast<std::size_t>(kb)] >= 0);
+      };
+      const bool pure_13 = pure(0, 1) && pure(2, 3), pure_02 = pure(3, 0) && pure(1, 2);
+      if (cut_c1_c3 && !pure_13 && pure_02) cut_c1_c3 = false;
+      if (!cut_c1_c3 && !pure_02 && pure_13) cut_c1_c3 = true;
+      if (cut_c1_c3) {
+        add(0, 1);
+        add(2, 3);
+      } else {
+        add(3, 0);
+        add(1, 2);
+      }
+    }
+  }
+}
+
+// Orders the crossings of one connected component into a polyline (unwrapped in a periodic cell)
+// and sets its kind.
+void Tracer::build_line(const std::vector<std::size_t>& nodes, const Graph& g, Line& line,
+                        std::vector<std::size_t>& order) const {
+  std::size_t start = nodes.front();
+  bool closed = true;
+  for (const std::size_t v : nodes) {
+    if (boost::degree(v, g) < 2) {
+      start = v;
+      closed = false;
+      break;
+    }
+  }
+  order.clear();
+  order.push_back(start);
+  std::size_t prev = std::numeric_limits<std::size_t>::max(), cur = start;
+  while (true) {
+    std::size_t next = std::numeric_limits<std::size_t>::max();
+    for (auto [it, end] = boost::adjacent_vertices(cur, g); it != end; ++it) {
+      if (*it != prev) {
+        next = *it;
+        break;
+      }
+    }
+    if (next == std::numeric_limits<std::size_t>::max() || next == start) break;
+    order.push_back(next);
+    prev = cur;
+    cur = next;
+  }
+  const double L0 = n0_ * f_.d, L1 = n1_ * f_.d;
+  const auto wrap = [](double delta, double L) { return delta - L * std::round(delta / L); };
+  line.points.clear();
+  line.points.reserve(order.size());
+  line.points.push_back(crossings_[order.front()].at);
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const Point a = crossings_[order[k]].at, b = line.points.back();
+    double dx = a.x - b.x, dy = a.y - b.y;
+    if (f_.periodic) {
+      dx = wrap(dx, L0);
+      dy = wrap(dy, L1);
+    }
+    line.points.push_back(Point{b.x + dx, b.y + dy});
+  }
+  line.kind = closed ? LineKind::loop : LineKind::open;
+  if (closed && f_.periodic && order.size() > 1) {
+    // The closing segment: a loop comes back to its first vertex, a wrapping line to an image.
+    const Point first = line.points.front(), last = line.points.back();
+    const Point a = crossings_[order.front()].at, b = crossings_[order.back()].at;
+    const double dx = wrap(a.x - b.x, L0), dy = wrap(a.y - b.y, L1);
+    if (std::hypot(last.x + dx - first.x, last.y + dy - first.y) > 1e-6 * f_.d) {
+      line.kind = LineKind::wrapping;
+      line.points.push_back(Point{last.x + dx, last.y + dy});
+      order.push_back(order.front());
+    }
+  }
+  line.interior_ends = 0;
+  if (!closed) {
+    for (const std::size_t end : {order.front(), order.back()}) {
+      if (crossings_[end].cells_seen > static_cast<int>(boost::degree(end, g)))
+        ++line.interior_ends;
+    }
+  }
+}
+
+void Tracer::measure(Line& line, std::vector<std::size_t>& order) const {
+  const auto& P = line.points;
+  const std::size_t m = P.size();
+  const bool loop = line.kind == LineKind::loop;
+  const std::size_t segments = loop ? m : m - 1;
+  line.angle_deg.assign(segments, 0.0);
+  line.length = 0.0;
+  double screw_length = 0.0, angle_sum = 0.0;
+  const auto vertex = [&](long k) -> const Point& {
+    const auto mm = static_cast<long>(m);
+    if (loop) return P[static_cast<std::size_t>(((k % mm) + mm) % mm)];
+    return P[static_cast<std::size_t>(std::clamp(k, 0L, mm - 1))];
+  };
+  const long w = o_.tangent_half_window;
+  for (std::size_t k = 0; k < segments; ++k) {
+    const auto kk = static_cast<long>(k);
+    const Point& a = vertex(kk);
+    const Point& b = vertex(kk + 1);
+    const double seg = std::hypot(b.x - a.x, b.y - a.y);
+    const Point& ta = vertex(kk - w);
+    const Point& tb = vertex(kk + 1 + w);
+    double tx = tb.x - ta.x, ty = tb.y - ta.y;
+    if (tx == 0.0 && ty == 0.0) {
+      tx = b.x - a.x;
+      ty = b.y - a.y;
+    }
+    const double angle = std::atan2(std::abs(ty), std::abs(tx)) * 180.0 / std::numbers::pi;
+    line.angle_deg[k] = angle;
+    line.length += seg;
+    angle_sum += seg * angle;
+    if (angle < o_.screw_angle_deg) screw_length += seg;
+  }
+  line.mean_angle_deg = line.length > 0.0 ? angle_sum / line.length : 0.0;
+  line.screw_fraction = line.length > 0.0 ? screw_length / line.length : 0.0;
+  line.edge_fraction = line.length > 0.0 ? 1.0 - line.screw_fraction : 0.0;
+
+  line.x_min = line.x_max = P.front().x;
+  line.y_min = line.y_max = P.front().y;
+  for (const Point& p : P) {
+    line.x_min = std::min(line.x_min, p.x);
+    line.x_max = std::max(line.x_max, p.x);
+    line.y_min = std::min(line.y_min, p.y);
+    line.y_max = std::max(line.y_max, p.y);
+  }
+  const double ex = line.x_max - line.x_min, ey = line.y_max - line.y_min;
+  line.aspect_ratio = ey > 0.0 ? ex / ey : std::numeric_limits<double>::infinity();
+
+  line.area = 0.0;
+  if (loop && m >= 3) {
+    // Shoelace about the first vertex, for round-off on lattice coordinates far from 0.
+    double a2 = 0.0, cx = 0.0, cy = 0.0;
+    const Point o = P.front();
+    for (std::size_t k = 0; k < m; ++k) {
+      const Point& p = P[k];
+      const Point& q = P[(k + 1) % m];
+      const double px = p.x - o.x, py = p.y - o.y, qx = q.x - o.x, qy = q.y - o.y;
+      const double cross = px * qy - qx * py;
+      a2 += cross;
+      cx += (px + qx) * cross;
+      cy += (py + qy) * cross;
+    }
+    if (a2 != 0.0) {
+      line.centroid = Point{o.x + cx / (3.0 * a2), o.y + cy / (3.0 * a2)};
+      if (a2 < 0.0) {  // clockwise: reverse so that the inside is on the left
+        std::reverse(line.points.begin() + 1, line.points.end());
+        std::reverse(order.begin() + 1, order.end());
+        std::reverse(line.angle_deg.begin(), line.angle_deg.end());
+      }
+      line.area = 0.5 * std::abs(a2);
+      return;
+    }
+  }
+  // Not a loop (or a degenerate one): length-weighted centroid of the segments.
+  double sx = 0.0, sy = 0.0, total = 0.0;
+  for (std::size_t k = 0; k < segments; ++k) {
+    const Point& a = vertex(static_cast<long>(k));
+    const Point& b = vertex(static_cast<long>(k) + 1);
+    const double seg = std::hypot(b.x - a.x, b.y - a.y);
+    sx += seg * 0.5 * (a.x + b.x);
+    sy += seg * 0.5 * (a.y + b.y);
+    total += seg;
+  }
+  line.centroid = total > 0.0 ? Point{sx / total, sy / total} : P.front();
+}
+
+// Burgers vector and sense from the registry index on either side of each crossing, and the
+// site on the slipped side of each crossing (for the slipped region). On a core (s_x = d/2 mod
+// d) the side where tau_x > 0 has the higher index; `registry_consistency` is the fraction of
+// crossings where the indices agree with that.
+void Tracer::sense(Line& line, const std::vector<std::size_t>& order, const Graph& g,
+                   std::vector<std::size_t>& slipped_sites) const {
+  const std::size_t m = order.size();
+  // Whether the points run along the segments' orientation (positive stress on the left):
+  // geometry alone is unreliable where crossings coincide at a site with tau_x = 0.
+  int aligned_votes = 0;
+  const std::size_t steps = line.kind == LineKind::loop ? m : m - 1;
+  for (std::size_t k = 0; k < steps; ++k) {
+    const std::size_t u = order[k], v = order[(k + 1) % m];
+    if (u == v) continue;
+    const auto [edge, exists] = boost::edge(u, v, g);
+    if (exists) aligned_votes += g[edge].from == u ? 1 : -1;
+  }
+  const bool positive_left = aligned_votes >= 0;
+  std::unordered_map<long, int> votes;
+  int voters = 0;
+  std::vector<long> jumps(m, 0);
+  std::vector<std::uint8_t> q_left(m, 0);
+  for (std::size_t k = 0; k < m; ++k) {
+    const Crossing& c = crossings_[order[k]];
+    const bool q_positive = t_[c.q] >= 0.0;
+    q_left[k] = q_positive == positive_left ? 1 : 0;
+    // A site exactly on the core (s_x = d/2 mod d) has no index: such crossings do not vote.
+    const double pp = phase(c.p), pq = phase(c.q);
+    if (std::abs(std::abs(pp - std::floor(pp)) - 0.5) < 1e-9 ||
+        std::abs(std::abs(pq - std::floor(pq)) - 0.5) < 1e-9) {
+      jumps[k] = std::numeric_limits<long>::min();
+      continue;
+    }
+    const long np = std::lround(pp), nq = std::lround(pq);
+    jumps[k] = q_left[k] ? nq - np : np - nq;
+    ++votes[jumps[k]];
+    ++voters;
+  }
+  long best = 0;
+  int best_votes = -1;
+  for (const auto& [jump, count] : votes) {
+    if (count > best_votes || (count == best_votes && std::abs(jump) < std::abs(best))) {
+      best = jump;
+      best_votes = count;
+    }
+  }
+  line.burgers = static_cast<int>(best);
+  line.registry_consistency =
+      voters > 0 ? static_cast<double>(best_votes) / static_cast<double>(voters) : 0.0;
+  // The slipped side has the index changed by slip_sign: it is on the left if the jump
+  // n_left - n_right has the sign of slip_sign.
+  const bool slipped_left = (best > 0 ? 1 : -1) == o_.slip_sign;
+  slipped_sites.clear();
+  for (std::size_t k = 0; k < m; ++k) {
+    if (jumps[k] != best) continue;
+    const Crossing& c = crossings_[order[k]];
+    slipped_sites.push_back((q_left[k] != 0) == slipped_left ? c.q : c.p);
+  }
+}
+
+FrameLines Tracer::run() {
+  FrameLines out;
+  out.d = f_.d;
+  out.periodic = f_.periodic;
+  find_crossings();
+  out.core_crossings = crossings_.size();
+  out.registry_crossings = registry_crossings_;
+
+  const std::size_t n = f_.block.shape.count();
+  double cx = 0.0, cy = 0.0;
+  for (int i0 = 0; i0 < n0_; ++i0) {
+    for (int i1 = 0; i1 < n1_; ++i1) {
+      if (!valid_[site(i0, i1)]) continue;
+      ++out.contact_sites;
+      cx += f_.block.x(i0, f_.d);
+      cy += f_.block.y(i1, f_.d);
+    }
+  }
+  if (out.contact_sites > 0) {
+    const auto count = static_cast<double>(out.contact_sites);
+    out.contact_centre = Point{cx / count, cy / count};
+    out.contact_radius = std::sqrt(count / std::numbers::pi) * f_.d;
+  }
+
+  Graph g(crossings_.size());
+  march(g);
+  std::vector<std::size_t> component(crossings_.size());
+  const std::size_t components =
+      crossings_.empty() ? 0 : boost::connected_components(g, component.data());
+  std::vector<std::vector<std::size_t>> members(components);
+  for (std::size_t v = 0; v < crossings_.size(); ++v)
+    members[component[v]].push_back(v);
+
+  // Domains: contact sites joined across every grid edge not cut by a core.
+  std::vector<std::uint32_t> rank(n, 0), parent(n, 0);
+  boost::disjoint_sets<std::uint32_t*, std::uint32_t*> sets(rank.data(), parent.data());
+  for (std::size_t s = 0; s < n; ++s) {
+    if (valid_[s]) sets.make_set(static_cast<std::uint32_t>(s));
+  }
+  for (int i0 = 0; i0 < n0_; ++i0) {
+    for (int i1 = 0; i1 < n1_; ++i1) {
+      const std::size_t p = site(i0, i1);
+      if (!valid_[p]) continue;
+      for (int axis = 0; axis < 2; ++axis) {
+        int j0 = 0, j1 = 0;
+        if (!step(i0, i1, axis, j0, j1)) continue;
+        const std::size_t q = site(j0, j1);
+        if (valid_[q] && edge_node_[edge_id(p, axis)] < 0) {
+          sets.union_set(static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q));
+        }
+      }
+    }
+  }
+
+  std::vector<std::size_t> order, slipped_sites;
+  std::vector<std::uint32_t> line_root;
+  for (const auto& nodes : members) {
+    if (nodes.size() < 2) continue;  // an isolated crossing: a core clipped by the contact edge
+    Line line;
+    build_line(nodes, g, line, order);
+    if (line.points.size() < 2) continue;
+    measure(line, order);
+    if (line.length < o_.min_length) {
+      ++out.dropped_short;
+      continue;
+    }
+    sense(line, order, g, slipped_sites);
+    if (line.kind != LineKind::loop && line.burgers != 0 &&
+        (line.burgers > 0 ? 1 : -1) != o_.slip_sign) {
+      // Open and wrapping lines run with the slipped side on their left.
+      std::reverse(line.points.begin(), line.points.end());
+      std::reverse(line.angle_deg.begin(), line.angle_deg.end());
+      line.burgers = -line.burgers;
+    }
+    std::unordered_map<std::uint32_t, int> roots;
+    for (const std::size_t s : slipped_sites)
+      ++roots[sets.find_set(static_cast<std::uint32_t>(s))];
+    std::uint32_t root = std::numeric_limits<std::uint32_t>::max();
+    int most = 0;
+    for (const auto& [r, c] : roots) {
+      if (c > most || (c == most && r < root)) {
+        root = r;
+        most = c;
+      }
+    }
+    line_root.push_back(root);
+    out.lines.push_back(std::move(line));
+  }
+
+  // Regions: one per distinct slipped-side domain, filled in one pass in (X, Y) order.
+  std::vector<std::int32_t> region_of_root;
+  int regions = 0;
+  for (std::size_t k = 0; k < out.lines.size(); ++k) {
+    if (line_root[k] == std::numeric_limits<std::uint32_t>::max()) continue;
+    if (region_of_root.empty()) region_of_root.assign(n, -1);
+    std::int32_t& r = region_of_root[line_root[k]];
+    if (r < 0) r = regions++;
+    out.lines[k].slipped_region = r;
+  }
+  out.regions.resize(static_cast<std::size_t>(regions));
+  if (regions > 0) {
+    for (int i0 = 0; i0 < n0_; ++i0) {
+      for (int i1 = 0; i1 < n1_; ++i1) {
+        const std::size_t s = site(i0, i1);
+        if (!valid_[s]) continue;
+        const std::int32_t r = region_of_root[sets.find_set(static_cast<std::uint32_t>(s))];
+        if (r < 0) continue;
+        out.regions[static_cast<std::size_t>(r)].push_back(
+            site_key(f_.block.origin0 + i0, f_.block.origin1 + i1));
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+FrameLines find_lines(const FieldView& field, const DetectOptions& options) {
+  field.validate();
+  options.validate();
+  if (field.block.shape.count() >= std::numeric_limits<std::uint32_t>::max()) {
+    reject("FieldView.block.shape", std::to_string(field.block.shape.count()) + " sites",
+           "fewer than 2^32");
+  }
+  return Tracer(field, options).run();
+}
+
+}  // namespace asperity::tracking
