@@ -11,6 +11,8 @@ enum class Termination {
   diverged,        // non-finite values or a growing residual
   unstable,        // converged onto a state that is not a minimum
   interrupted,     // stopped on request of the caller (e.g. a trial step that slipped)
+  stalled,         // no further progress: the residual sits at its round-off floor above the
+                   // tolerance
 };
 
 inline std::string to_string(Termination t) {
@@ -25,6 +27,8 @@ inline std::string to_string(Termination t) {
       return "unstable";
     case Termination::interrupted:
       return "interrupted";
+    case Termination::stalled:
+      return "stalled";
   }
   return "unknown";
 }

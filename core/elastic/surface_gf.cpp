@@ -164,6 +164,48 @@ void FreeSurfaceGF::multiply(const fft::FourierBlock& b, std::size_t q, std::siz
 }
 
 // ---------------------------------------------------------------------------------------------
+void periodic_compliance_block(const Material& material, Components components, double q0,
+                               double q1, double d, int alias_images,
+                               std::span<std::complex<double>> out) {
+  const int nc = component_count(components);
+  if (out.size() != static_cast<std::size_t>(nc * nc)) {
+    throw std::invalid_argument("periodic_compliance_block: output of " +
+                                std::to_string(out.size()) + " entries; need " +
+                                std::to_string(nc * nc));
+  }
+  int axis[3] = {0, 0, 0};
+  for (int k = 0; k < nc; ++k)
+    axis[k] = component_axis(components, k);
+  std::fill(out.begin(), out.end(), std::complex<double>{});
+  std::complex<double> tensor[3][3];
+  const double two_pi = 2.0 * std::numbers::pi;
+  // The image sum runs over the 2M+1 Brillouin zones around q = 0 in each direction, with half
+  // weight on the zone boundary so that the truncation stays symmetric in q (q = pi/d included).
+  const double limit = (2 * alias_images + 1) * std::numbers::pi / d;
+  const auto window = [limit](double Q) {
+    const double excess = std::abs(Q) - limit;
+    if (std::abs(excess) < 1e-9 * limit) return 0.5;
+    return excess < 0.0 ? 1.0 : 0.0;
+  };
+  for (int a = -alias_images - 1; a <= alias_images + 1; ++a) {
+    const double Q0 = q0 + two_pi * a / d;
+    const double w0 = window(Q0);
+    if (w0 == 0.0) continue;
+    const double s0 = w0 * sinc(0.5 * Q0 * d);
+    for (int b = -alias_images - 1; b <= alias_images + 1; ++b) {
+      const double Q1 = q1 + two_pi * b / d;
+      const double w1 = window(Q1);
+      if (w1 == 0.0) continue;
+      const double s = s0 * w1 * sinc(0.5 * Q1 * d) / (d * d);
+      fourier_gf_tensor(material, Q0, Q1, tensor);
+      for (int k = 0; k < nc; ++k) {
+        for (int l = 0; l < nc; ++l)
+          out[static_cast<std::size_t>(k * nc + l)] += s * tensor[axis[k]][axis[l]];
+      }
+    }
+  }
+}
+
 PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components components, Shape2 cell,
                                      double d, const fft::FFTOptions& fft, int alias_images)
     : material_(material),
@@ -186,45 +228,19 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
   compliance_.assign(fs.count() * block, {});
   stiffness_.assign(fs.count() * block, {});
   const double two_pi = 2.0 * std::numbers::pi;
-  const double scale = engine_->normalisation() / (d * d);
+  const double scale = engine_->normalisation();
   using Block = Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic>;
   Block g(ncomp(), ncomp());
-  std::complex<double> tensor[3][3];
-  int axis[3] = {0, 0, 0};
-  for (int k = 0; k < ncomp(); ++k)
-    axis[k] = component_axis(components, k);
-  // The image sum runs over the 2M+1 Brillouin zones around q = 0 in each direction, with half
-  // weight on the zone boundary so that the truncation stays symmetric in q (q = pi/d included).
-  const double limit = (2 * alias_images + 1) * std::numbers::pi / d;
-  const auto window = [limit](double Q) {
-    const double excess = std::abs(Q) - limit;
-    if (std::abs(excess) < 1e-9 * limit) return 0.5;
-    return excess < 0.0 ? 1.0 : 0.0;
-  };
+  std::vector<std::complex<double>> gq(block);
   for (int k0 = 0; k0 < fs.n0; ++k0) {
     const int m0 = k0 <= cell.n0 / 2 ? k0 : k0 - cell.n0;
     const double q0 = two_pi * m0 / (cell.n0 * d);
     for (int k1 = 0; k1 < fs.n1; ++k1) {
       const double q1 = two_pi * k1 / (cell.n1 * d);
       if (k0 == 0 && k1 == 0) continue;  // rigid shift: zero compliance and stiffness blocks
-      g.setZero();
-      for (int a = -alias_images - 1; a <= alias_images + 1; ++a) {
-        const double Q0 = q0 + two_pi * a / d;
-        const double w0 = window(Q0);
-        if (w0 == 0.0) continue;
-        const double s0 = w0 * sinc(0.5 * Q0 * d);
-        for (int b = -alias_images - 1; b <= alias_images + 1; ++b) {
-          const double Q1 = q1 + two_pi * b / d;
-          const double w1 = window(Q1);
-          if (w1 == 0.0) continue;
-          const double s = s0 * w1 * sinc(0.5 * Q1 * d);
-          fourier_gf_tensor(material, Q0, Q1, tensor);
-          for (int k = 0; k < ncomp(); ++k) {
-            for (int l = 0; l < ncomp(); ++l)
-              g(k, l) += s * tensor[axis[k]][axis[l]];
-          }
-        }
-      }
+      periodic_compliance_block(material, components, q0, q1, d, alias_images, gq);
+      for (std::size_t e = 0; e < block; ++e)
+        g(static_cast<Eigen::Index>(e / ncomp_), static_cast<Eigen::Index>(e % ncomp_)) = gq[e];
       const std::size_t at = fs.index(k0, k1) * block;
       const Block kq = g.inverse();
       for (std::size_t e = 0; e < block; ++e) {

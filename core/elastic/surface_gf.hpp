@@ -70,6 +70,15 @@ class FreeSurfaceGF {
   std::size_t applications_ = 0;
 };
 
+// The periodic cell's compliance block at one wave vector (q0, q1) (1/length), the lattice sum
+//   (1/d^2) sum_K G(q + K) S(q + K)
+// truncated symmetrically at |m|, |n| <= alias_images, as ncomp x ncomp row-major entries
+// (Hermitian). PeriodicSurfaceGF tabulates it on its cell's grid; a problem invariant along a
+// lattice direction can sample it on the few wave vectors it needs (peierls/).
+void periodic_compliance_block(const Material& material, Components components, double q0,
+                               double q1, double d, int alias_images,
+                               std::span<std::complex<double>> out);
+
 class PeriodicSurfaceGF {
  public:
   // cell: sites per period along x and y. alias_images: reciprocal vectors per direction and

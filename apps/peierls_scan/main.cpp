@@ -1,0 +1,691 @@
+// peierls_scan: Peierls stress of the periodic cell (MODEL.md section 6) over a grid of core
+// widths and line angles, points in parallel. Reads a scene (default:
+// data/scenes/peierls_default.toml), lets flags override it, and writes into the output directory
+// - peierls.csv: one row per (b_core, angle), rewritten after every finished point; a later run
+//   with the same settings keeps its rows instead of recomputing them (resumable);
+// - summary.json: settings, fits of tau_P = k1 tau_max exp(-k2 b_core/d) per angle (standard
+//   errors, window), counts; times and provenance under "run";
+// - tau_P_vs_b_core.png (log scale, one curve per angle, unresolved points at their floor),
+//   tau_P_vs_theta.png (one curve per b_core), core_width.png (against the continuum width);
+// - with snapshots on: points/<point>/cell.nc, the relaxed and the last stable loaded state of
+//   the whole L x L cell in the contact simulator's snapshot layout (global attribute periodic).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/cli_checks.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/snapshot_io.hpp"
+#include "common/toml_reader.hpp"
+#include "peierls/fit.hpp"
+#include "peierls/peierls_stress.hpp"
+
+using namespace asperity;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Scene {
+  std::string source;
+  std::vector<double> b_core, theta;
+  double angle_tolerance = 0.5;
+  int jobs = 0;
+  bool snapshots = false;
+  double min_line_spacing = 16.0;
+  peierls::PeierlsOptions options;
+  double fit_b_min = 2.0, fit_b_max = 1e9;
+};
+
+Scene read_scene(const std::string& path) {
+  app::SceneReader r = app::SceneReader::from_file(path);
+  using app::Range;
+  Scene s;
+  s.source = path;
+  s.b_core = r.numbers("scan.b_core", {1, 2, 3, 4, 5, 6}, Range::closed(0.1, 1000));
+  s.theta = r.numbers("scan.theta", {0, 45, 63.4, 90}, Range::closed(0, 90));
+  s.angle_tolerance = r.number("scan.angle_tolerance", 0.5, Range::closed(0, 45));
+  s.jobs = r.integer("scan.jobs", 0, Range::closed(0, 1024));
+  s.snapshots = r.boolean("scan.snapshots", false);
+  auto& c = s.options.cell;
+  c.L = r.integer("cell.L", 256, Range::closed(8, 1 << 16));
+  const std::string model = r.string("cell.model", "reduced");
+  try {
+    c.model = peierls::cell_model_from_string(model);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": cell.model: " + e.what());
+  }
+  c.alias_images = r.integer("cell.alias_images", 12, Range::closed(1, 1000));
+  s.min_line_spacing = r.number("cell.min_line_spacing", 16.0, Range::positive());
+  c.material.G = r.number("material.G", 1.0, Range::positive());
+  c.material.nu = r.number("material.nu", 0.5, Range::closed(0, 0.5));
+  auto& o = s.options;
+  o.precision = r.number("solver.precision", 1e-3, Range::open(0, 0.5));
+  o.tolerance = r.number("solver.tolerance", 1e-3, Range::open_closed(0, 0.1));
+  o.glide_threshold = r.number("solver.glide_threshold", 0.75, Range::closed(0.5, 2));
+  o.minimizer.max_iterations =
+      r.integer("solver.max_iterations", 50000, Range::closed(1, 100000000));
+  o.minimizer.memory = r.integer("solver.memory", 8, Range::closed(1, 100));
+  o.minimizer.max_displacement = r.number("solver.max_displacement", 0.1, Range::open_closed(0, 1));
+  o.perturbation = r.number("solver.perturbation", 1e-3, Range::closed(0, 0.1));
+  s.fit_b_min = r.number("fit.b_min", 2.0, Range::non_negative());
+  s.fit_b_max = r.number("fit.b_max", 1e9, Range::positive());
+  r.reject_unknown();
+  return s;
+}
+
+// Shortest round-trip text of a double: fingerprints compare exactly.
+std::string exact(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// Everything but the point's own (b_core, orientation) that changes a result.
+std::string fingerprint(const Scene& s) {
+  const auto& o = s.options;
+  std::string f;
+  const auto add = [&f](const char* key, const std::string& value) {
+    if (!f.empty()) f.append(" ");
+    f.append(key).append("=").append(value);
+  };
+  add("L", std::to_string(o.cell.L));
+  add("model", peierls::to_string(o.cell.model));
+  add("alias", std::to_string(o.cell.alias_images));
+  add("G", exact(o.cell.material.G));
+  add("nu", exact(o.cell.material.nu));
+  add("precision", exact(o.precision));
+  add("tol", exact(o.tolerance));
+  add("glide", exact(o.glide_threshold));
+  add("iter", std::to_string(o.minimizer.max_iterations));
+  add("mem", std::to_string(o.minimizer.memory));
+  add("maxdisp", exact(o.minimizer.max_displacement));
+  if (o.cell.model == peierls::CellModel::full) add("push", exact(o.perturbation));
+  return f;
+}
+
+struct Point {
+  double b_core = 0.0;
+  peierls::Orientation orientation;
+};
+
+struct Row {
+  Point point;
+  bool resolved_pos = false, resolved_neg = false;
+  double tau_pos = NAN, tau_neg = NAN;  // tau_P / tau_max
+  double floor = NAN;                   // resolution floor / tau_max
+  double core_width = NAN, core_width_continuum = NAN, rigid = NAN;
+  long long iterations = 0, transforms = 0;
+  double wall_s = NAN;
+  std::string settings;
+};
+
+const std::vector<std::string>& columns() {
+  static const std::vector<std::string> c = {"b_core",
+                                             "theta_deg",
+                                             "m_x",
+                                             "m_y",
+                                             "L",
+                                             "model",
+                                             "tau_P_over_tau_max_pos",
+                                             "tau_P_over_tau_max_neg",
+                                             "resolved_pos",
+                                             "resolved_neg",
+                                             "floor_over_tau_max",
+                                             "core_width",
+                                             "core_width_continuum",
+                                             "rigid_pn_estimate",
+                                             "iterations",
+                                             "transforms",
+                                             "wall_s",
+                                             "settings"};
+  return c;
+}
+
+std::vector<app::CsvTable::Cell> cells(const Row& r, const Scene& s) {
+  // An unresolved threshold is an empty cell, never a number; its floor is in its own column.
+  const auto tau = [](bool ok, double v) -> app::CsvTable::Cell {
+    return ok ? app::CsvTable::Cell{v} : app::CsvTable::Cell{std::string()};
+  };
+  return {r.point.b_core,
+          r.point.orientation.theta_deg,
+          static_cast<long long>(r.point.orientation.mx),
+          static_cast<long long>(r.point.orientation.my),
+          static_cast<long long>(s.options.cell.L),
+          peierls::to_string(s.options.cell.model),
+          tau(r.resolved_pos, r.tau_pos),
+          tau(r.resolved_neg, r.tau_neg),
+          static_cast<long long>(r.resolved_pos),
+          static_cast<long long>(r.resolved_neg),
+          r.floor,
+          r.core_width,
+          r.core_width_continuum,
+          r.rigid,
+          r.iterations,
+          r.transforms,
+          r.wall_s,
+          r.settings};
+}
+
+void write_table(const fs::path& csv, const std::vector<std::optional<Row>>& rows, const Scene& s) {
+  app::CsvTable t(columns());
+  for (const auto& r : rows) {
+    if (r) t.add_row(cells(*r, s));
+  }
+  t.write(csv);
+}
+
+// Rows of an earlier run with the same settings, matched to this scan's points.
+std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
+                   const std::string& settings, std::vector<std::optional<Row>>& rows) {
+  if (!fs::exists(csv)) return 0;
+  const app::CsvTable t = app::CsvTable::read(csv);
+  std::size_t reused = 0;
+  const auto number_or_nan = [&t](std::size_t i, const char* c) {
+    const std::string text = t.text(i, c);
+    return text.empty() ? NAN : t.number(i, c);
+  };
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (t.text(i, "settings") != settings) continue;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const Point& p = points[k];
+      if (rows[k] || t.number(i, "b_core") != p.b_core || t.integer(i, "m_x") != p.orientation.mx ||
+          t.integer(i, "m_y") != p.orientation.my)
+        continue;
+      Row r;
+      r.point = p;
+      r.resolved_pos = t.integer(i, "resolved_pos") != 0;
+      r.resolved_neg = t.integer(i, "resolved_neg") != 0;
+      r.tau_pos = number_or_nan(i, "tau_P_over_tau_max_pos");
+      r.tau_neg = number_or_nan(i, "tau_P_over_tau_max_neg");
+      r.floor = t.number(i, "floor_over_tau_max");
+      r.core_width = t.number(i, "core_width");
+      r.core_width_continuum = t.number(i, "core_width_continuum");
+      r.rigid = t.number(i, "rigid_pn_estimate");
+      r.iterations = t.integer(i, "iterations");
+      r.transforms = t.integer(i, "transforms");
+      r.wall_s = t.number(i, "wall_s");
+      r.settings = settings;
+      rows[k] = r;
+      ++reused;
+    }
+  }
+  return reused;
+}
+
+std::string point_name(const Point& p) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "b%g_m%d_%d", p.b_core, p.orientation.mx, p.orientation.my);
+  return buf;
+}
+
+// The whole L x L cell in the snapshot layout of the contact simulator (MODEL.md 5 fields):
+// s = u - w x-hat (registry offset, not wrapped), tau = f / d^2, uniform tau_max, no pressure.
+slide::Snapshot cell_snapshot(const peierls::PeierlsCell& cell, const std::vector<double>& u,
+                              const std::string& label, double tau_ext) {
+  const int L = cell.options().L;
+  const std::vector<double> full = cell.expand(u);
+  const std::size_t n = static_cast<std::size_t>(L) * static_cast<std::size_t>(L);
+  slide::Snapshot s;
+  s.label = label;
+  s.Dx = 0.0;
+  s.Fx = tau_ext * static_cast<double>(n);  // total applied force on the cell (G d^2)
+  s.block.shape = {L, L};
+  s.ux.assign(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n));
+  s.uy.assign(full.begin() + static_cast<std::ptrdiff_t>(n), full.end());
+  s.sx.resize(n);
+  s.sy = s.uy;
+  s.tau_x.resize(n);
+  s.tau_y.resize(n);
+  s.tau_max.assign(n, cell.tau_max());
+  s.pressure.assign(n, 0.0);
+  s.in_contact.assign(n, 1);
+  const double two_pi = 2.0 * std::numbers::pi;
+  for (int X = 0; X < L; ++X) {
+    for (int Y = 0; Y < L; ++Y) {
+      const std::size_t i =
+          static_cast<std::size_t>(X) * static_cast<std::size_t>(L) + static_cast<std::size_t>(Y);
+      const long long k = (static_cast<long long>(cell.options().mx) * X +
+                           static_cast<long long>(cell.options().my) * Y) %
+                          L;
+      s.sx[i] = s.ux[i] - static_cast<double>(k) / L;
+      s.tau_x[i] = -cell.tau_max() * std::sin(two_pi * s.sx[i]);
+      s.tau_y[i] = -cell.tau_max() * std::sin(two_pi * s.sy[i]);
+    }
+  }
+  return s;
+}
+
+std::string angle_title(double theta) {
+  char buf[48];
+  if (theta < 1e-9) return "screw (0 deg)";
+  if (std::abs(theta - 90.0) < 1e-9) return "edge (90 deg)";
+  std::snprintf(buf, sizeof buf, "%.1f deg", theta);
+  return buf;
+}
+
+std::string character_name(const peierls::Orientation& o) {
+  if (o.mx == 0) return "screw";
+  if (o.my == 0) return "edge";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "theta_%.1f", o.theta_deg);
+  return buf;
+}
+
+// tau_P of a row: the mean of the resolved signs (they agree to the bracket precision).
+std::optional<double> row_tau(const Row& r) {
+  if (r.resolved_pos && r.resolved_neg) return 0.5 * (r.tau_pos + r.tau_neg);
+  if (r.resolved_pos) return r.tau_pos;
+  if (r.resolved_neg) return r.tau_neg;
+  return std::nullopt;
+}
+
+std::vector<fs::path> write_figures(const fs::path& dir, const Scene& s,
+                                    const std::vector<Row>& rows,
+                                    const std::map<double, peierls::ExponentialFit>& fits) {
+  std::vector<fs::path> written;
+  std::map<double, std::vector<const Row*>> by_angle, by_b;
+  for (const Row& r : rows) {
+    by_angle[r.point.orientation.theta_deg].push_back(&r);
+    by_b[r.point.b_core].push_back(&r);
+  }
+  char title[200];
+  std::snprintf(title, sizeof title, "Peierls stress, L = %d, nu = %g, %s cell, precision %g",
+                s.options.cell.L, s.options.cell.material.nu,
+                peierls::to_string(s.options.cell.model).c_str(), s.options.precision);
+
+  std::vector<app::Series> vs_b;
+  app::Series unresolved{.title = "unresolved: below floor",
+                         .style = "points pt 9 ps 1.5 lc 'black'"};
+  for (const auto& [theta, list] : by_angle) {
+    app::Series line{.title = angle_title(theta), .style = "linespoints pt 7 ps 1.2"};
+    for (const Row* r : list) {
+      if (const auto tau = row_tau(*r)) {
+        line.x.push_back(r->point.b_core);
+        line.y.push_back(*tau);
+      } else {
+        unresolved.x.push_back(r->point.b_core);
+        unresolved.y.push_back(r->floor);
+      }
+    }
+    if (!line.x.empty()) vs_b.push_back(line);
+    const auto fit = fits.find(theta);
+    if (fit != fits.end() && fit->second.valid && (theta < 1e-9 || theta > 90 - 1e-9)) {
+      char t[96];
+      std::snprintf(t, sizeof t, "fit %s: k1 = %.3g, k2 = %.3g", angle_title(theta).c_str(),
+                    fit->second.k1, fit->second.k2);
+      app::Series f{.title = t, .style = "lines dt 2 lw 1.5"};
+      for (double b : {fit->second.b_min, fit->second.b_max}) {
+        f.x.push_back(b);
+        f.y.push_back(fit->second.k1 * std::exp(-fit->second.k2 * b));
+      }
+      vs_b.push_back(f);
+    }
+  }
+  if (!unresolved.x.empty()) vs_b.push_back(unresolved);
+  // Rigid-profile Peierls-Nabarro estimate for the edge line, for comparison (cell.hpp).
+  if (!s.b_core.empty()) {
+    app::Series rigid{.title = "edge, rigid-profile PN estimate",
+                      .style = "lines dt 3 lw 2 lc 'gray40'"};
+    const double lo = *std::min_element(s.b_core.begin(), s.b_core.end());
+    const double hi = *std::max_element(s.b_core.begin(), s.b_core.end());
+    for (int i = 0; i <= 40; ++i) {
+      const double b = lo + (hi - lo) * i / 40.0;
+      rigid.x.push_back(b);
+      rigid.y.push_back(peierls::rigid_peierls_estimate(b, 1, 0, s.options.cell.material.nu));
+    }
+    vs_b.push_back(rigid);
+  }
+  if (!vs_b.empty()) {
+    const fs::path png = dir / "tau_P_vs_b_core.png";
+    app::plot_png(png, vs_b,
+                  {.title = title,
+                   .xlabel = "b_core / d",
+                   .ylabel = "tau_P / tau_max",
+                   .logy = true,
+                   .extra_commands = {"set format y '%.0e'", "set key bottom left"}});
+    written.push_back(png);
+  }
+
+  std::vector<app::Series> vs_theta;
+  for (const auto& [b, list] : by_b) {
+    char t[48];
+    std::snprintf(t, sizeof t, "b_core = %g d", b);
+    app::Series line{.title = t, .style = "linespoints pt 7 ps 1.2"};
+    std::vector<const Row*> sorted = list;
+    std::sort(sorted.begin(), sorted.end(), [](const Row* x, const Row* y) {
+      return x->point.orientation.theta_deg < y->point.orientation.theta_deg;
+    });
+    for (const Row* r : sorted) {
+      if (const auto tau = row_tau(*r)) {
+        line.x.push_back(r->point.orientation.theta_deg);
+        line.y.push_back(*tau);
+      }
+    }
+    if (!line.x.empty()) vs_theta.push_back(line);
+  }
+  if (!vs_theta.empty()) {
+    const fs::path png = dir / "tau_P_vs_theta.png";
+    app::plot_png(png, vs_theta,
+                  {.title = title,
+                   .xlabel = "line angle theta (deg; 0 screw, 90 edge)",
+                   .ylabel = "tau_P / tau_max",
+                   .logy = true,
+                   .xrange = std::pair{-5.0, 95.0},
+                   .extra_commands = {"set format y '%.0e'", "set key bottom left"}});
+    written.push_back(png);
+  }
+
+  std::vector<app::Series> width;
+  for (const auto& [theta, list] : by_angle) {
+    app::Series measured{.title = angle_title(theta) + ", relaxed", .style = "points pt 7 ps 1.3"};
+    app::Series continuum{.title = angle_title(theta) + ", continuum PN", .style = "lines dt 2"};
+    for (const Row* r : list) {
+      measured.x.push_back(r->point.b_core);
+      measured.y.push_back(r->core_width);
+      continuum.x.push_back(r->point.b_core);
+      continuum.y.push_back(r->core_width_continuum);
+    }
+    width.push_back(measured);
+    width.push_back(continuum);
+  }
+  if (!width.empty()) {
+    const fs::path png = dir / "core_width.png";
+    app::plot_png(png, width,
+                  {.title = "Relaxed core width (registry offset d/4 to 3d/4) vs continuum "
+                            "Peierls-Nabarro",
+                   .xlabel = "b_core / d",
+                   .ylabel = "core width / d"});
+    written.push_back(png);
+  }
+  return written;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+    CLI::App cli{"Peierls stress of an interfacial dislocation versus core width and line angle"};
+    std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
+    std::string out = "results/peierls_scan";
+    std::vector<double> b_core, theta;
+    std::optional<int> L, jobs;
+    std::optional<std::string> model;
+    std::optional<double> nu, precision, tolerance;
+    bool snapshots = false, list_angles = false;
+    cli.add_option("scene", scene_path, "Scan scene file (TOML)")
+        ->check(CLI::ExistingFile)
+        ->capture_default_str();
+    cli.add_option("--b-core", b_core, "Core widths d G / tau_max (d), comma-separated")
+        ->delimiter(',')
+        ->check(app::finite_number(0.1, 1000));
+    cli.add_option("--theta", theta, "Line angles (degrees, 0 screw, 90 edge), comma-separated")
+        ->delimiter(',')
+        ->check(app::finite_number(0, 90));
+    cli.add_option("--L", L, "Cell size (sites per period)")->check(CLI::Range(8, 1 << 16));
+    cli.add_option("--model", model, "Cell model: reduced | full")
+        ->check(CLI::IsMember({"reduced", "full"}));
+    cli.add_option("--nu", nu, "Poisson ratio")->check(app::finite_number(0, 0.5));
+    cli.add_option("--precision", precision, "Relative half-width of the tau_P bracket")
+        ->check(app::finite_number(0, 0.5, true));
+    cli.add_option("--tolerance", tolerance,
+                   "Force tolerance per site as a fraction of the applied stress")
+        ->check(app::finite_number(0, 0.1, true));
+    cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads)")
+        ->check(CLI::Range(1, 1024));
+    cli.add_flag("--snapshots", snapshots, "NetCDF snapshots of each point's cell");
+    cli.add_flag("--list-angles", list_angles, "Print the angles the cell offers and exit");
+    cli.add_option("--out", out, "Output directory")->capture_default_str();
+    if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+
+    Scene s = read_scene(scene_path);
+    if (!b_core.empty()) s.b_core = b_core;
+    if (!theta.empty()) s.theta = theta;
+    if (L) s.options.cell.L = *L;
+    if (model) s.options.cell.model = peierls::cell_model_from_string(*model);
+    if (nu) s.options.cell.material.nu = *nu;
+    if (precision) s.options.precision = *precision;
+    if (tolerance) s.options.tolerance = *tolerance;
+    if (jobs) s.jobs = *jobs;
+    if (snapshots) s.snapshots = true;
+    s.options.validate();
+    if (list_angles) {
+      std::printf("theta_deg m_x m_y line_spacing_d (L = %d, images >= %g d apart)\n",
+                  s.options.cell.L, s.min_line_spacing);
+      for (const auto& o : peierls::available_orientations(s.options.cell.L, s.min_line_spacing))
+        std::printf("%9.4f %3d %3d %8.2f\n", o.theta_deg, o.mx, o.my, o.line_spacing);
+      return 0;
+    }
+
+    // Points, validated before any work: every angle must map onto an orientation of the cell.
+    std::vector<Point> points;
+    std::vector<double> bs = s.b_core;
+    std::sort(bs.begin(), bs.end());
+    bs.erase(std::unique(bs.begin(), bs.end()), bs.end());
+    std::vector<peierls::Orientation> orientations;
+    for (double t : s.theta) {
+      const peierls::Orientation o = peierls::orientation_for_angle(
+          s.options.cell.L, t, s.angle_tolerance, s.min_line_spacing);
+      const bool seen = std::any_of(orientations.begin(), orientations.end(),
+                                    [&](const auto& x) { return x.mx == o.mx && x.my == o.my; });
+      if (!seen) orientations.push_back(o);
+    }
+    for (const auto& o : orientations) {
+      for (double b : bs)
+        points.push_back({b, o});
+    }
+    const std::string settings = fingerprint(s);
+    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int n_jobs_wanted = s.jobs > 0 ? s.jobs : hardware;
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path dir = app::ensure_directory(out);
+    app::remove_stale_temporaries(dir);
+    const fs::path csv = dir / "peierls.csv";
+    std::vector<std::optional<Row>> rows(points.size());
+    const std::size_t reused = resume(csv, points, settings, rows);
+    write_table(csv, rows, s);
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (!rows[k]) order.push_back(k);
+    }
+    // Widest cores last: they take the most relaxations.
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
+      return points[i].b_core < points[j].b_core;
+    });
+    const int n_jobs = std::max(1, std::min(n_jobs_wanted, static_cast<int>(order.size())));
+    std::fprintf(stderr,
+                 "peierls_scan: %zu points (%zu reused from %s), L = %d, %s cell, nu = %g, "
+                 "precision %g, tolerance %g x tau; %d at once\n",
+                 points.size(), reused, csv.c_str(), s.options.cell.L,
+                 peierls::to_string(s.options.cell.model).c_str(), s.options.cell.material.nu,
+                 s.options.precision, s.options.tolerance, n_jobs);
+    for (const auto& o : orientations)
+      std::fprintf(stderr, "peierls_scan: theta = %.4f deg from (m_x, m_y) = (%d, %d)\n",
+                   o.theta_deg, o.mx, o.my);
+
+    std::mutex table_mutex, netcdf_mutex;
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr fatal;
+    std::atomic<bool> stop{false};
+    std::size_t finished = 0;
+    const auto run_point = [&](std::size_t k) {
+      const Point& p = points[k];
+      peierls::PeierlsOptions o = s.options;
+      o.cell.b_core = p.b_core;
+      o.cell.mx = p.orientation.mx;
+      o.cell.my = p.orientation.my;
+      const auto started = std::chrono::steady_clock::now();
+      const peierls::PeierlsResult r = peierls::peierls_stress(o);
+      Row row;
+      row.point = p;
+      row.resolved_pos = r.positive.resolved;
+      row.resolved_neg = r.negative.resolved;
+      row.tau_pos = r.positive.tau_P / r.tau_max;
+      row.tau_neg = r.negative.tau_P / r.tau_max;
+      row.floor = std::max(r.positive.floor, r.negative.floor) / r.tau_max;
+      row.core_width = r.core_width;
+      row.core_width_continuum = r.core_width_continuum;
+      row.rigid = r.rigid_estimate;
+      row.iterations = r.iterations;
+      row.transforms = static_cast<long long>(r.transforms);
+      row.wall_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      row.settings = settings;
+      if (s.snapshots) {
+        const peierls::PeierlsCell cell(o.cell);
+        std::vector<slide::Snapshot> frames = {cell_snapshot(cell, r.u_zero, "zero_stress", 0.0)};
+        if (!r.u_loaded.empty())
+          frames.push_back(cell_snapshot(cell, r.u_loaded, "loaded_below_tau_P", r.tau_loaded));
+        nlohmann::json attributes = {
+            {"tool", "peierls_scan"},  {"periodic", 1},
+            {"b_core", p.b_core},      {"theta_deg", p.orientation.theta_deg},
+            {"m_x", p.orientation.mx}, {"m_y", p.orientation.my},
+            {"L", o.cell.L},           {"nu", o.cell.material.nu},
+            {"tau_max", r.tau_max},    {"tau_loaded", r.tau_loaded}};
+        const std::lock_guard lock(netcdf_mutex);  // the NetCDF library is not thread-safe
+        app::write_snapshots(app::ensure_directory(dir / "points" / point_name(p)) / "cell.nc",
+                             frames, attributes);
+      }
+      const std::lock_guard lock(table_mutex);
+      ++finished;
+      char tau_text[96];
+      if (const auto tau = row_tau(row)) {
+        std::snprintf(tau_text, sizeof tau_text, "tau_P/tau_max = %.5e", *tau);
+      } else {
+        std::snprintf(tau_text, sizeof tau_text, "unresolved (floor %.1e tau_max)", row.floor);
+      }
+      std::fprintf(stderr, "peierls_scan: [%zu/%zu] b_core = %g d, theta = %.1f: %s, %.2f s\n",
+                   finished, order.size(), p.b_core, p.orientation.theta_deg, tau_text, row.wall_s);
+      rows[k] = std::move(row);
+      try {
+        write_table(csv, rows, s);
+      } catch (...) {
+        if (!fatal) fatal = std::current_exception();
+        stop = true;
+      }
+    };
+    {
+      std::vector<std::jthread> pool;
+      for (int j = 0; j < n_jobs; ++j) {
+        pool.emplace_back([&] {
+          while (!stop) {
+            const std::size_t i = next++;
+            if (i >= order.size()) break;
+            try {
+              run_point(order[i]);
+            } catch (...) {
+              const std::lock_guard lock(table_mutex);
+              if (!fatal) fatal = std::current_exception();
+              stop = true;
+            }
+          }
+        });
+      }
+    }
+    if (fatal) std::rethrow_exception(fatal);
+
+    std::vector<Row> done;
+    for (auto& r : rows)
+      done.push_back(*r);
+    // Fits per angle over the resolved points in the window.
+    std::map<double, peierls::ExponentialFit> fits;
+    nlohmann::json fit_json = nlohmann::json::object();
+    for (const auto& o : orientations) {
+      std::vector<double> x, y;
+      for (const Row& r : done) {
+        if (r.point.orientation.mx != o.mx || r.point.orientation.my != o.my) continue;
+        if (const auto tau = row_tau(r)) {
+          x.push_back(r.point.b_core);
+          y.push_back(*tau);
+        }
+      }
+      const peierls::ExponentialFit f = peierls::fit_exponential(x, y, s.fit_b_min, s.fit_b_max);
+      fits[o.theta_deg] = f;
+      // The rigid-profile estimate decays as exp(-2 pi zeta |m| / d): its k2 for comparison.
+      const double k2_rigid =
+          std::hypot(o.mx, o.my) * std::numbers::pi *
+          peierls::continuum_core_width(1.0, o.theta_deg, s.options.cell.material.nu);
+      nlohmann::json j = {
+          {"theta_deg", o.theta_deg}, {"m_x", o.mx},        {"m_y", o.my},
+          {"valid", f.valid},         {"points", f.points}, {"k2_rigid_profile", k2_rigid}};
+      if (f.valid) {
+        j.update({{"k1", f.k1},
+                  {"k1_error", f.k1_error},
+                  {"k2", f.k2},
+                  {"k2_error", f.k2_error},
+                  {"window_b_core", {f.b_min, f.b_max}},
+                  {"rms_log_residual", f.rms_log_residual}});
+      }
+      fit_json[character_name(o)] = j;
+    }
+    const auto figures = write_figures(dir, s, done, fits);
+    nlohmann::json figure_names = nlohmann::json::array();
+    for (const auto& f : figures)
+      figure_names.push_back(f.filename().string());
+    std::size_t unresolved = 0;
+    double points_wall = 0.0;
+    for (const Row& r : done) {
+      if (!r.resolved_pos || !r.resolved_neg) ++unresolved;
+      points_wall += r.wall_s;
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    nlohmann::json scene = {
+        {"source", s.source},
+        {"b_core", bs},
+        {"theta_requested", s.theta},
+        {"L", s.options.cell.L},
+        {"model", peierls::to_string(s.options.cell.model)},
+        {"G", s.options.cell.material.G},
+        {"nu", s.options.cell.material.nu},
+        {"loading", "uniform applied shear stress (force tau d^2 per site along x)"},
+        {"precision", s.options.precision},
+        {"tolerance", s.options.tolerance},
+        {"glide_threshold", s.options.glide_threshold},
+        {"max_iterations", s.options.minimizer.max_iterations},
+        {"alias_images", s.options.cell.alias_images},
+        {"fit_window", {s.fit_b_min, s.fit_b_max}},
+        {"settings", settings}};
+    app::write_json(dir / "summary.json", {{"tool", "peierls_scan"},
+                                           {"scene", scene},
+                                           {"points", points.size()},
+                                           {"computed", order.size()},
+                                           {"reused", reused},
+                                           {"unresolved_points", unresolved},
+                                           {"fits", fit_json},
+                                           {"table", "peierls.csv"},
+                                           {"figures", figure_names},
+                                           {"run",
+                                            {{"wall_s", wall},
+                                             {"points_wall_s", points_wall},
+                                             {"jobs", n_jobs},
+                                             {"provenance", app::provenance_json()}}}});
+    std::printf("peierls_scan: %zu points (%zu computed, %zu unresolved) in %.1f s\n",
+                points.size(), order.size(), unresolved, wall);
+    for (const auto& [name, j] : fit_json.items()) {
+      if (j.value("valid", false)) {
+        std::printf("  %-12s k1 = %.4g +- %.2g, k2 = %.4g +- %.2g (b_core in [%g, %g] d)\n",
+                    name.c_str(), j["k1"].get<double>(), j["k1_error"].get<double>(),
+                    j["k2"].get<double>(), j["k2_error"].get<double>(),
+                    j["window_b_core"][0].get<double>(), j["window_b_core"][1].get<double>());
+      }
+    }
+    std::printf("results: %s\n", fs::absolute(dir / "summary.json").c_str());
+    std::printf("table:   %s\n", fs::absolute(csv).c_str());
+    for (const auto& f : figures)
+      std::printf("figure:  %s\n", fs::absolute(f).c_str());
+    return 0;
+  });
+}
