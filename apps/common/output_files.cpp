@@ -1,6 +1,7 @@
 #include "common/output_files.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -54,20 +55,39 @@ std::filesystem::path ensure_directory(const std::filesystem::path& dir) {
   return dir;
 }
 
-TemporaryFile::TemporaryFile(const std::filesystem::path& target) : target_(target) {
-  // pid and counter make the name unique across processes and threads; O_EXCL guards against
-  // leftovers of an earlier, killed process that had the same pid.
+namespace {
+
+// A name ".<target>.<pid>.<counter>.tmp" next to `target`: pid and counter make it unique across
+// processes and threads.
+std::filesystem::path hidden_name(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
   const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+  // append() rather than "." + string: GCC 12 warns falsely (-Wrestrict) on the latter.
+  return dir / std::string(".")
+                   .append(target.filename().string())
+                   .append(".")
+                   .append(std::to_string(::getpid()))
+                   .append(".")
+                   .append(std::to_string(counter++))
+                   .append(".tmp");
+}
+
+}  // namespace
+
+TemporaryFile::TemporaryFile(const std::filesystem::path& target, Kind kind) : target_(target) {
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+#ifdef O_TMPFILE
+  if (kind == Kind::unnamed) fd_ = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
+  if (fd_ >= 0) {
+    // /proc/<pid>, not /proc/self: the path must name this file in child processes too.
+    path_ = "/proc/" + std::to_string(::getpid()) + "/fd/" + std::to_string(fd_);
+    return;
+  }
+#endif
+  // No O_TMPFILE here (NFS, older overlayfs): a named temporary. O_EXCL guards against leftovers
+  // of an earlier, killed process that had the same pid.
   for (;;) {
-    // append() rather than "." + string: GCC 12 warns falsely (-Wrestrict) on the latter.
-    path_ = dir / std::string(".")
-                      .append(target.filename().string())
-                      .append(".")
-                      .append(std::to_string(::getpid()))
-                      .append(".")
-                      .append(std::to_string(counter++))
-                      .append(".tmp");
+    path_ = hidden_name(target);
     const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);
@@ -81,16 +101,80 @@ TemporaryFile::TemporaryFile(const std::filesystem::path& target) : target_(targ
 }
 
 TemporaryFile::~TemporaryFile() {
-  if (committed_) return;
-  std::error_code ec;
-  std::filesystem::remove(path_, ec);
+  if (fd_ >= 0) {
+    ::close(fd_);  // an unnamed file disappears with its last descriptor
+  } else if (!committed_) {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
 }
 
 void TemporaryFile::commit() {
+  const auto fail = [this](const std::string& why) {
+    throw std::runtime_error("cannot write '" + target_.string() + "': " + why);
+  };
+  std::filesystem::path named = path_;
+  if (fd_ >= 0) {
+    // Give the unnamed file a hidden name, then rename that over the target: linkat cannot
+    // replace an existing file.
+    for (;;) {
+      named = hidden_name(target_);
+      if (::linkat(AT_FDCWD, path_.c_str(), AT_FDCWD, named.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+        break;
+      }
+      if (errno != EEXIST)
+        fail(std::string("cannot name the temporary file: ") + std::strerror(errno));
+    }
+  }
   std::error_code ec;
-  std::filesystem::rename(path_, target_, ec);
-  if (ec) throw std::runtime_error("cannot write '" + target_.string() + "': " + ec.message());
+  std::filesystem::rename(named, target_, ec);
+  if (ec) {
+    std::error_code ignored;
+    if (fd_ >= 0) std::filesystem::remove(named, ignored);
+    fail(ec.message());
+  }
   committed_ = true;
+}
+
+namespace {
+
+// The pid in a TemporaryFile name ".<target>.<pid>.<counter>.tmp", or -1 for any other name.
+long temporary_owner(const std::string& name) {
+  constexpr std::string_view suffix = ".tmp";
+  if (name.size() < 8 || name.front() != '.' || !name.ends_with(suffix)) return -1;
+  const std::string_view stem(name.data(), name.size() - suffix.size());
+  const std::size_t counter_dot = stem.rfind('.');
+  if (counter_dot == std::string_view::npos || counter_dot == 0) return -1;
+  const std::size_t pid_dot = stem.rfind('.', counter_dot - 1);
+  if (pid_dot == std::string_view::npos || pid_dot == 0) return -1;
+  long pid = 0;
+  unsigned long counter = 0;
+  if (!parse_whole(stem.substr(pid_dot + 1, counter_dot - pid_dot - 1), pid) ||
+      !parse_whole(stem.substr(counter_dot + 1), counter) || pid <= 0) {
+    return -1;
+  }
+  return pid;
+}
+
+}  // namespace
+
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return 0;
+  std::size_t removed = 0;
+  // skip_permission_denied: a folder we cannot read holds no temporaries of ours.
+  for (auto it = std::filesystem::recursive_directory_iterator(
+           dir, std::filesystem::directory_options::skip_permission_denied, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    const long pid = temporary_owner(it->path().filename().string());
+    if (pid <= 0 || pid == ::getpid()) continue;
+    // kill(pid, 0) probes without sending: ESRCH means no such process (EPERM: alive).
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code remove_ec;
+    if (std::filesystem::remove(it->path(), remove_ec)) ++removed;
+  }
+  return removed;
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {

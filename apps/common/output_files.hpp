@@ -17,11 +17,20 @@ namespace asperity::app {
 // the path exists and is not a directory. Returns `dir`.
 std::filesystem::path ensure_directory(const std::filesystem::path& dir);
 
-// A new, uniquely named empty file in the directory of `target`, removed on destruction unless
-// commit() has renamed it onto `target`. Same directory, so the rename is atomic.
+// A new empty file in the directory of `target`, removed on destruction unless commit() has
+// renamed it onto `target`. Same directory, so the rename is atomic.
+//
+// Kind::unnamed, where the file system allows (Linux O_TMPFILE: ext4, xfs, btrfs, tmpfs): the
+// file has no name until commit(); path() is /proc/<pid>/fd/<n>, which this process and its
+// children (gnuplot) open like any path, and a process killed by SIGKILL leaves nothing behind.
+// Otherwise, and for Kind::named (for writers that resolve the path they are given, as HDF5
+// does), a hidden ".<name>.<pid>.<counter>.tmp" next to the target, which a kill can leave
+// behind (see remove_stale_temporaries). commit() of an unnamed file passes through such a name
+// for the moment between two system calls (linkat cannot replace an existing file).
 class TemporaryFile {
  public:
-  explicit TemporaryFile(const std::filesystem::path& target);
+  enum class Kind { unnamed, named };
+  explicit TemporaryFile(const std::filesystem::path& target, Kind kind = Kind::unnamed);
   ~TemporaryFile();
   TemporaryFile(const TemporaryFile&) = delete;
   TemporaryFile& operator=(const TemporaryFile&) = delete;
@@ -31,8 +40,16 @@ class TemporaryFile {
 
  private:
   std::filesystem::path target_, path_;
+  int fd_ = -1;  // the unnamed file (O_TMPFILE), or -1 for a named temporary
   bool committed_ = false;
 };
+
+// Removes, anywhere below `dir`, the temporaries of TemporaryFile that processes no longer running
+// left behind: SIGKILL runs no destructor, so a run killed between creating a temporary and
+// renaming it leaves one. Temporaries of live processes (this host's pids) are kept; on a
+// directory shared between hosts the pid cannot tell, so concurrent runs on several hosts must
+// not share an output directory. Returns the number removed; a missing `dir` removes nothing.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
 // Throws std::runtime_error naming `path` on failure.
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);

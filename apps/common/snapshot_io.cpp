@@ -137,7 +137,10 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
   for (const Snapshot& f : frames)
     label_length = std::max(label_length, f.label.size());
 
-  TemporaryFile tmp(nc);
+  // Named: HDF5 resolves the path it is given (realpath), which an unnamed file's /proc path
+  // defeats. The write takes milliseconds; a kill within them leaves a hidden temporary, which
+  // the next run removes (remove_stale_temporaries).
+  TemporaryFile tmp(nc, TemporaryFile::Kind::named);
   Writer out(context);
   out.check(nc_create(tmp.path().c_str(), NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL, &out.id),
             "creating");

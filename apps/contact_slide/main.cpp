@@ -1,16 +1,69 @@
 // contact_slide: quasi-static sliding of a sphere on a crystalline flat in the lateral force
 // model (MODEL.md sections 3 and 5). Reads a scene (default: data/scenes/default.toml), lets
 // flags override it, and writes trace.csv, summary.json, figures and NetCDF snapshots.
+//
+// Checkpoints: the state of the slide goes to <out>/checkpoint.cbor every --checkpoint-every
+// seconds, on SIGINT or SIGTERM (then the run exits with status 3 and prints how to resume) and
+// on a numerical failure (the last good state). --resume continues from it to the same result,
+// bit for bit, as an uninterrupted run; a finished run removes it.
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/output_files.hpp"
+#include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
 
 using namespace asperity;
+
+namespace {
+
+// Exit status of a run stopped by SIGINT or SIGTERM after saving its checkpoint (0: done, 1:
+// failed, 2: bad input).
+constexpr int kInterrupted = 3;
+
+// Set by the signal handler, read between steps of the slide. Lock-free, so that setting it is
+// async-signal-safe.
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void request_stop(int) {
+  g_stop.store(true);
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // system calls in flight (file writes) just go on
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// The command line as typed, with --resume added: what continues this run.
+std::string resume_command(int argc, char** argv) {
+  std::string out;
+  bool has_resume = false;
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    has_resume = has_resume || arg == "--resume";
+    if (arg.empty() || arg.find_first_of(" \t'\"$`\\*?;&|()<>") != std::string::npos) {
+      std::string quoted = "'";
+      for (char c : arg)
+        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      arg = quoted + "'";
+    }
+    out += (i ? " " : "") + arg;
+  }
+  return has_resume ? out : out + " --resume";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
@@ -38,6 +91,15 @@ int main(int argc, char** argv) {
         ->check(app::finite_number(0.0, 1.0, true));
     cli.add_option("--threads", threads, "FFT threads")->check(CLI::Range(1, 1024));
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    bool resume = false;
+    double checkpoint_every = 300.0;
+    cli.add_flag("--resume", resume,
+                 "Continue the interrupted run whose checkpoint is in the output directory (same "
+                 "scene and flags)");
+    cli.add_option("--checkpoint-every", checkpoint_every,
+                   "Seconds of run time between checkpoints (0: after every step)")
+        ->check(app::non_negative())
+        ->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     app::SlideScene s = app::read_slide_scene(scene_path);
@@ -52,6 +114,18 @@ int main(int argc, char** argv) {
     if (threads) s.options.fft.threads = *threads;
     s.contact.validate();
     s.options.validate();
+
+    const std::filesystem::path checkpoint_file = std::filesystem::path(out) / "checkpoint.cbor";
+    const std::string settings = app::slide_fingerprint(s);
+    std::optional<app::SlideCheckpoint> start;
+    if (resume) {
+      if (!std::filesystem::exists(checkpoint_file)) {
+        throw std::invalid_argument("--resume: no checkpoint " + checkpoint_file.string() +
+                                    ": nothing to resume (run without --resume to start)");
+      }
+      start = app::read_checkpoint(checkpoint_file);
+      app::check_checkpoint_settings(*start, s, checkpoint_file);
+    }
 
     std::fprintf(stderr,
                  "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
@@ -79,9 +153,55 @@ int main(int argc, char** argv) {
         last_slips = slips;
       }
     };
-    const slide::SlideResult r = slide::slide(s.contact, s.options, progress);
+    app::ensure_directory(out);
+    if (const std::size_t n = app::remove_stale_temporaries(out)) {
+      std::fprintf(stderr, "contact_slide: removed %zu temporary file%s left by a killed run\n", n,
+                   n > 1 ? "s" : "");
+    }
+    if (start) {
+      std::fprintf(stderr, "contact_slide: resuming from %s at Dx = %.4f d (%d steps done)\n",
+                   checkpoint_file.c_str(), start->state.current.Dx, start->state.partial.steps);
+    } else if (std::filesystem::exists(checkpoint_file)) {
+      std::fprintf(stderr,
+                   "contact_slide: starting over; the checkpoint %s of an earlier run will be "
+                   "replaced (--resume continues it)\n",
+                   checkpoint_file.c_str());
+    }
+    int checkpoints = 0;
+    double checkpoint_s = 0.0;
+    slide::SlideControl control{
+        .progress = progress,
+        .checkpoint =
+            [&](const slide::SlideState& state) {
+              const auto t = std::chrono::steady_clock::now();
+              app::write_checkpoint(checkpoint_file, {.settings = settings, .state = state});
+              checkpoint_s +=
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+              ++checkpoints;
+            },
+        .checkpoint_every_s = checkpoint_every,
+        .stop_requested = [] { return g_stop.load(); },
+        .start = start ? &start->state : nullptr};
+    install_stop_handlers();
+    const slide::SlideResult r = slide::slide(s.contact, s.options, control);
     if (tty) std::fprintf(stderr, "\n");
+    if (r.interrupted) {
+      std::fprintf(stderr,
+                   "contact_slide: %s; state saved in %s (%d checkpoint%s, %.2f s)\n"
+                   "continue with:\n  %s\n",
+                   r.stop_reason.c_str(), checkpoint_file.c_str(), checkpoints,
+                   checkpoints == 1 ? "" : "s", checkpoint_s, resume_command(argc_, argv_).c_str());
+      return kInterrupted;
+    }
     const auto files = app::write_slide_outputs(out, s, r);
+    if (!r.failed) {
+      std::error_code ec;
+      std::filesystem::remove(checkpoint_file, ec);  // done: nothing left to resume
+    }
+    if (checkpoints > 0) {
+      std::fprintf(stderr, "contact_slide: %d checkpoint%s written, %.3f s\n", checkpoints,
+                   checkpoints == 1 ? "" : "s", checkpoint_s);
+    }
 
     std::printf(
         "mu = %.6f, mu/alpha = %.5f%s (peak at Dx = %.4f d, precision %.1e), "
@@ -98,6 +218,15 @@ int main(int argc, char** argv) {
       if (f.extension() == ".png") std::printf(" %s", f.c_str());
     }
     std::printf("\n");
+    if (r.failed) {
+      // A failure in the first minimisation leaves no good state to keep.
+      const auto last_good = std::filesystem::path(out) / "snapshots" / "last_good.nc";
+      std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+      if (std::filesystem::exists(last_good)) {
+        std::fprintf(stderr, "  the last good state is in %s and %s\n", last_good.c_str(),
+                     checkpoint_file.c_str());
+      }
+    }
     return r.failed ? 1 : 0;
   });
 }

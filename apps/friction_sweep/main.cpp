@@ -6,7 +6,8 @@
 //   settings reuses its rows instead of recomputing them;
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
 //   figures and snapshots of contact_slide);
-// - summary.json: settings, counts, wall time and the log-log slope of mu/alpha in Regime II;
+// - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
+//   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -255,6 +256,10 @@ int main(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
+    if (const std::size_t n = app::remove_stale_temporaries(dir)) {
+      std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n", n,
+                   n > 1 ? "s" : "");
+    }
     const fs::path csv = dir / "sweep.csv";
     app::ResumedRows resumed = app::resume_rows(csv, points, settings);
     std::vector<std::optional<app::SweepRow>> rows = std::move(resumed.rows);
@@ -362,9 +367,14 @@ int main(int argc, char** argv) {
     const nlohmann::json fit = app::fit_slope(done, kFitLo, kFitHi);
     std::vector<const app::SweepRow*> failed;
     double points_wall = 0.0;
+    nlohmann::json point_times = nlohmann::json::array();
     for (const auto& r : done) {
       if (r.failed) failed.push_back(&r);
-      if (std::isfinite(r.wall_s)) points_wall += r.wall_s;
+      // Reused rows carry no time: they were computed by an earlier run.
+      if (std::isfinite(r.wall_s)) {
+        points_wall += r.wall_s;
+        point_times.push_back({{"a", r.point.a}, {"R", r.point.R}, {"wall_s", r.wall_s}});
+      }
     }
     nlohmann::json failed_json = nlohmann::json::array();
     for (const auto* r : failed)
@@ -375,19 +385,23 @@ int main(int argc, char** argv) {
       figure_names.push_back(f.filename().string());
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // "run" holds what differs between runs of the same sweep (times, host, date); the rest is
+    // a function of the inputs, the build and what was reused.
     app::write_json(dir / "summary.json", {{"tool", "friction_sweep"},
-                                           {"provenance", app::provenance_json()},
                                            {"scene", scene_json(s, s.effective_jobs())},
                                            {"points", points.size()},
                                            {"computed", order.size()},
                                            {"reused", resumed.reused},
                                            {"failed", failed.size()},
                                            {"failed_points", failed_json},
-                                           {"wall_s", wall},
-                                           {"points_wall_s", points_wall},
                                            {"fit", fit},
                                            {"table", "sweep.csv"},
-                                           {"figures", figure_names}});
+                                           {"figures", figure_names},
+                                           {"run",
+                                            {{"provenance", app::provenance_json()},
+                                             {"wall_s", wall},
+                                             {"points_wall_s", points_wall},
+                                             {"point_wall_s", point_times}}}});
 
     std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n", points.size(),
                 order.size(), resumed.reused, failed.size(), wall);

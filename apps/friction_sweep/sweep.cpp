@@ -222,10 +222,20 @@ const std::vector<std::string>& sweep_columns() {
                                                    "failed",
                                                    "steps",
                                                    "gf_applications",
-                                                   "wall_s",
                                                    "settings"};
   return columns;
 }
+
+namespace {
+
+// sweep.csv before the wall times moved to summary.json.
+bool is_layout_with_wall_time(const std::vector<std::string>& columns) {
+  std::vector<std::string> old = sweep_columns();
+  old.insert(old.end() - 1, "wall_s");
+  return columns == old;
+}
+
+}  // namespace
 
 SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                    const std::string& settings) {
@@ -256,7 +266,6 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                static_cast<long long>(r.failed),
                static_cast<long long>(r.steps),
                static_cast<long long>(r.gf_applications),
-               r.wall_s,
                settings};
   return row;
 }
@@ -280,7 +289,7 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   row.cells = {c.a,        c.R, c.alpha, c.material.nu, c.a_over_bcore0(),
                c.lambda(), nan, nan,     0LL,           nan,
                nan,        0LL, nan,     reason,        1LL,
-               0LL,        0LL, wall_s,  settings};
+               0LL,        0LL, settings};
   return row;
 }
 
@@ -290,6 +299,10 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
   out.rows.resize(points.size());
   if (!std::filesystem::exists(csv)) return out;
   const CsvTable t = CsvTable::read(csv);
+  if (is_layout_with_wall_time(t.columns())) {
+    out.other_settings = t.rows();
+    return out;
+  }
   if (t.columns() != sweep_columns()) {
     std::string expected;
     for (const auto& name : sweep_columns())
@@ -326,7 +339,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
                  .mu_is_lower_bound = t.integer(i, "mu_is_lower_bound") != 0,
                  .failed = false,
                  .stop_reason = t.text(i, "stop_reason"),
-                 .wall_s = t.number(i, "wall_s")};
+                 .wall_s = std::numeric_limits<double>::quiet_NaN()};
     // The stored text, not re-formatted numbers: a resumed table is byte-identical.
     for (std::size_t j = 0; j < t.columns().size(); ++j)
       row.cells.push_back(t.cell(i, j));

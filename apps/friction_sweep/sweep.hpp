@@ -67,7 +67,9 @@ std::string point_folder(const SweepPoint& p);
 // FFT threads and planning change only round-off and are left out.
 std::string settings_fingerprint(const SlideScene& scene);
 
-// Columns of sweep.csv.
+// Columns of sweep.csv. Every column is a function of the inputs (and the build): the same sweep
+// gives a byte-identical table, whether run at once or killed and resumed. Timings go to
+// summary.json ("run").
 const std::vector<std::string>& sweep_columns();
 
 // One row of sweep.csv, with what the figures, the fit and the summary need.
@@ -80,7 +82,7 @@ struct SweepRow {
   bool mu_is_lower_bound = false;
   bool failed = false;
   std::string stop_reason;
-  double wall_s = 0.0;
+  double wall_s = 0.0;  // run time of the point; NaN for a reused row (not in the table)
   std::vector<CsvTable::Cell> cells;  // the row as written, in sweep_columns() order
 };
 
@@ -99,7 +101,9 @@ struct ResumedRows {
   std::size_t reused = 0;
   std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
 };
-// Throws std::invalid_argument if the file is not a sweep.csv of this version (other columns).
+// Throws std::invalid_argument if the file is not a sweep.csv (other columns). A table of the
+// earlier layout (with a wall_s column) is accepted and all its rows are dropped as
+// other_settings: they came from another build, which the settings fingerprint rejects anyway.
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
                         const std::string& settings);
 

@@ -19,12 +19,7 @@ namespace {
 
 // The state of the slide: full-block force and displacement fields (component-major) at a
 // tip position, with the block offset (in lattice steps) that follows the tip.
-struct State {
-  double Dx = 0.0;
-  int shift = 0;
-  std::vector<double> f, u;
-  double Fx = 0.0, Fz = 0.0, energy = 0.0;
-};
+using State = SlideFields;
 
 class Slider {
  public:
@@ -274,13 +269,63 @@ void SlideOptions::validate() const {
   fft.validate();
 }
 
+void SlideControl::validate() const {
+  if (!(checkpoint_every_s >= 0.0) || !std::isfinite(checkpoint_every_s)) {
+    reject("SlideControl.checkpoint_every_s", std::to_string(checkpoint_every_s),
+           "finite and >= 0 (0: after every step)");
+  }
+}
+
+namespace {
+
+// A start state must come from a slide of the same scene: every field on the same block.
+void check_start(const SlideState& st, std::size_t field_size) {
+  const auto fields = [&](const SlideFields& f, const char* name) {
+    if (f.f.size() != field_size || f.u.size() != field_size) {
+      reject(std::string("SlideState.") + name + " fields",
+             std::to_string(f.f.size()) + " and " + std::to_string(f.u.size()) + " values",
+             std::to_string(field_size) + " (2 per site of this scene's block)");
+    }
+    if (!std::isfinite(f.Dx) || !(f.Dx >= 0.0)) {
+      reject(std::string("SlideState.") + name + ".Dx", std::to_string(f.Dx), "finite and >= 0");
+    }
+  };
+  fields(st.current, "current");
+  fields(st.peak, "peak");
+  if (st.previous) fields(*st.previous, "previous");
+  if (st.earlier) fields(*st.earlier, "earlier");
+  if (st.runner_up) fields(*st.runner_up, "runner_up");
+  if (st.partial.trace.empty())
+    reject("SlideState.partial.trace", "empty", "the first row at least");
+}
+
+}  // namespace
+
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideProgress& progress) {
+  return slide(scene, options, SlideControl{.progress = progress});
+}
+
+SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
+                  const SlideControl& control) {
   scene.validate();
   options.validate();
+  control.validate();
   const auto t0 = std::chrono::steady_clock::now();
+  const auto elapsed = [&t0] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   Slider slider(scene, options);
   SlideResult res;
+  // Of the earlier sessions of a resumed slide (counted in the start state).
+  std::size_t gf_before = 0;
+  double wall_before = 0.0;
+  if (control.start) {
+    check_start(*control.start, slider.gf().size());
+    res = control.start->partial;
+    gf_before = res.gf_applications;
+    wall_before = res.wall_s;
+  }
   res.block = slider.gf().region();
   res.fft_grid = slider.gf().fft_shape();
   res.Fz_continuum = scene.hertz().load;
@@ -301,30 +346,112 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     ++res.minimizations;
     res.gradient_evaluations += r.interface_evaluations;
   };
-  const auto failed = [&](const minimize::MinimizeResult& r, double Dx) {
-    if (r.termination == Termination::converged) return false;
-    res.failed = true;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "minimizer %s at Dx = %.6g d (max force %.3g)",
-                  to_string(r.termination).c_str(), Dx, r.max_force);
-    res.stop_reason = buf;
-    return true;
+  // Why a relaxation to Dx (from the state at `from`) cannot be accepted: the minimiser did not
+  // converge, or the relaxed state has non-finite forces or energy. Empty if it can. The message
+  // names the step and the parameters needed to reproduce it.
+  const auto failure = [&](const minimize::MinimizeResult& r, const State& s, double Dx,
+                           double from) -> std::string {
+    const char* what = nullptr;
+    if (r.termination != Termination::converged) {
+      what = "";
+    } else if (!std::isfinite(s.Fx) || !std::isfinite(s.Fz) || !std::isfinite(s.energy)) {
+      what = "non-finite force or energy after ";
+    } else {
+      return {};
+    }
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "%sminimizer %s at Dx = %.9g d (step %d, from Dx = %.9g d, step size %.3g d; "
+                  "%d iterations, max force %.3g, energy %.9g; %s, tolerance %g, max "
+                  "iterations %d)",
+                  what, to_string(r.termination).c_str(), Dx, res.steps + 1, from, Dx - from,
+                  r.iterations, r.max_force, r.energy,
+                  minimize::to_string(options.minimizer.method).c_str(),
+                  options.minimizer.force_tolerance, options.minimizer.max_iterations);
+    return buf;
   };
 
-  auto first = slider.relax(state, 0.0, nullptr);
-  count(first);
-  res.contact_sites = slider.lfm().contact_sites().size();
-  record(state, first, false, 0);
   std::optional<State> peak, previous, earlier, runner_up;
   double runner_up_ratio = -std::numeric_limits<double>::infinity();
-  double best = state.Fx / state.Fz;
-  peak = state;
+  double best = 0.0;
   double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
-  bool stopped = failed(first, 0.0);
+  double slip_at = std::numeric_limits<double>::infinity();
+  bool stopped = false;
+  if (control.start) {
+    const SlideState& st = *control.start;
+    state = st.current;
+    previous = st.previous;
+    earlier = st.earlier;
+    peak = st.peak;
+    runner_up = st.runner_up;
+    best = st.best;
+    runner_up_ratio = st.runner_up_ratio;
+    first_max_Dx = st.first_max_Dx;
+    slip_at = st.slip_at;
+    stopped = st.stepping_done;
+  } else {
+    auto first = slider.relax(state, 0.0, nullptr);
+    count(first);
+    res.contact_sites = slider.lfm().contact_sites().size();
+    record(state, first, false, 0);
+    best = state.Fx / state.Fz;
+    peak = state;
+    if (const std::string why = failure(first, state, 0.0, 0.0); !why.empty()) {
+      res.failed = true;  // no good state yet to keep
+      res.stop_reason = why;
+      stopped = true;
+    }
+  }
+
+  // The state at the top of the stepping loop (or after it), for checkpoints.
+  const auto capture = [&](bool stepping_done) {
+    SlideState st{.current = state,
+                  .previous = previous,
+                  .earlier = earlier,
+                  .peak = *peak,
+                  .runner_up = runner_up,
+                  .best = best,
+                  .runner_up_ratio = runner_up_ratio,
+                  .first_max_Dx = first_max_Dx,
+                  .slip_at = slip_at,
+                  .stepping_done = stepping_done,
+                  .partial = res};
+    st.partial.gf_applications = gf_before + slider.gf().applications();
+    st.partial.wall_s = wall_before + elapsed();
+    return st;
+  };
+  // Stop on request: hand the state over and return what is known so far.
+  const auto interrupt = [&](const SlideState& st) {
+    if (control.checkpoint) control.checkpoint(st);
+    SlideResult out = st.partial;
+    out.interrupted = true;
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "interrupted at Dx = %.6g d%s", st.current.Dx,
+                  st.stepping_done ? " (refining the peak)" : "");
+    out.stop_reason = buf;
+    out.mu = st.best;
+    out.mu_over_alpha = st.best / scene.alpha;
+    out.mu_is_lower_bound = true;  // the static peak is not established yet
+    out.peak_Dx = st.peak.Dx;
+    out.Fz = st.peak.Fz;
+    out.distance = st.current.Dx;
+    out.kinetic = out.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  };
+  const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
+  auto last_checkpoint = std::chrono::steady_clock::now();
 
   const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
-  double slip_at = std::numeric_limits<double>::infinity();
   while (!stopped) {
+    if (stop_requested()) return interrupt(capture(false));
+    if (control.checkpoint) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_checkpoint).count() >=
+          control.checkpoint_every_s) {
+        control.checkpoint(capture(false));
+        last_checkpoint = now;
+      }
+    }
     if (state.Dx >= limit - 1e-12) {
       res.stop_reason = automatic ? "distance cap reached" : "distance reached";
       break;
@@ -378,7 +505,15 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
       slip_at = Dx;  // slipped: bisect towards the instability
       continue;
     }
-    if (failed(r, Dx)) break;
+    if (const std::string why = failure(r, trial, Dx, state.Dx); !why.empty()) {
+      // The trial is dropped; the last accepted state is kept as a checkpoint (resumable) and
+      // as snapshot "last_good".
+      if (control.checkpoint) control.checkpoint(capture(false));
+      res.failed = true;
+      res.stop_reason = why;
+      res.snapshots.push_back(slider.snapshot(state, "last_good"));
+      break;
+    }
     const int sites = slider.slipped_sites(state, trial);
     const bool slip = sites > 0;
     if (slip && may_undo) {
@@ -414,7 +549,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
       best = ratio;
       peak = state;
     }
-    if (progress) progress(state.Dx, limit, res.slip_events);
+    if (control.progress) control.progress(state.Dx, limit, res.slip_events);
 
     // Regime I: a smooth maximum (rise then fall, no slip yet).
     const std::size_t k = res.trace.size();
@@ -442,6 +577,17 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   // within the minimiser's noise (Regime I a period later; 1e-6 relative is seen), the earlier
   // one, which has samples on both sides, is the peak.
   // (Not when the runner-up is the sample just before: that is a ramp, cut off by the distance.)
+  // A stop requested during the refinement below returns this state: a resumed slide redoes
+  // the refinement from it.
+  // (Without the snapshots, which can be large and which the refinement leaves alone: they are
+  // added back if the state is used.)
+  std::optional<SlideState> stepping_end;
+  if (control.stop_requested) {
+    std::vector<Snapshot> snapshots = std::move(res.snapshots);
+    res.snapshots.clear();
+    stepping_end = capture(true);
+    res.snapshots = std::move(snapshots);
+  }
   const std::size_t n_rows = res.trace.size();
   if (runner_up && n_rows >= 2 && peak->Dx == res.trace.back().Dx &&
       runner_up->Dx < res.trace[n_rows - 2].Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
@@ -483,10 +629,18 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
         if (std::abs(xv - x1) < 0.25 * options.min_step) {
           xv = x1 + (x2 - x1 > x1 - x0 ? 0.5 : -0.5) * options.min_step;
         }
+        if (stop_requested()) {
+          stepping_end->partial.snapshots = std::move(res.snapshots);
+          return interrupt(*stepping_end);
+        }
         State probe = *peak;
         const auto r = slider.relax(probe, xv, nullptr);
         count(r);
-        if (failed(r, xv)) break;
+        if (const std::string why = failure(r, probe, xv, peak->Dx); !why.empty()) {
+          res.failed = true;
+          res.stop_reason = "refining the peak: " + why;
+          break;
+        }
         const bool off_branch = slider.slipped_sites(*peak, probe) > 0;
         const double y =
             off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
@@ -533,8 +687,8 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     res.kinetic_over_static = res.kinetic / res.mu;
   }
   res.snapshots.insert(res.snapshots.begin(), slider.snapshot(*peak, "peak"));
-  res.gf_applications = slider.gf().applications();
-  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.gf_applications = gf_before + slider.gf().applications();
+  res.wall_s = wall_before + elapsed();
   return res;
 }
 

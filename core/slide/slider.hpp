@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -95,8 +96,12 @@ struct SlideResult {
   std::size_t gf_applications = 0;
   std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
   long long iterations = 0;
-  double wall_s = 0.0;
-  bool failed = false;  // a minimisation did not converge; see stop_reason
+  double wall_s = 0.0;  // summed over the sessions of a resumed slide
+  bool failed = false;  // a minimisation did not converge or gave non-finite values; see
+                        // stop_reason (step, Dx, step size, solver); snapshot "last_good" holds
+                        // the state before it
+  bool interrupted = false;  // stopped on request (SlideControl::stop_requested): the results
+                             // are partial; the state went to SlideControl::checkpoint
   Shape2 block, fft_grid;
   std::size_t contact_sites = 0;  // unknown sites at Dx = 0
   std::vector<Snapshot> snapshots;
@@ -105,7 +110,54 @@ struct SlideResult {
 // Progress: (Dx, distance target or cap, slip events so far).
 using SlideProgress = std::function<void(double, double, int)>;
 
+// One state of the slide on the block of sites that follows the tip.
+struct SlideFields {
+  double Dx = 0.0;           // tip position (d)
+  int shift = 0;             // block offset along x (lattice steps)
+  std::vector<double> f, u;  // force (G d^2) and displacement (d) per block site, x then y
+  double Fx = 0.0, Fz = 0.0, energy = 0.0;
+};
+
+// Everything slide() needs to continue a slide exactly where it was (checkpoint and resume): a
+// plain struct, so that the caller chooses the file format (core does no file I/O). A slide
+// resumed from a state continues bit for bit as the uninterrupted one would have, given the same
+// scene, options and FFT threads (the caller checks that they match).
+struct SlideState {
+  SlideFields current;                   // last accepted state
+  std::optional<SlideFields> previous;   // the two before it on the branch (warm-start
+  std::optional<SlideFields> earlier;    // extrapolation)
+  SlideFields peak;                      // highest Fx/Fz so far
+  std::optional<SlideFields> runner_up;  // the peak it replaced
+  double best = 0.0;                     // Fx/Fz at the peak
+  double runner_up_ratio = 0.0;          // Fx/Fz at the runner-up (-inf: none)
+  double first_max_Dx = -1.0;            // Regime I: first maximum of Fx without a slip (-1: none)
+  double slip_at = 0.0;                  // adaptive: known unstable Dx beyond current (inf: none)
+  bool stepping_done = false;  // the stepping had ended (stop_reason set); the peak refinement
+                               // and the summary quantities remain
+  SlideResult partial;         // trace, counts, slip events, snapshots, stop reason so far
+};
+
+// How a caller steers a slide besides its options: progress reports, checkpoints, a stop request,
+// a start state. Checkpoints and stop requests are handled between steps (a step, one or a few
+// minimisations, is not interrupted).
+struct SlideControl {
+  SlideProgress progress;  // after every accepted step
+  // Receives the state: every checkpoint_every_s of wall time, on a stop request (before slide()
+  // returns with interrupted = true) and on a numerical failure (the last good state).
+  std::function<void(const SlideState&)> checkpoint;
+  double checkpoint_every_s = 300.0;  // wall time between checkpoints (s); 0: after every step
+  // Polled between steps; true: checkpoint, then return with interrupted = true. Called from the
+  // sliding thread; a signal handler sets a flag that this reads.
+  std::function<bool()> stop_requested;
+  const SlideState* start = nullptr;  // continue from this state instead of Dx = 0 (not owned)
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideProgress& progress = {});
+// Throws std::invalid_argument if control.start does not fit the scene (other block size).
+SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
+                  const SlideControl& control);
 
 }  // namespace asperity::slide

@@ -1,0 +1,443 @@
+// Checkpoint files of contact_slide; see slide_checkpoint.hpp.
+#include "common/slide_checkpoint.hpp"
+
+#include <bit>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "common/cli.hpp"
+#include "common/output_files.hpp"
+
+namespace asperity::app {
+namespace {
+
+using nlohmann::json;
+constexpr const char* kFormat = "asperity contact_slide checkpoint";
+constexpr int kVersion = 1;
+const char* const kByteOrder = std::endian::native == std::endian::little ? "little" : "big";
+// Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
+constexpr long long kMaxSites = 1LL << 28;
+
+// Shortest form that reads back to the same double: fingerprints compare exactly.
+std::string exact(double v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, end);
+}
+
+// ---- writing ----
+
+json bytes_of(const std::vector<double>& v) {
+  std::vector<std::uint8_t> b(v.size() * sizeof(double));
+  if (!v.empty()) std::memcpy(b.data(), v.data(), b.size());
+  return json::binary(std::move(b));
+}
+
+json fields_json(const slide::SlideFields& s) {
+  return {{"Dx", s.Dx}, {"shift", s.shift}, {"f", bytes_of(s.f)}, {"u", bytes_of(s.u)},
+          {"Fx", s.Fx}, {"Fz", s.Fz},       {"energy", s.energy}};
+}
+
+json optional_fields(const std::optional<slide::SlideFields>& s) {
+  return s ? fields_json(*s) : json(nullptr);
+}
+
+json snapshot_json(const slide::Snapshot& s) {
+  return {{"label", s.label},
+          {"iteration", s.iteration},
+          {"Dx", s.Dx},
+          {"Fx", s.Fx},
+          {"Fz", s.Fz},
+          {"energy", s.energy},
+          {"block", {s.block.shape.n0, s.block.shape.n1, s.block.origin0, s.block.origin1}},
+          {"ux", bytes_of(s.ux)},
+          {"uy", bytes_of(s.uy)},
+          {"sx", bytes_of(s.sx)},
+          {"sy", bytes_of(s.sy)},
+          {"tau_x", bytes_of(s.tau_x)},
+          {"tau_y", bytes_of(s.tau_y)},
+          {"tau_max", bytes_of(s.tau_max)},
+          {"pressure", bytes_of(s.pressure)},
+          {"in_contact", json::binary(s.in_contact)}};
+}
+
+json result_json(const slide::SlideResult& r) {
+  json trace = json::array();
+  for (const auto& t : r.trace) {
+    trace.push_back({t.Dx, t.Fx, t.Fz, t.energy, t.iterations, t.gf_applications, t.max_force,
+                     t.slip, t.slipped_sites});
+  }
+  json snapshots = json::array();
+  for (const auto& s : r.snapshots)
+    snapshots.push_back(snapshot_json(s));
+  return {{"trace", trace},
+          {"mu", r.mu},
+          {"mu_over_alpha", r.mu_over_alpha},
+          {"peak_Dx", r.peak_Dx},
+          {"peak_precision", r.peak_precision},
+          {"mu_is_lower_bound", r.mu_is_lower_bound},
+          {"Fz", r.Fz},
+          {"Fz_continuum", r.Fz_continuum},
+          {"kinetic", r.kinetic},
+          {"kinetic_over_static", r.kinetic_over_static},
+          {"slip_events", r.slip_events},
+          {"distance", r.distance},
+          {"stop_reason", r.stop_reason},
+          {"steps", r.steps},
+          {"minimizations", r.minimizations},
+          {"gf_applications", r.gf_applications},
+          {"gradient_evaluations", r.gradient_evaluations},
+          {"iterations", r.iterations},
+          {"wall_s", r.wall_s},
+          {"failed", r.failed},
+          {"interrupted", r.interrupted},
+          {"block", {r.block.n0, r.block.n1}},
+          {"fft_grid", {r.fft_grid.n0, r.fft_grid.n1}},
+          {"contact_sites", r.contact_sites},
+          {"snapshots", snapshots}};
+}
+
+// ---- reading: every access checked, so that a damaged file throws rather than misbehaves ----
+
+struct Bad : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+const json& at(const json& j, const char* key) {
+  if (!j.is_object()) throw Bad(std::string("expected an object holding '") + key + "'");
+  const auto it = j.find(key);
+  if (it == j.end()) throw Bad(std::string("missing '") + key + "'");
+  return *it;
+}
+
+double number(const json& j) {
+  if (!j.is_number()) throw Bad("expected a number, got " + std::string(j.type_name()));
+  return j.get<double>();
+}
+double number(const json& j, const char* key) {
+  try {
+    return number(at(j, key));
+  } catch (const Bad& e) {
+    throw Bad(std::string(key) + ": " + e.what());
+  }
+}
+
+long long integer(const json& j, long long lo, long long hi, const char* key = "value") {
+  long long v = 0;
+  if (j.is_number_unsigned()) {
+    const auto u = j.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<long long>::max())) {
+      throw Bad(std::string(key) + ": integer out of range");
+    }
+    v = static_cast<long long>(u);
+  } else if (j.is_number_integer()) {
+    v = j.get<long long>();
+  } else {
+    throw Bad(std::string(key) + ": expected an integer, got " + j.type_name());
+  }
+  if (v < lo || v > hi) throw Bad(std::string(key) + ": " + std::to_string(v) + " out of range");
+  return v;
+}
+long long integer(const json& j, const char* key, long long lo, long long hi) {
+  return integer(at(j, key), lo, hi, key);
+}
+int int_value(const json& j, const char* key) {
+  return static_cast<int>(
+      integer(j, key, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+}
+std::size_t count_value(const json& j, const char* key) {
+  return static_cast<std::size_t>(integer(j, key, 0, std::numeric_limits<long long>::max()));
+}
+
+bool boolean(const json& j, const char* key) {
+  const json& v = at(j, key);
+  if (!v.is_boolean()) throw Bad(std::string(key) + ": expected true or false");
+  return v.get<bool>();
+}
+
+std::string text(const json& j, const char* key) {
+  const json& v = at(j, key);
+  if (!v.is_string()) throw Bad(std::string(key) + ": expected text");
+  return v.get<std::string>();
+}
+
+const json& array(const json& j, const char* key, std::size_t size = 0) {
+  const json& v = at(j, key);
+  if (!v.is_array()) throw Bad(std::string(key) + ": expected an array");
+  if (size > 0 && v.size() != size) {
+    throw Bad(std::string(key) + ": expected " + std::to_string(size) + " elements");
+  }
+  return v;
+}
+
+std::vector<double> doubles(const json& j, const char* key) {
+  const json& v = at(j, key);
+  if (!v.is_binary()) throw Bad(std::string(key) + ": expected a byte string");
+  const auto& b = v.get_binary();
+  if (b.size() % sizeof(double) != 0) {
+    throw Bad(std::string(key) + ": " + std::to_string(b.size()) +
+              " bytes, not a whole number of doubles");
+  }
+  std::vector<double> out(b.size() / sizeof(double));
+  if (!out.empty()) std::memcpy(out.data(), b.data(), b.size());
+  return out;
+}
+
+slide::SlideFields fields_from(const json& j) {
+  slide::SlideFields s;
+  s.Dx = number(j, "Dx");
+  s.shift = int_value(j, "shift");
+  s.f = doubles(j, "f");
+  s.u = doubles(j, "u");
+  s.Fx = number(j, "Fx");
+  s.Fz = number(j, "Fz");
+  s.energy = number(j, "energy");
+  return s;
+}
+
+std::optional<slide::SlideFields> optional_fields_from(const json& j, const char* key) {
+  const json& v = at(j, key);
+  if (v.is_null()) return std::nullopt;
+  return fields_from(v);
+}
+
+Shape2 shape_from(const json& pair) {
+  const long long n0 = integer(pair[0], 0, kMaxSites), n1 = integer(pair[1], 0, kMaxSites);
+  if (n0 * n1 > kMaxSites) throw Bad("block of " + std::to_string(n0 * n1) + " sites");
+  return {static_cast<int>(n0), static_cast<int>(n1)};
+}
+
+slide::Snapshot snapshot_from(const json& j) {
+  slide::Snapshot s;
+  s.label = text(j, "label");
+  s.iteration = int_value(j, "iteration");
+  s.Dx = number(j, "Dx");
+  s.Fx = number(j, "Fx");
+  s.Fz = number(j, "Fz");
+  s.energy = number(j, "energy");
+  const json& b = array(j, "block", 4);
+  s.block.shape = shape_from(b);
+  s.block.origin0 = static_cast<int>(integer(b[2], -kMaxSites, kMaxSites));
+  s.block.origin1 = static_cast<int>(integer(b[3], -kMaxSites, kMaxSites));
+  const std::size_t n = s.block.shape.count();
+  const auto field = [&](const char* key, std::vector<double>& v) {
+    v = doubles(j, key);
+    if (v.size() != n) throw Bad(std::string(key) + ": size differs from the block's sites");
+  };
+  field("ux", s.ux);
+  field("uy", s.uy);
+  field("sx", s.sx);
+  field("sy", s.sy);
+  field("tau_x", s.tau_x);
+  field("tau_y", s.tau_y);
+  field("tau_max", s.tau_max);
+  field("pressure", s.pressure);
+  const json& c = at(j, "in_contact");
+  if (!c.is_binary() || c.get_binary().size() != n)
+    throw Bad("in_contact: expected " + std::to_string(n) + " bytes");
+  s.in_contact.assign(c.get_binary().begin(), c.get_binary().end());
+  return s;
+}
+
+slide::SlideResult result_from(const json& j) {
+  slide::SlideResult r;
+  for (const json& row : array(j, "trace")) {
+    if (!row.is_array() || row.size() != 9) throw Bad("trace: rows of 9 values expected");
+    r.trace.push_back(
+        {.Dx = number(row[0]),
+         .Fx = number(row[1]),
+         .Fz = number(row[2]),
+         .energy = number(row[3]),
+         .iterations = static_cast<int>(integer(row[4], 0, std::numeric_limits<int>::max())),
+         .gf_applications =
+             static_cast<std::size_t>(integer(row[5], 0, std::numeric_limits<long long>::max())),
+         .max_force = number(row[6]),
+         .slip = row[7].is_boolean() ? row[7].get<bool>() : throw Bad("trace: slip"),
+         .slipped_sites = static_cast<int>(integer(row[8], 0, std::numeric_limits<int>::max()))});
+  }
+  r.mu = number(j, "mu");
+  r.mu_over_alpha = number(j, "mu_over_alpha");
+  r.peak_Dx = number(j, "peak_Dx");
+  r.peak_precision = number(j, "peak_precision");
+  r.mu_is_lower_bound = boolean(j, "mu_is_lower_bound");
+  r.Fz = number(j, "Fz");
+  r.Fz_continuum = number(j, "Fz_continuum");
+  r.kinetic = number(j, "kinetic");
+  r.kinetic_over_static = number(j, "kinetic_over_static");
+  r.slip_events = int_value(j, "slip_events");
+  r.distance = number(j, "distance");
+  r.stop_reason = text(j, "stop_reason");
+  r.steps = int_value(j, "steps");
+  r.minimizations = int_value(j, "minimizations");
+  r.gf_applications = count_value(j, "gf_applications");
+  r.gradient_evaluations = count_value(j, "gradient_evaluations");
+  r.iterations = integer(j, "iterations", 0, std::numeric_limits<long long>::max());
+  r.wall_s = number(j, "wall_s");
+  r.failed = boolean(j, "failed");
+  r.interrupted = boolean(j, "interrupted");
+  r.block = shape_from(array(j, "block", 2));
+  r.fft_grid = shape_from(array(j, "fft_grid", 2));
+  r.contact_sites = count_value(j, "contact_sites");
+  for (const json& s : array(j, "snapshots"))
+    r.snapshots.push_back(snapshot_from(s));
+  return r;
+}
+
+// The items of a fingerprint, for naming those that differ.
+std::set<std::string> items(const std::string& s) {
+  std::set<std::string> out;
+  std::istringstream in(s);
+  for (std::string item; in >> item;)
+    out.insert(item);
+  return out;
+}
+
+}  // namespace
+
+std::string slide_fingerprint(const SlideScene& scene) {
+  const auto& c = scene.contact;
+  const auto& o = scene.options;
+  const auto& m = o.minimizer;
+  std::string s;
+  // append() rather than " x=" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
+  const auto add = [&s](const char* key, const std::string& value) {
+    s.append(s.empty() ? "" : " ").append(key).append("=").append(value);
+  };
+  add("a", exact(c.a));
+  add("R", exact(c.R));
+  add("alpha", exact(c.alpha));
+  add("G", exact(c.material.G));
+  add("nu", exact(c.material.nu));
+  add("d", exact(c.d));
+  add("protocol", slide::to_string(o.protocol));
+  add("step", exact(o.step));
+  add("max_step", exact(o.max_step));
+  add("min_step", exact(o.min_step));
+  add("distance", exact(o.distance));
+  add("max_distance", exact(o.max_distance));
+  add("slips_to_stop", std::to_string(o.slips_to_stop));
+  add("extrapolate", std::to_string(o.extrapolate));
+  add("path_frame_every", std::to_string(o.path_frame_every));
+  add("max_path_frames", std::to_string(o.max_path_frames));
+  add("solver", minimize::to_string(m.method));
+  add("tolerance", exact(m.force_tolerance));
+  add("max_iterations", std::to_string(m.max_iterations));
+  add("memory", std::to_string(m.memory));
+  add("newton_start", exact(m.newton_start));
+  add("max_displacement", exact(m.max_displacement));
+  add("refresh_interval", std::to_string(m.refresh_interval));
+  add("stability", minimize::to_string(m.stability));
+  add("max_escapes", std::to_string(m.max_escapes));
+  add("escape_displacement", exact(m.escape_displacement));
+  add("perturbation", exact(m.perturbation));
+  add("fft_threads", std::to_string(o.fft.threads));
+  add("fft_planner", fft::to_string(o.fft.planner));
+  // Another build may round differently: its continuation would not be the same slide.
+  std::string code = provenance_string();
+  for (char& ch : code)
+    if (ch == ' ') ch = '_';
+  add("code", code);
+  return s;
+}
+
+std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {
+  const slide::SlideState& st = checkpoint.state;
+  const json state = {{"current", fields_json(st.current)},
+                      {"previous", optional_fields(st.previous)},
+                      {"earlier", optional_fields(st.earlier)},
+                      {"peak", fields_json(st.peak)},
+                      {"runner_up", optional_fields(st.runner_up)},
+                      {"best", st.best},
+                      {"runner_up_ratio", st.runner_up_ratio},
+                      {"first_max_Dx", st.first_max_Dx},
+                      {"slip_at", st.slip_at},
+                      {"stepping_done", st.stepping_done},
+                      {"partial", result_json(st.partial)}};
+  return json::to_cbor(json{{"format", kFormat},
+                            {"version", kVersion},
+                            {"byte_order", kByteOrder},
+                            {"settings", checkpoint.settings},
+                            {"state", state}});
+}
+
+SlideCheckpoint decode_checkpoint(std::span<const std::uint8_t> bytes, const std::string& source) {
+  const std::string prefix = source + ": not a contact_slide checkpoint of this version: ";
+  json j;
+  try {
+    j = json::from_cbor(bytes.begin(), bytes.end());
+  } catch (const json::exception& e) {
+    throw std::invalid_argument(prefix + "damaged or truncated (" + e.what() + ")");
+  }
+  try {
+    if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {
+      throw Bad("no '" + std::string(kFormat) + "' header");
+    }
+    if (integer(j, "version", 0, 1000000) != kVersion) {
+      throw Bad("version " + at(j, "version").dump() + ", this program reads " +
+                std::to_string(kVersion));
+    }
+    if (text(j, "byte_order") != kByteOrder) throw Bad("written on a machine of other byte order");
+    SlideCheckpoint c;
+    c.settings = text(j, "settings");
+    const json& s = at(j, "state");
+    c.state.current = fields_from(at(s, "current"));
+    c.state.previous = optional_fields_from(s, "previous");
+    c.state.earlier = optional_fields_from(s, "earlier");
+    c.state.peak = fields_from(at(s, "peak"));
+    c.state.runner_up = optional_fields_from(s, "runner_up");
+    c.state.best = number(s, "best");
+    c.state.runner_up_ratio = number(s, "runner_up_ratio");
+    c.state.first_max_Dx = number(s, "first_max_Dx");
+    c.state.slip_at = number(s, "slip_at");
+    c.state.stepping_done = boolean(s, "stepping_done");
+    c.state.partial = result_from(at(s, "partial"));
+    return c;
+  } catch (const Bad& e) {
+    throw std::invalid_argument(prefix + e.what());
+  } catch (const json::exception& e) {
+    throw std::invalid_argument(prefix + e.what());
+  }
+}
+
+void write_checkpoint(const std::filesystem::path& file, const SlideCheckpoint& checkpoint) {
+  const std::vector<std::uint8_t> bytes = encode_checkpoint(checkpoint);
+  write_file_atomic(file,
+                    std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+SlideCheckpoint read_checkpoint(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot read checkpoint '" + file.string() + "'");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+  if (in.bad()) throw std::invalid_argument("cannot read checkpoint '" + file.string() + "'");
+  return decode_checkpoint(bytes, file.string());
+}
+
+void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const SlideScene& scene,
+                               const std::filesystem::path& file) {
+  const std::string now = slide_fingerprint(scene);
+  if (checkpoint.settings == now) return;
+  const auto saved = items(checkpoint.settings), wanted = items(now);
+  std::string differ;
+  for (const auto& item : saved) {
+    if (!wanted.contains(item)) differ += (differ.empty() ? "" : ", ") + item;
+  }
+  std::string instead;
+  for (const auto& item : wanted) {
+    if (!saved.contains(item)) instead += (instead.empty() ? "" : ", ") + item;
+  }
+  throw std::invalid_argument(file.string() + ": checkpoint of other settings: it has " + differ +
+                              "; this run has " + instead +
+                              ". Resume with the scene and flags of the interrupted run, or "
+                              "remove the checkpoint to start over");
+}
+
+}  // namespace asperity::app

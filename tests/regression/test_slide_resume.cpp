@@ -1,0 +1,169 @@
+// Regression tier: contact_slide is deterministic, and a run stopped by SIGTERM or SIGINT resumes
+// (--resume) to the uninterrupted result, bit for bit (issue 8: nothing lost on interruption;
+// determinism).
+//
+// - Determinism: two runs of the same scene with the same threads (2 FFT threads) write
+//   byte-identical trace.csv and NetCDF snapshots, and summary.json files that differ only in
+//   "run" (wall time, provenance).
+// - Resume: the default scene (two slip events) runs once to the end (duration T); then a run is
+//   sent SIGTERM at a random moment in [0.2 T, 0.7 T) and must exit with status 3 having saved
+//   checkpoint.cbor and written no results; its resumption (with a checkpoint after every step)
+//   gets SIGINT likewise; the next resumption runs to the end. Its trace.csv and snapshots must
+//   be byte-identical to the uninterrupted run's, its summary.json the same but for "run", and
+//   the checkpoint gone. ASPERITY_KILL_SEED=<n> repeats the moments of a run.
+// - Bad resumptions: --resume without a checkpoint, or with other settings, exit 2 naming the
+//   problem.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <random>
+#include <thread>
+
+#include "kill_support.hpp"
+
+namespace {
+
+using namespace asperity::test_support;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const fs::path kWork = WORK_DIR;
+const fs::path kLog = kWork / "log.txt";
+
+std::vector<std::string> slide_command(const fs::path& out, std::vector<std::string> extra = {}) {
+  std::vector<std::string> args = {CONTACT_SLIDE, SCENE, "--out", out.string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+int run_to_end(const std::vector<std::string>& args) {
+  Child run(args, kLog);
+  return run.wait();
+}
+
+// The files two runs must agree on byte for byte, and the summaries less "run".
+void expect_same_results(const fs::path& a, const fs::path& b) {
+  EXPECT_EQ(slurp(a / "trace.csv"), slurp(b / "trace.csv"));
+  EXPECT_EQ(without_run(nlohmann::json::parse(slurp(a / "summary.json"))),
+            without_run(nlohmann::json::parse(slurp(b / "summary.json"))));
+  std::size_t snapshots = 0;
+  for (const auto& entry : fs::directory_iterator(a / "snapshots")) {
+    EXPECT_EQ(slurp(entry.path()), slurp(b / "snapshots" / entry.path().filename()))
+        << entry.path().filename();
+    ++snapshots;
+  }
+  EXPECT_GT(snapshots, 0u);
+}
+
+std::string log_tail() {
+  const std::string text = slurp(kLog);
+  return text.substr(text.size() > 2000 ? text.size() - 2000 : 0);
+}
+
+class SlideResume : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::remove_all(kWork);
+    fs::create_directories(kWork);
+  }
+};
+
+}  // namespace
+
+TEST_F(SlideResume, SameInputsAndThreadsGiveIdenticalResults) {
+  const std::vector<std::string> extra = {"--a", "30", "--threads", "2"};
+  ASSERT_EQ(describe_status(run_to_end(slide_command(kWork / "det1", extra))), "exit 0")
+      << log_tail();
+  ASSERT_EQ(describe_status(run_to_end(slide_command(kWork / "det2", extra))), "exit 0")
+      << log_tail();
+  expect_same_results(kWork / "det1", kWork / "det2");
+}
+
+TEST_F(SlideResume, InterruptedRunsResumeToTheUninterruptedResult) {
+  const fs::path reference = kWork / "reference", resumed = kWork / "resumed";
+  const auto t0 = Clock::now();
+  ASSERT_EQ(describe_status(run_to_end(slide_command(reference))), "exit 0") << log_tail();
+  const double T = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  unsigned seed = std::random_device{}();
+  if (const char* s = std::getenv("ASPERITY_KILL_SEED"))
+    seed = static_cast<unsigned>(std::stoul(s));
+  std::printf("uninterrupted slide: %.2f s; seed %u (ASPERITY_KILL_SEED to repeat)\n", T, seed);
+  std::mt19937 gen(seed);
+
+  const fs::path checkpoint = resumed / "checkpoint.cbor";
+  int interrupted = 0;
+  bool finished = false;
+  for (const int sig : {SIGTERM, SIGINT}) {
+    // The first run starts afresh, the second resumes (and checkpoints after every step), so its
+    // signal comes sooner.
+    const bool first = interrupted == 0;
+    const auto args = first ? slide_command(resumed)
+                            : slide_command(resumed, {"--resume", "--checkpoint-every", "0"});
+    // A fresh run that ends before the signal is tried again with a shorter delay.
+    for (double fraction = first ? 0.7 : 0.3; fraction > 0.01; fraction *= 0.5) {
+      const double delay = std::uniform_real_distribution<double>(0.2, 1.0)(gen) * fraction * T;
+      Child run(args, kLog);
+      std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+      const bool sent = run.signal(sig);
+      const std::string status = describe_status(run.wait());
+      std::printf("signal %d after %.3f s: %s\n", sig, delay, sent ? status.c_str() : "finished");
+      if (status == "exit 0") {
+        if (!first) {  // the resumption finished first: one interruption is all this run has
+          finished = true;
+          break;
+        }
+        fs::remove_all(resumed);
+        continue;
+      }
+      ASSERT_EQ(status, "exit 3") << log_tail();
+      ASSERT_TRUE(fs::exists(checkpoint));
+      EXPECT_FALSE(fs::exists(resumed / "trace.csv")) << "an interrupted run wrote results";
+      const OutputCheck c = check_outputs(resumed);
+      EXPECT_TRUE(c.broken.empty());
+      EXPECT_EQ(c.temporaries, 0u);
+      EXPECT_NE(slurp(kLog).find("--resume"), std::string::npos) << "no resume command printed";
+      ++interrupted;
+      break;
+    }
+    if (finished) break;
+  }
+  ASSERT_GE(interrupted, 1) << "no run was interrupted; see " << kLog;
+
+  if (!finished) {
+    const auto t1 = Clock::now();
+    ASSERT_EQ(describe_status(run_to_end(slide_command(resumed, {"--resume"}))), "exit 0")
+        << log_tail();
+    std::printf("last resumption: %.2f s\n",
+                std::chrono::duration<double>(Clock::now() - t1).count());
+  }
+  EXPECT_FALSE(fs::exists(checkpoint)) << "a finished run leaves its checkpoint";
+  expect_same_results(reference, resumed);
+}
+
+TEST_F(SlideResume, BadResumptionsExitTwoNamingTheProblem) {
+  const fs::path dir = kWork / "bad";
+  fs::remove_all(dir);
+  EXPECT_EQ(describe_status(run_to_end(slide_command(dir, {"--resume"}))), "exit 2");
+  EXPECT_NE(log_tail().find("no checkpoint"), std::string::npos) << log_tail();
+
+  // A checkpoint of the default settings, then a resumption with another tolerance.
+  {
+    Child run(slide_command(dir, {"--checkpoint-every", "0"}), kLog);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    run.signal(SIGTERM);
+    const std::string status = describe_status(run.wait());
+    if (status != "exit 3") GTEST_SKIP() << "the run ended before the signal: " << status;
+  }
+  EXPECT_EQ(describe_status(run_to_end(slide_command(dir, {"--resume", "--tolerance", "1e-7"}))),
+            "exit 2");
+  EXPECT_NE(log_tail().find("tolerance=1e-07"), std::string::npos) << log_tail();
+
+  // A damaged checkpoint.
+  const std::string bytes = slurp(dir / "checkpoint.cbor");
+  std::ofstream(dir / "checkpoint.cbor", std::ios::binary | std::ios::trunc)
+      << bytes.substr(0, bytes.size() / 2);
+  EXPECT_EQ(describe_status(run_to_end(slide_command(dir, {"--resume"}))), "exit 2");
+  EXPECT_NE(log_tail().find("not a contact_slide checkpoint"), std::string::npos) << log_tail();
+}

@@ -1,0 +1,206 @@
+// Checkpoints of a slide (slide::SlideControl, slide::SlideState) and their files
+// (common/slide_checkpoint.hpp); numerical failures during a slide.
+//
+// - A slide stopped at every possible point (each poll of stop_requested, in the stepping and in
+//   the peak refinement) and resumed from the state it handed over, through an encoded
+//   checkpoint, gives the uninterrupted result bit for bit: trace, mu, counts, snapshots.
+// - A minimiser that stops converging mid-slide fails the slide with the step, Dx, step size and
+//   solver settings in stop_reason, keeps the last good state as snapshot "last_good" and hands
+//   it to the checkpoint callback.
+// - Damaged checkpoints, start states of another scene and other settings are rejected.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/slide_checkpoint.hpp"
+#include "slide/slider.hpp"
+
+namespace asperity {
+namespace {
+
+using slide::SlideControl;
+using slide::SlideResult;
+using slide::SlideState;
+
+app::SlideScene scene(double a, double distance) {
+  app::SlideScene s;
+  s.contact.a = a;
+  s.contact.R = 535.0;
+  s.contact.alpha = 0.7;
+  s.options.distance = distance;
+  s.options.path_frame_every = 5;  // snapshots of the relaxation paths are part of the state
+  return s;
+}
+
+bool same_bits(double x, double y) {
+  return std::memcmp(&x, &y, sizeof x) == 0;
+}
+
+void expect_same(const SlideResult& a, const SlideResult& b, const std::string& where) {
+  ASSERT_EQ(a.trace.size(), b.trace.size()) << where;
+  for (std::size_t i = 0; i < a.trace.size(); ++i) {
+    const auto &x = a.trace[i], &y = b.trace[i];
+    EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.Fz, y.Fz) &&
+                same_bits(x.energy, y.energy) && same_bits(x.max_force, y.max_force) &&
+                x.iterations == y.iterations && x.gf_applications == y.gf_applications &&
+                x.slip == y.slip && x.slipped_sites == y.slipped_sites)
+        << where << ": trace row " << i;
+  }
+  EXPECT_TRUE(same_bits(a.mu, b.mu)) << where;
+  EXPECT_TRUE(same_bits(a.peak_Dx, b.peak_Dx)) << where;
+  EXPECT_TRUE(same_bits(a.peak_precision, b.peak_precision)) << where;
+  EXPECT_TRUE(same_bits(a.kinetic, b.kinetic)) << where;
+  EXPECT_EQ(a.slip_events, b.slip_events) << where;
+  EXPECT_EQ(a.steps, b.steps) << where;
+  EXPECT_EQ(a.minimizations, b.minimizations) << where;
+  EXPECT_EQ(a.gf_applications, b.gf_applications) << where;
+  EXPECT_EQ(a.gradient_evaluations, b.gradient_evaluations) << where;
+  EXPECT_EQ(a.iterations, b.iterations) << where;
+  EXPECT_EQ(a.stop_reason, b.stop_reason) << where;
+  EXPECT_EQ(a.mu_is_lower_bound, b.mu_is_lower_bound) << where;
+  EXPECT_EQ(a.contact_sites, b.contact_sites) << where;
+  ASSERT_EQ(a.snapshots.size(), b.snapshots.size()) << where;
+  for (std::size_t k = 0; k < a.snapshots.size(); ++k) {
+    EXPECT_EQ(a.snapshots[k].label, b.snapshots[k].label) << where;
+    EXPECT_EQ(a.snapshots[k].ux, b.snapshots[k].ux) << where << ": snapshot " << k;
+    EXPECT_EQ(a.snapshots[k].tau_x, b.snapshots[k].tau_x) << where << ": snapshot " << k;
+  }
+}
+
+// Stops at the k-th poll of stop_requested; resumes from the encoded and decoded checkpoint.
+// Returns false once k is past the last poll (the slide was not interrupted).
+bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& reference) {
+  std::optional<SlideState> saved;
+  int polls = 0;
+  const SlideControl stop{.checkpoint = [&](const SlideState& st) { saved = st; },
+                          .checkpoint_every_s = 1e9,
+                          .stop_requested = [&] { return ++polls == k; }};
+  const SlideResult first = slide::slide(s.contact, s.options, stop);
+  if (!first.interrupted) return false;
+  const std::string where = "stopped at poll " + std::to_string(k) + " (" + first.stop_reason + ")";
+  EXPECT_TRUE(saved.has_value()) << where;
+  if (!saved) return false;
+  EXPECT_TRUE(first.mu_is_lower_bound) << where;
+  const auto bytes =
+      app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
+  const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+  const SlideResult resumed =
+      slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+  EXPECT_FALSE(resumed.interrupted) << where;
+  expect_same(reference, resumed, where);
+  return true;
+}
+
+TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
+  // Regime I with a fixed distance (the peak is refined after the stepping): every poll; Regime
+  // II through two slip events (bisection brackets, relaxation-path frames): every third poll,
+  // which keeps the test short under the sanitizers.
+  for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 3}}) {
+    const SlideResult reference = slide::slide(s.contact, s.options);
+    ASSERT_FALSE(reference.failed) << reference.stop_reason;
+    int stops = 0;
+    for (int k = 1; stop_and_resume(s, k, reference); k += stride)
+      ++stops;
+    EXPECT_GT(stops, 5) << "a = " << s.contact.a;
+  }
+}
+
+TEST(SlideCheckpoint, IntervalCheckpointsChangeNothing) {
+  const auto s = scene(20.0, 0.0);
+  const SlideResult reference = slide::slide(s.contact, s.options);
+  int calls = 0;
+  std::optional<SlideState> last;
+  const SlideResult r =
+      slide::slide(s.contact, s.options,
+                   SlideControl{.checkpoint = [&](const SlideState& st) { ++calls, last = st; },
+                                .checkpoint_every_s = 0.0});
+  expect_same(reference, r, "checkpoint after every step");
+  EXPECT_GE(calls, reference.steps);
+  // The last one resumes to the end too.
+  ASSERT_TRUE(last.has_value());
+  expect_same(reference, slide::slide(s.contact, s.options, SlideControl{.start = &*last}),
+              "resumed from the last interval checkpoint");
+}
+
+TEST(SlideCheckpoint, NonConvergenceStopsWithStepParametersAndLastGoodState) {
+  auto s = scene(20.0, 0.0);
+  s.options.minimizer.max_iterations = 12;  // enough on the ramp, not through the first slip
+  std::optional<SlideState> saved;
+  const SlideResult r =
+      slide::slide(s.contact, s.options,
+                   SlideControl{.checkpoint = [&](const SlideState& st) { saved = st; },
+                                .checkpoint_every_s = 1e9});
+  ASSERT_TRUE(r.failed);
+  EXPECT_FALSE(r.interrupted);
+  for (const char* part : {"minimizer max_iterations at Dx = ", "(step ", "from Dx = ",
+                           "step size ", "lbfgs, tolerance 1e-06, max iterations 12"}) {
+    EXPECT_NE(r.stop_reason.find(part), std::string::npos) << r.stop_reason;
+  }
+  ASSERT_GE(r.trace.size(), 2u) << "failed before any step: " << r.stop_reason;
+  for (const auto& row : r.trace)
+    EXPECT_TRUE(std::isfinite(row.Fx) && std::isfinite(row.energy));
+  // The last good state: the last accepted step, as a snapshot and as a checkpoint.
+  const double last_Dx = r.trace.back().Dx;
+  const auto good = std::find_if(r.snapshots.begin(), r.snapshots.end(),
+                                 [](const slide::Snapshot& x) { return x.label == "last_good"; });
+  ASSERT_NE(good, r.snapshots.end());
+  EXPECT_EQ(good->Dx, last_Dx);
+  ASSERT_TRUE(saved.has_value());
+  EXPECT_EQ(saved->current.Dx, last_Dx);
+  EXPECT_EQ(saved->partial.trace.size(), r.trace.size());
+  EXPECT_NE(r.stop_reason.find("step " + std::to_string(r.steps + 1)), std::string::npos)
+      << r.stop_reason;
+}
+
+TEST(SlideCheckpoint, RejectsStatesAndFilesThatDoNotFit) {
+  const auto s = scene(6.0, 1.2);
+  std::optional<SlideState> saved;
+  int polls = 0;
+  slide::slide(s.contact, s.options,
+               SlideControl{.checkpoint = [&](const SlideState& st) { saved = st; },
+                            .stop_requested = [&] { return ++polls == 3; }});
+  ASSERT_TRUE(saved.has_value());
+
+  // Another contact radius: another block.
+  auto other = s;
+  other.contact.a = 8.0;
+  EXPECT_THROW(slide::slide(other.contact, other.options, SlideControl{.start = &*saved}),
+               std::invalid_argument);
+  EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.checkpoint_every_s = -1.0}),
+               std::invalid_argument);
+
+  const app::SlideCheckpoint c{.settings = app::slide_fingerprint(s), .state = *saved};
+  EXPECT_NO_THROW(app::check_checkpoint_settings(c, s, "c.cbor"));
+  try {
+    app::check_checkpoint_settings(c, other, "c.cbor");
+    ADD_FAILURE() << "other settings accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("a=6"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a=8"), std::string::npos) << e.what();
+  }
+
+  // Every truncation and a few corrupted bytes throw std::invalid_argument, nothing else.
+  const auto bytes = app::encode_checkpoint(c);
+  for (std::size_t n = 0; n < bytes.size(); n += 1 + n / 8) {
+    EXPECT_THROW(app::decode_checkpoint({bytes.data(), n}, "c.cbor"), std::invalid_argument)
+        << n << " bytes";
+  }
+  for (std::size_t at = 0; at < 200 && at < bytes.size(); ++at) {
+    auto damaged = bytes;
+    damaged[at] ^= 0x5a;
+    try {
+      app::decode_checkpoint(damaged, "c.cbor");
+    } catch (const std::invalid_argument&) {
+    }
+  }
+}
+
+}  // namespace
+}  // namespace asperity
