@@ -10,6 +10,7 @@
 #include "common/plot.hpp"
 #include "common/snapshot_io.hpp"
 #include "common/toml_reader.hpp"
+#include "explicit/alpha_path.hpp"
 
 namespace asperity::app {
 
@@ -269,6 +270,183 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
   trace.write(dir / "trace.csv");
   written.push_back(dir / "trace.csv");
   write_json(dir / "summary.json", slide_summary(scene, r));
+  written.push_back(dir / "summary.json");
+  return written;
+}
+
+ExplicitSlideScene read_explicit_scene(const std::string& path) {
+  auto reader = SceneReader::from_file(path);
+  ExplicitSlideScene s;
+  s.slide = read_slide_keys(reader);
+  auto& m = s.model;
+  m.G_eps_sigma3 = reader.number("explicit.G", m.G_eps_sigma3, Range::positive());
+  m.sigma_over_d = reader.number("explicit.sigma_over_d", m.sigma_over_d, Range::closed(0.75, 1.0));
+  reader.reject_unknown();
+  check_relations(s.slide, path);
+  m.R = s.slide.contact.R;
+  m.material = s.slide.contact.material;
+  m.d = s.slide.contact.d;
+  return s;
+}
+
+namespace {
+
+// Surface deflection w = -u_z of Hertz (Johnson, Contact Mechanics, 3.41-3.42, with
+// p0 = 2 a E*/(pi R)): w = delta - r^2/(2R) inside (delta = a^2/R), and outside
+// w = [(2 a^2 - r^2) asin(a/r) + a r sqrt(1 - a^2/r^2)] / (pi R).
+double hertz_deflection(const contact::Hertz& h, double r) {
+  const double a = h.a, R = h.R;
+  if (r <= a) return h.approach - r * r / (2.0 * R);
+  const double q = a / r;
+  return ((2.0 * a * a - r * r) * std::asin(q) + a * r * std::sqrt(1.0 - q * q)) /
+         (std::numbers::pi * R);
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesystem::path& dir,
+                                                               const ExplicitSlideScene& scene,
+                                                               const explicit_model::LoadResult& r,
+                                                               const SlideOutputOptions& options) {
+  ensure_directory(dir);
+  std::vector<std::filesystem::path> written;
+  const auto& st = r.state;
+  const auto& hz = r.hertz;
+  const auto& m = scene.model;
+  const double d = m.d, force_unit = m.force_unit();
+  // alpha of the potential at the central atom's load (alpha_path: nearly load independent).
+  const double centre_force = hz.p0 * d * d / force_unit;  // eps/sigma
+  double alpha = std::nan("");
+  try {
+    alpha =
+        explicit_model::alpha_path({.sigma_over_d = m.sigma_over_d, .normal_force = centre_force})
+            .alpha;
+  } catch (const std::runtime_error&) {
+    // A load the single atom cannot hold: alpha stays NaN (null in the summary).
+  }
+  const double a_over_bcore0 = alpha * hz.p0 * hz.a / (d * m.material.G);
+  CsvTable sites({"x", "y", "r", "ux", "uy", "uz", "fx", "fy", "fz", "p", "active"});
+  for (int i0 = 0; i0 < st.block.shape.n0; ++i0) {
+    for (int i1 = 0; i1 < st.block.shape.n1; ++i1) {
+      const std::size_t i = st.block.shape.index(i0, i1);
+      if (!st.active[i] && st.fz[i] == 0.0) continue;
+      const double x = st.block.x(i0, d), y = st.block.y(i1, d);
+      sites.add_row({x, y, std::hypot(x - st.Dx, y), st.ux[i], st.uy[i], st.uz[i], st.fx[i],
+                     st.fy[i], st.fz[i], -st.fz[i] / (d * d),
+                     static_cast<long long>(st.active[i])});
+    }
+  }
+  if (options.figures) {
+    Series atoms{.title = "atoms (explicit model)", .style = "points pt 7 ps 0.4"};
+    Series hertz{.title = "Hertz p0 sqrt(1 - r^2/a^2)", .style = "lines lw 2"};
+    Series uz{.title = "u_z, atoms on y = 0 (explicit)", .style = "points pt 7 ps 0.6"};
+    Series uz_hertz{.title = "Hertz surface -w(r)", .style = "lines lw 2"};
+    std::vector<double> mx, my, map;
+    for (int i0 = 0; i0 < st.block.shape.n0; ++i0)
+      mx.push_back(st.block.x(i0, d));
+    for (int i1 = 0; i1 < st.block.shape.n1; ++i1)
+      my.push_back(st.block.y(i1, d));
+    map.assign(st.block.shape.count(), std::nan(""));
+    for (int i0 = 0; i0 < st.block.shape.n0; ++i0) {
+      for (int i1 = 0; i1 < st.block.shape.n1; ++i1) {
+        const std::size_t i = st.block.shape.index(i0, i1);
+        const double x = st.block.x(i0, d) - st.Dx, y = st.block.y(i1, d);
+        const double p = -st.fz[i] / (d * d);
+        if (p != 0.0) {
+          atoms.x.push_back(std::hypot(x, y) / hz.a);
+          atoms.y.push_back(p / hz.p0);
+          map[i] = p / hz.p0;
+        }
+        if (y == 0.0) {
+          uz.x.push_back(x / hz.a);
+          uz.y.push_back(st.uz[i]);
+        }
+      }
+    }
+    for (int k = 0; k <= 400; ++k) {
+      const double rho = 1.5 * k / 400.0;
+      hertz.x.push_back(rho);
+      hertz.y.push_back(hz.pressure(rho * hz.a) / hz.p0);
+    }
+    for (int k = -400; k <= 400; ++k) {
+      const double rho = 2.0 * k / 400.0;
+      uz_hertz.x.push_back(rho);
+      uz_hertz.y.push_back(-hertz_deflection(hz, std::abs(rho) * hz.a));
+    }
+    char title[240];
+    std::snprintf(title, sizeof title,
+                  "Explicit model, a_H = %.1f d, R = %.0f d, G = %g eps/sigma^3: a_area %+.2f d, "
+                  "delta %+.2f%%",
+                  hz.a, hz.R, m.G_eps_sigma3, r.a_area_error, 100.0 * r.delta_error);
+    plot_png(dir / "pressure_profile.png", {atoms, hertz},
+             {.title = title, .xlabel = "r / a_Hertz", .ylabel = "p / p0"});
+    written.push_back(dir / "pressure_profile.png");
+    plot_png(dir / "displacement_profile.png", {uz, uz_hertz},
+             {.title = "Normal displacement through the apex (y = 0)",
+              .xlabel = "x / a_Hertz",
+              .ylabel = "u_z / d"});
+    written.push_back(dir / "displacement_profile.png");
+    heatmap_png(dir / "pressure_map.png", mx, my, map,
+                {.title = "Pressure per atom p / p0 (explicit model)",
+                 .xlabel = "x / d",
+                 .ylabel = "y / d",
+                 .extra_commands = {"set size ratio -1"}},
+                "p / p0");
+    written.push_back(dir / "pressure_map.png");
+  }
+  sites.write(dir / "sites.csv");
+  written.push_back(dir / "sites.csv");
+  const auto& c = scene.slide.contact;
+  const auto& o = scene.slide.options;
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  write_json(
+      dir / "summary.json",
+      {{"model", "explicit"},
+       {"stage", "normal loading (sliding at fixed Fz is not implemented for this model yet)"},
+       {"a", c.a},
+       {"R", c.R},
+       {"G", c.material.G},
+       {"nu", c.material.nu},
+       {"G_eps_sigma3", m.G_eps_sigma3},
+       {"sigma_over_d", m.sigma_over_d},
+       {"eps", m.energy_unit()},
+       {"eps_over_sigma", force_unit},
+       {"alpha", num(alpha)},
+       {"alpha_note", "alpha_path at the central atom's Hertz load p0 d^2"},
+       {"a_over_bcore0", num(a_over_bcore0)},
+       {"Fz", st.Fz},
+       {"Fz_target", r.target},
+       {"Fz_eps_over_sigma", st.Fz / force_unit},
+       {"centre_atom_load_eps_over_sigma", centre_force},
+       {"Fx", st.Fx},
+       {"Fy", st.Fy},
+       {"h", st.h},
+       {"delta", r.delta},
+       {"hertz", {{"a", hz.a}, {"delta", hz.approach}, {"p0", hz.p0}, {"estar", hz.estar}}},
+       {"delta_error", r.delta_error},
+       {"load_error", r.load_error},
+       {"a_area", st.a_area},
+       {"a_moment", st.a_moment},
+       {"a_area_error", r.a_area_error},
+       {"a_moment_error", r.a_moment_error},
+       {"loaded_sites", st.loaded_sites},
+       {"termination", to_string(r.termination)},
+       {"message", r.message},
+       {"load_steps", r.load_steps},
+       {"minimizations", r.minimizations},
+       {"growths", r.growths},
+       {"iterations", r.iterations},
+       {"gf_applications", r.gf_applications},
+       {"gradient_evaluations", r.interface_evaluations},
+       {"tolerance", o.minimizer.force_tolerance},
+       {"solver", minimize::to_string(o.minimizer.method)},
+       {"stability_check", minimize::to_string(o.minimizer.stability)},
+       {"grid",
+        {{"block", {st.block.shape.n0, st.block.shape.n1}},
+         {"fft_grid", {r.fft_grid.n0, r.fft_grid.n1}},
+         {"active_sites", r.active_sites}}},
+       {"threads", o.fft.threads},
+       {"run", {{"wall_s", r.wall_s}, {"provenance", provenance_json()}}}});
   written.push_back(dir / "summary.json");
   return written;
 }

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "explicit/explicit_contact.hpp"
 #include "interface/lfm.hpp"
 #include "slide/slider.hpp"
 
@@ -45,5 +46,25 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
                                                        const SlideScene& scene,
                                                        const slide::SlideResult& result,
                                                        const SlideOutputOptions& options = {});
+
+// The explicit atomistic model (MODEL.md 4, contact_slide --model explicit): the slide-scene
+// keys, of which contact.a sets the target load (the Hertz load of a, so that the two models
+// are compared at the same load) and contact.R the tip radius, plus [explicit] G (substrate shear
+// modulus in eps/sigma^3) and sigma_over_d. contact.alpha is not used: alpha is a property of
+// the potential (alpha_path). data/scenes/explicit_default.toml documents the keys.
+struct ExplicitSlideScene {
+  SlideScene slide;
+  explicit_model::ExplicitScene model;
+};
+ExplicitSlideScene read_explicit_scene(const std::string& path);
+
+// Normal loading of the explicit model: summary.json (parameters, load, Hertz comparison,
+// alpha of the potential at the central load, cost), sites.csv (per atom: position, displacement,
+// force, pressure), pressure_profile.png (p / p0 against r / a with Hertz),
+// displacement_profile.png (u_z along x through the apex with the Hertz surface), and
+// pressure_map.png. Returns the files written (figures first).
+std::vector<std::filesystem::path> write_explicit_load_outputs(
+    const std::filesystem::path& dir, const ExplicitSlideScene& scene,
+    const explicit_model::LoadResult& result, const SlideOutputOptions& options = {});
 
 }  // namespace asperity::app

@@ -6,6 +6,10 @@
 // seconds, on SIGINT or SIGTERM (then the run exits with status 3 and prints how to resume) and
 // on a numerical failure (the last good state). --resume continues from it to the same result,
 // bit for bit, as an uninterrupted run; a finished run removes it.
+//
+// --model explicit: the explicit atomistic model (MODEL.md 4; core/explicit/), normal loading to
+// the Hertz load of contact.a only (default scene data/scenes/explicit_default.toml); outputs in
+// app::write_explicit_load_outputs (common/slide_io.hpp).
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -100,7 +104,72 @@ int main(int argc, char** argv) {
                    "Seconds of run time between checkpoints (0: after every step)")
         ->check(app::non_negative())
         ->capture_default_str();
+    std::string model = "lfm";
+    cli.add_option("--model", model,
+                   "lfm (lateral force model) | explicit (LJ atomistic tip, MODEL.md 4: normal "
+                   "loading only so far)")
+        ->check(CLI::IsMember({"lfm", "explicit"}))
+        ->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+
+    if (model == "explicit") {
+      // Normal loading of the explicit model. Sliding at fixed Fz is not implemented for it
+      // yet: the flags that only make sense for a slide are rejected rather than ignored.
+      for (const auto& [flag, given] :
+           {std::pair{"--alpha", alpha.has_value()}, std::pair{"--distance", distance.has_value()},
+            std::pair{"--protocol", protocol.has_value()}, std::pair{"--resume", resume}}) {
+        if (given) {
+          throw std::invalid_argument(
+              std::string(flag) +
+              ": not available with --model explicit, which does normal loading only so far "
+              "(sliding at fixed Fz is not implemented yet; alpha follows from the potential)");
+        }
+      }
+      if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
+      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path);
+      auto& c = e.slide.contact;
+      if (a) c.a = *a;
+      if (R) c.R = e.model.R = *R;
+      if (nu) c.material.nu = e.model.material.nu = *nu;
+      if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
+      if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
+      if (threads) e.slide.options.fft.threads = *threads;
+      c.validate();
+      e.model.validate();
+      explicit_model::require_small_slope(c.a, c.R);
+      const double load = c.hertz().load;
+      std::fprintf(stderr,
+                   "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
+                   "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; normal loading\n",
+                   c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
+                   e.model.sigma_over_d, c.material.nu);
+      explicit_model::LoadOptions lo{.load = load};
+      lo.minimizer = e.slide.options.minimizer;
+      lo.fft = e.slide.options.fft;
+      const auto r = explicit_model::load_to_force(e.model, lo);
+      const auto files = app::write_explicit_load_outputs(out, e, r);
+      std::printf(
+          "Fz = %.6g G d^2 (target %.6g), delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
+          "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d)\n",
+          r.state.Fz, r.target, r.delta, r.hertz.approach, 100.0 * r.delta_error,
+          100.0 * r.load_error, r.state.a_area, r.state.a_moment, r.hertz.a);
+      std::printf("%s: %d load steps, %d minimisations, %d growths, %zu GF applications, %.2f s\n",
+                  to_string(r.termination).c_str(), r.load_steps, r.minimizations, r.growths,
+                  r.gf_applications, r.wall_s);
+      std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
+      for (const auto& f : files) {
+        if (f.extension() == ".png") std::printf(" %s", f.c_str());
+      }
+      std::printf("\n");
+      std::fprintf(stderr,
+                   "contact_slide: --model explicit: sliding at fixed Fz is not implemented yet; "
+                   "only the normal loading was done\n");
+      if (r.termination != Termination::converged) {
+        std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.message.c_str());
+        return 1;
+      }
+      return 0;
+    }
 
     app::SlideScene s = app::read_slide_scene(scene_path);
     if (a) s.contact.a = *a;

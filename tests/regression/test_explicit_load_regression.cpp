@@ -1,0 +1,24 @@
+// Regression tier: contact_slide --model explicit on data/scenes/explicit_default.toml against
+// data/reference/explicit_load.json (approach, contact radii, alpha of the potential, loaded
+// atoms), each within the tolerance stored with it. The Hertz comparison itself is the analytic
+// tier's (tests/analytic/test_explicit_hertz.cpp); this guards the numbers of the tool.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+TEST(ExplicitLoadRegression, MatchesReference) {
+  std::ifstream s(SUMMARY), r(REFERENCE);
+  ASSERT_TRUE(s && r) << SUMMARY << " / " << REFERENCE;
+  const auto summary = nlohmann::json::parse(s), ref = nlohmann::json::parse(r);
+  EXPECT_EQ(summary.at("termination"), "converged");
+  EXPECT_EQ(summary.at("model"), "explicit");
+  for (const char* key : {"delta", "a_area", "a_moment", "alpha", "loaded_sites"}) {
+    const double value = summary.at(key).get<double>();
+    const double want = ref.at(key).at("value").get<double>();
+    const double tol = ref.at(key).at("tolerance").get<double>();
+    EXPECT_LE(std::abs(value - want), tol) << key << ": " << value << " vs " << want;
+  }
+}
