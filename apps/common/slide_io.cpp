@@ -27,8 +27,8 @@ SlideScene read_slide_keys(SceneReader& r) {
   auto& o = s.options;
   o.protocol = slide::protocol_from_string(
       r.string("slide.protocol", slide::to_string(o.protocol), {"adaptive", "reference"}));
-  o.step = r.number("slide.step", o.step, Range::open_closed(0.0, 0.5));
-  o.max_step = r.number("slide.max_step", o.max_step, Range::open_closed(0.0, 0.5));
+  o.step = r.number("slide.step", o.step, Range::open(0.0, 0.5));
+  o.max_step = r.number("slide.max_step", o.max_step, Range::open(0.0, 0.5));
   o.min_step = r.number("slide.min_step", o.min_step, Range::open_closed(0.0, 0.5));
   o.distance = r.number("slide.distance", o.distance, Range::non_negative());
   o.max_distance = r.number("slide.max_distance", o.max_distance, Range::non_negative());

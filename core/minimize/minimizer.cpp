@@ -418,7 +418,12 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         for (double& v : q)
           v = dist(gen);
         problem.compliance(q, z);
-        const double eta = options.perturbation / std::max(1e-300, max_abs(z));
+        // The push must also unbalance the state by more than the tolerance (10x), or the
+        // relaxation after it would stop at once and the check would be blind at loose
+        // tolerances: the residual it adds is about eta max|q|.
+        const double eta = std::max(options.perturbation / std::max(1e-300, max_abs(z)),
+                                    10.0 * options.force_tolerance / std::max(1e-300, max_abs(q)));
+        const double pushed = eta * max_abs(z);  // largest displacement of the push (d)
         std::vector<double> pu(n), pf(n);
         axpy_into(pu, x.u, eta, z);
         axpy_into(pf, x.f, eta, q);
@@ -432,7 +437,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         for (std::size_t i = 0; i < n; ++i)
           moved = std::max(moved, std::abs(pu[i] - x.u[i]));
         const bool lower = std::isfinite(again.energy) && again.energy < x.e - energy_slack(x.e);
-        unstable = lower && (moved > 10.0 * options.perturbation ||
+        unstable = lower && (moved > 10.0 * pushed ||
                              again.termination != Termination::converged);
         if (unstable) {
           x.u = std::move(pu);

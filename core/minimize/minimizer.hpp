@@ -55,7 +55,9 @@ struct MinimizerOptions {
   StabilityCheck stability = StabilityCheck::perturb;  // check of converged states (see above)
   int max_escapes = 20;                                // unstable-state escapes per minimisation
   double escape_displacement = 0.05;  // largest |du_i| of the push off an unstable state (d)
-  double perturbation = 1e-5;         // largest |du_i| of the random push (perturb check) (d)
+  // Largest |du_i| of the random push of the perturb check (d); larger when needed for the
+  // push to unbalance the state by 10x the force tolerance.
+  double perturbation = 1e-5;
 
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;

@@ -249,12 +249,21 @@ Protocol protocol_from_string(const std::string& name) {
   throw std::invalid_argument("slide protocol: got '" + name + "', allowed: reference, adaptive");
 }
 
+minimize::MinimizerOptions slide_minimizer_defaults() {
+  minimize::MinimizerOptions m;
+  m.force_tolerance = 1e-5;
+  m.max_displacement = 0.2;
+  return m;
+}
+
 void SlideOptions::validate() const {
   const auto fail = [](const std::string& what, double v, const std::string& allowed) {
     reject("SlideOptions." + what, std::to_string(v), allowed);
   };
-  if (!(step > 0.0 && step <= 0.5)) fail("step", step, "0 < step <= 0.5 d");
-  if (!(max_step > 0.0 && max_step <= 0.5)) fail("max_step", max_step, "0 < max_step <= 0.5 d");
+  if (!(step > 0.0 && step < 0.5)) fail("step", step, "0 < step < 0.5 d");
+  // Half a period or more would alias the registry potential: a step of d/2 lands every atom
+  // on the symmetric point of its well, where the forces balance by symmetry.
+  if (!(max_step > 0.0 && max_step < 0.5)) fail("max_step", max_step, "0 < max_step < 0.5 d");
   if (!(min_step > 0.0 && min_step <= max_step))
     fail("min_step", min_step, "0 < min_step <= max_step");
   if (!(distance >= 0.0) || !std::isfinite(distance))
@@ -458,7 +467,14 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
     }
     // Adaptive: a bracket [state.Dx, slip_at] around a known instability is bisected until it
     // is min_step wide; the slip is then taken from its stable end.
-    double Dx = std::min(state.Dx + h, limit);
+    // Smooth sliding (a maximum without a slip, Regime I): the kinetic friction is the mean of a
+    // near-sinusoid over the last period, which the trapezoid rule gets right only from evenly
+    // spread samples: eight per period from the first maximum on.
+    const double step = options.protocol == Protocol::adaptive && first_max_Dx >= 0.0 &&
+                                res.slip_events == 0
+                            ? std::min(h, 0.125 * d)
+                            : h;
+    double Dx = std::min(state.Dx + step, limit);
     bool may_undo = false;
     if (options.protocol == Protocol::adaptive) {
       const double gap = slip_at - state.Dx;
@@ -561,8 +577,11 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
       res.stop_reason = "slip events reached";
       break;
     }
+    // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
+    // (the last period) must lie inside them.
+    const double lead = options.protocol == Protocol::adaptive ? h : 0.0;
     if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
-        state.Dx >= first_max_Dx + d - 1e-12) {
+        state.Dx >= first_max_Dx + lead + d - 1e-12) {
       res.stop_reason = "one period past the first maximum (no slip)";
       break;
     }

