@@ -5,6 +5,10 @@
 // Also: building and applying the periodic GF of a 256 x 256 Peierls cell.
 #include <benchmark/benchmark.h>
 
+#include "interface/lfm.hpp"
+#include "minimize/minimizer.hpp"
+#include "slide/lfm_problem.hpp"
+
 #include <cmath>
 #include <vector>
 
@@ -72,6 +76,59 @@ void BM_PeriodicGFApply(benchmark::State& state) {
   }
 }
 
+// The lateral force model on the default scene's block (a = 43 d): interface force and energy,
+// and the Hessian diagonal, per evaluation; and one L-BFGS iteration (one GF application, the
+// line search, the two-loop recursion), as the mean over a 40-iteration relaxation.
+struct LfmBench {
+  interface::ContactScene scene {};
+  int H = static_cast<int>(std::ceil(scene.a)) + 2;
+  LatticeBlock block{{2 * H + 1, 2 * H + 1}, -H, -H};
+  interface::LateralForceModel lfm {
+    scene, block
+  };
+  LfmBench() { lfm.set_tip(0.3); }
+};
+
+void BM_LfmInterfaceForce(benchmark::State& state) {
+  LfmBench b;
+  const std::size_t n = 2 * b.lfm.contact_sites().size();
+  std::vector<double> u(n), f(n);
+  for (std::size_t i = 0; i < n; ++i)
+    u[i] = 0.01 * std::sin(0.1 * static_cast<double>(i));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(b.lfm.energy_and_force(u, f));
+  }
+  state.counters["sites"] = static_cast<double>(n / 2);
+}
+
+void BM_LfmInterfaceCurvature(benchmark::State& state) {
+  LfmBench b;
+  const std::size_t n = 2 * b.lfm.contact_sites().size();
+  std::vector<double> u(n), h(n);
+  for (auto _ : state) {
+    b.lfm.curvature(u, h);
+    benchmark::DoNotOptimize(h.data());
+  }
+}
+
+void BM_LbfgsIteration(benchmark::State& state) {
+  LfmBench b;
+  elastic::FreeSurfaceGF gf(elastic::Material{}, elastic::Components::in_plane, b.block.shape, 1.0,
+                            {.planner = fft::Planner::measure});
+  slide::LfmProblem problem(gf, b.lfm);
+  minimize::MinimizerOptions o;
+  o.force_tolerance = 1e-300;  // never reached: every call runs max_iterations
+  o.max_iterations = 40;
+  o.stability = minimize::StabilityCheck::none;
+  long long iterations = 0;
+  for (auto _ : state) {
+    std::vector<double> u(problem.size(), 0.0), f(problem.size(), 0.0);
+    const auto r = minimize::minimize(problem, u, f, o);
+    iterations += r.iterations;
+  }
+  state.counters["iterations_per_call"] =
+      static_cast<double>(iterations) / static_cast<double>(state.iterations());
+}
 }  // namespace
 
 BENCHMARK(BM_PeriodicGFBuild)
@@ -81,6 +138,7 @@ BENCHMARK(BM_PeriodicGFBuild)
     ->UseRealTime();
 BENCHMARK(BM_PeriodicGFApply)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FreeGFInPlane)
+    ->Args({91, 1})
     ->Args({512, 1})
     ->Args({512, 2})
     ->Unit(benchmark::kMillisecond)
@@ -90,4 +148,7 @@ BENCHMARK(BM_BareFFTPair)
     ->Args({512, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_LfmInterfaceForce)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_LfmInterfaceCurvature)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_LbfgsIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

@@ -28,6 +28,10 @@ for t in 1 2; do
 done
 pbuild=$(median "BM_PeriodicGFBuild/256/iterations:2")
 papply=$(median "BM_PeriodicGFApply/256"); papplys=$(stddev "BM_PeriodicGFApply/256")
+force=$(median "BM_LfmInterfaceForce/real_time"); forces=$(stddev "BM_LfmInterfaceForce/real_time")
+curv=$(median "BM_LfmInterfaceCurvature/real_time"); curvs=$(stddev "BM_LfmInterfaceCurvature/real_time")
+iter=$(median "BM_LbfgsIteration/real_time"); iters=$(stddev "BM_LbfgsIteration/real_time")
+gf43=$(median "BM_FreeGFInPlane/91/1")
 section=$(cat <<EOT
 ## GF application (bench/bench_gf.cpp)
 
@@ -46,6 +50,12 @@ $rows
 Periodic GF of a 256 x 256 cell (in-plane, 12 Poisson images per direction: relative truncation
 error about 6e-5, see tests/unit/test_surface_gf.cpp): building the kernel
 $(printf '%.0f' "$pbuild") ms (once per cell, one thread), one application $(printf '%.3f +- %.3f' "$papply" "$papplys") ms.
+
+Lateral force model on the default scene's block (a = 43 d: 91 x 91 block, 5802 contact sites,
+182 x 182 grid), one thread: interface force and energy $(printf '%.1f +- %.1f' "$force" "$forces") us,
+Hessian diagonal $(printf '%.1f +- %.1f' "$curv" "$curvs") us, one GF application $(printf '%.3f' "$gf43") ms, one L-BFGS
+iteration (GF application, line search, two-loop recursion; mean over a 40-iteration
+relaxation) $(awk -v t="$iter" 'BEGIN{printf "%.3f", t/40}') ms. The GF application is most of an iteration.
 EOT
 )
 rm -f "$json"

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Every benchmark of the project, one after the other, each recording its section of
+# docs/benchmarks.md with provenance (commit, date, machine, threads, command) and its figures
+# in docs/figures/. Run it on a quiet machine: the sections report wall times.
+# Usage: bench/run_all.sh [build dir]   (default: build). About 30-40 minutes on 2 cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+bash bench/run_micro.sh "$build"
+bash bench/run_tracking.sh "$build"
+bash bench/run_peierls.sh "$build"
+bash bench/run_scaling.sh "$build"
+bash bench/run_work_precision.sh "$build"
