@@ -388,9 +388,14 @@ std::vector<fs::path> write_figures(const fs::path& dir, const Scene& s,
   }
 
   std::vector<app::Series> width;
+  int colour = 0;
   for (const auto& [theta, list] : by_angle) {
-    app::Series measured{.title = angle_title(theta) + ", relaxed", .style = "points pt 7 ps 1.3"};
-    app::Series continuum{.title = angle_title(theta) + ", continuum PN", .style = "lines dt 2"};
+    // One colour per angle for its points and its continuum line.
+    const std::string lc = " lc " + std::to_string(++colour);
+    app::Series measured{.title = angle_title(theta) + ", relaxed",
+                         .style = "points pt 7 ps 1.3" + lc};
+    app::Series continuum{.title = angle_title(theta) + ", continuum PN",
+                          .style = "lines dt 2" + lc};
     for (const Row* r : list) {
       measured.x.push_back(r->point.b_core);
       measured.y.push_back(r->core_width);
