@@ -177,6 +177,10 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
   Series along_y{.title = "tau_x, x = Dx", .style = "points pt 6 ps 0.6"};
   Series envelope{.title = "tau_max = alpha p(r)", .style = "lines dt 2"};
   Series mindlin{.title = "Cattaneo-Mindlin", .style = "lines lw 2"};
+  // Explicit model (snapshots with u_z): the local pressure per atom on the same axes, against
+  // Hertz (the envelope curve is p/p0 of Hertz as well).
+  const bool explicit_model = !peak.uz.empty();
+  Series pressure_x{.title = "p / p0, y = 0", .style = "points pt 2 ps 0.6"};
   std::vector<double> mx, my, map;
   const int ix_tip = static_cast<int>(std::lround(peak.Dx / c.d)) - blk.origin0;
   for (int i0 = 0; i0 < blk.shape.n0; ++i0)
@@ -193,6 +197,8 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
       if (blk.y(i1, c.d) == 0.0) {
         along_x.x.push_back((blk.x(i0, c.d) - peak.Dx) / c.a);
         along_x.y.push_back(t);
+        pressure_x.x.push_back((blk.x(i0, c.d) - peak.Dx) / c.a);
+        pressure_x.y.push_back(peak.pressure[i] / p0);
       }
       if (i0 == ix_tip) {
         along_y.x.push_back(blk.y(i1, c.d) / c.a);
@@ -207,10 +213,15 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
     mindlin.x.push_back(rho);
     mindlin.y.push_back(cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
   }
-  plot_png(dir / "stress_profiles.png", {along_x, along_y, envelope, mindlin},
-           {.title = "Shear stress at the friction peak (Dx = " + std::to_string(peak.Dx) + " d)",
+  std::vector<Series> profiles{along_x, along_y, envelope, mindlin};
+  if (explicit_model) profiles.push_back(pressure_x);
+  plot_png(dir / "stress_profiles.png", profiles,
+           {.title = std::string(explicit_model ? "Shear stress and pressure" : "Shear stress")
+                         .append(" at the friction peak (Dx = ")
+                         .append(std::to_string(peak.Dx))
+                         .append(" d)"),
             .xlabel = "r / a (along x: (x - Dx)/a; along y: y/a)",
-            .ylabel = "tau / (alpha p0)"});
+            .ylabel = explicit_model ? "tau / (alpha p0), p / p0" : "tau / (alpha p0)"});
   written.push_back(dir / "stress_profiles.png");
   heatmap_png(
       dir / "stress_map.png", mx, my, map,
@@ -224,7 +235,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
 
 // snapshots/<label>.nc: one NetCDF file per label (relaxation paths hold their frames in order).
 void write_snapshot_files(const std::filesystem::path& dir, const SlideScene& scene,
-                          const slide::SlideResult& r,
+                          const slide::SlideResult& r, const nlohmann::json& extra,
                           std::vector<std::filesystem::path>& written) {
   const auto& c = scene.contact;
   const double alpha = c.alpha;
@@ -237,6 +248,11 @@ void write_snapshot_files(const std::filesystem::path& dir, const SlideScene& sc
                                {"nu", c.material.nu},
                                {"a_over_bcore0", c.a_over_bcore0()},
                                {"tolerance", scene.options.minimizer.force_tolerance}};
+  if (extra.is_object()) {
+    for (const auto& [key, value] : extra.items()) {
+      if (!value.is_structured()) attributes[key] = value;
+    }
+  }
   std::map<std::string, std::vector<slide::Snapshot>> groups;
   std::vector<std::string> order;
   for (const auto& snap : r.snapshots) {
@@ -266,10 +282,12 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
                    static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites)});
   }
   if (options.figures) write_figures(dir, scene, r, written);
-  if (options.snapshots) write_snapshot_files(dir, scene, r, written);
+  if (options.snapshots) write_snapshot_files(dir, scene, r, options.summary_extra, written);
   trace.write(dir / "trace.csv");
   written.push_back(dir / "trace.csv");
-  write_json(dir / "summary.json", slide_summary(scene, r));
+  nlohmann::json summary = slide_summary(scene, r);
+  if (options.summary_extra.is_object()) summary.update(options.summary_extra);
+  write_json(dir / "summary.json", summary);
   written.push_back(dir / "summary.json");
   return written;
 }
@@ -449,6 +467,50 @@ std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesy
        {"run", {{"wall_s", r.wall_s}, {"provenance", provenance_json()}}}});
   written.push_back(dir / "summary.json");
   return written;
+}
+
+ExplicitAlpha explicit_alpha(const ExplicitSlideScene& scene) {
+  const auto& m = scene.model;
+  const auto hz = contact::Hertz::from_load(m.material, m.R, scene.slide.contact.hertz().load);
+  ExplicitAlpha out;
+  out.centre_force = hz.p0 * m.d * m.d / m.force_unit();
+  out.alpha = out.alpha_force = std::nan("");
+  try {
+    const auto path = explicit_model::alpha_path(
+        {.sigma_over_d = m.sigma_over_d, .normal_force = out.centre_force});
+    out.alpha = path.alpha;
+    out.alpha_force = path.alpha_force;
+  } catch (const std::runtime_error&) {
+    // A load the single atom cannot hold: NaN.
+  }
+  return out;
+}
+
+slide::SlideResult slide_explicit_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha,
+                                        const slide::SlideProgress& progress) {
+  explicit_model::ExplicitSlideOptions eo;
+  eo.load = scene.slide.contact.hertz().load;
+  eo.alpha = alpha.alpha;
+  return explicit_model::slide_explicit(scene.model, eo, scene.slide.options,
+                                        slide::SlideControl{.progress = progress});
+}
+
+SlideScene explicit_as_slide_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha) {
+  SlideScene s = scene.slide;
+  s.contact.alpha = alpha.alpha;
+  return s;
+}
+
+nlohmann::json explicit_summary_extra(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha) {
+  const auto& m = scene.model;
+  return {{"model", "explicit"},
+          {"G_eps_sigma3", m.G_eps_sigma3},
+          {"sigma_over_d", m.sigma_over_d},
+          {"alpha_source", "alpha_path at the central Hertz load"},
+          {"alpha_force", alpha.alpha_force},
+          {"centre_force_eps_sigma", alpha.centre_force},
+          {"force_unit", m.force_unit()},
+          {"energy_unit", m.energy_unit()}};
 }
 
 }  // namespace asperity::app

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "explicit/explicit_contact.hpp"
+#include "explicit/explicit_slide.hpp"
 #include "interface/lfm.hpp"
 #include "slide/slider.hpp"
 
@@ -37,6 +38,9 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
 struct SlideOutputOptions {
   bool figures = true;    // trace.png, stress_profiles.png, stress_map.png
   bool snapshots = true;  // snapshots/<label>.nc, NetCDF field snapshots
+  // Entries added to (or replacing those of) summary.json and the snapshots' attributes: the
+  // explicit model's {"model": "explicit", G in eps/sigma^3, ...}. Null: none.
+  nlohmann::json summary_extra;
 };
 
 // Writes trace.csv, summary.json and, as `options` asks, the figures and the NetCDF snapshots
@@ -57,6 +61,25 @@ struct ExplicitSlideScene {
   explicit_model::ExplicitScene model;
 };
 ExplicitSlideScene read_explicit_scene(const std::string& path);
+
+// alpha of the potential at the central atom's Hertz load p0 d^2 of contact.a (alpha_path; nearly
+// load independent): the alpha that mu/alpha and a/b_core^0 of the explicit model refer to.
+// NaN if the single atom cannot hold that load.
+struct ExplicitAlpha {
+  double alpha = 0.0;         // largest slope of the minimum-energy height profile
+  double alpha_force = 0.0;   // largest Fx/Fz along it
+  double centre_force = 0.0;  // the load it was computed at (eps/sigma)
+};
+ExplicitAlpha explicit_alpha(const ExplicitSlideScene& scene);
+
+// Sliding of the explicit model at the Hertz load of contact.a (explicit/explicit_slide.hpp),
+// with the scene's slide options; `alpha` from explicit_alpha().
+slide::SlideResult slide_explicit_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha,
+                                        const slide::SlideProgress& progress = {});
+// The SlideScene and output options under which write_slide_outputs writes an explicit slide:
+// contact.alpha = alpha of the potential, summary_extra naming the model and its parameters.
+SlideScene explicit_as_slide_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha);
+nlohmann::json explicit_summary_extra(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha);
 
 // Normal loading of the explicit model: summary.json (parameters, load, Hertz comparison,
 // alpha of the potential at the central load, cost), sites.csv (per atom: position, displacement,

@@ -120,6 +120,8 @@ void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attribu
     for (const Field& field : kFields)
       sized(field.name, (f.*field.values).size());
     sized("in_contact", f.in_contact.size());
+    // uz (explicit model only): in every frame of a file or in none.
+    if (!frames.front().uz.empty() || !f.uz.empty()) sized("uz", f.uz.size());
   }
 }
 
@@ -169,6 +171,11 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
     field_vars.push_back(
         define(out, f.name, NC_DOUBLE, {frame_dim, x_dim, y_dim}, f.units, f.long_name));
   }
+  // The normal displacement exists in the explicit model only (the LFM has none).
+  const bool has_uz = !first.uz.empty();
+  const int uz_var = has_uz ? define(out, "uz", NC_DOUBLE, {frame_dim, x_dim, y_dim}, "d",
+                                     "displacement along z (explicit model)")
+                            : -1;
   const int contact_var = define(out, "in_contact", NC_BYTE, {frame_dim, x_dim, y_dim}, "1",
                                  "site in contact (1) or not (0)");
 
@@ -227,6 +234,10 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
     }
     out.check(nc_put_vara_uchar(out.id, contact_var, start, count, frames[k].in_contact.data()),
               "writing 'in_contact'");
+    if (has_uz) {
+      out.check(nc_put_vara_double(out.id, uz_var, start, count, frames[k].uz.data()),
+                "writing 'uz'");
+    }
   }
   out.close();
   tmp.commit();
@@ -304,6 +315,11 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
     in.check(nc_get_vara_uchar(in.id, var("in_contact", field_dims), start, count,
                                frames[k].in_contact.data()),
              "reading 'in_contact'");
+    if (int uz = -1; nc_inq_varid(in.id, "uz", &uz) == NC_NOERR) {
+      frames[k].uz.resize(n0 * n1);
+      in.check(nc_get_vara_double(in.id, var("uz", field_dims), start, count, frames[k].uz.data()),
+               "reading 'uz'");
+    }
   }
   return frames;
 }

@@ -7,9 +7,10 @@
 // on a numerical failure (the last good state). --resume continues from it to the same result,
 // bit for bit, as an uninterrupted run; a finished run removes it.
 //
-// --model explicit: the explicit atomistic model (MODEL.md 4; core/explicit/), normal loading to
-// the Hertz load of contact.a only (default scene data/scenes/explicit_default.toml); outputs in
-// app::write_explicit_load_outputs (common/slide_io.hpp).
+// --model explicit: the explicit atomistic model (MODEL.md 4; core/explicit/; default scene
+// data/scenes/explicit_default.toml): normal loading to the Hertz load of contact.a (outputs of
+// app::write_explicit_load_outputs); with --slide, then sliding at fixed Fz with the same
+// protocols and outputs as the LFM (the loading's outputs then go to <out>/loading).
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -106,23 +107,29 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::string model = "lfm";
     cli.add_option("--model", model,
-                   "lfm (lateral force model) | explicit (LJ atomistic tip, MODEL.md 4: normal "
-                   "loading only so far)")
+                   "lfm (lateral force model) | explicit (LJ atomistic tip, MODEL.md 4)")
         ->check(CLI::IsMember({"lfm", "explicit"}))
         ->capture_default_str();
+    bool explicit_slide = false;
+    cli.add_flag("--slide", explicit_slide,
+                 "--model explicit: after the normal loading, slide at fixed Fz (the LFM's "
+                 "protocols and outputs; the loading's outputs go to <out>/loading)");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+    if (explicit_slide && model != "explicit") {
+      throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
+    }
 
-    if (model == "explicit") {
-      // Normal loading of the explicit model. Sliding at fixed Fz is not implemented for it
-      // yet: the flags that only make sense for a slide are rejected rather than ignored.
+    if (model == "explicit" && !explicit_slide) {
+      // Normal loading of the explicit model alone (--slide adds the sliding): the flags that
+      // only make sense for a slide are rejected rather than ignored.
       for (const auto& [flag, given] :
            {std::pair{"--alpha", alpha.has_value()}, std::pair{"--distance", distance.has_value()},
             std::pair{"--protocol", protocol.has_value()}, std::pair{"--resume", resume}}) {
         if (given) {
           throw std::invalid_argument(
               std::string(flag) +
-              ": not available with --model explicit, which does normal loading only so far "
-              "(sliding at fixed Fz is not implemented yet; alpha follows from the potential)");
+              ": not available with --model explicit without --slide, which does the normal "
+              "loading only (add --slide to slide at fixed Fz; alpha follows from the potential)");
         }
       }
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
@@ -161,14 +168,95 @@ int main(int argc, char** argv) {
         if (f.extension() == ".png") std::printf(" %s", f.c_str());
       }
       std::printf("\n");
-      std::fprintf(stderr,
-                   "contact_slide: --model explicit: sliding at fixed Fz is not implemented yet; "
-                   "only the normal loading was done\n");
       if (r.termination != Termination::converged) {
         std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.message.c_str());
         return 1;
       }
       return 0;
+    }
+
+    if (model == "explicit") {
+      // The explicit model: normal loading to the Hertz load of contact.a, then sliding at fixed
+      // Fz with the LFM's protocols (explicit/explicit_slide.hpp). alpha is a property of the
+      // potential, and checkpoints are not implemented for this model: those flags are rejected.
+      for (const auto& [flag, given] :
+           {std::pair{"--alpha", alpha.has_value()}, std::pair{"--resume", resume}}) {
+        if (given) {
+          throw std::invalid_argument(
+              std::string(flag) +
+              ": not available with --model explicit (alpha follows from the potential; "
+              "checkpoints and --resume are implemented for the lateral force model only)");
+        }
+      }
+      if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
+      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path);
+      auto& c = e.slide.contact;
+      if (a) c.a = *a;
+      if (R) c.R = e.model.R = *R;
+      if (nu) c.material.nu = e.model.material.nu = *nu;
+      if (distance) e.slide.options.distance = *distance;
+      if (protocol) e.slide.options.protocol = slide::protocol_from_string(*protocol);
+      if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
+      if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
+      if (threads) e.slide.options.fft.threads = *threads;
+      c.validate();
+      e.model.validate();
+      e.slide.options.validate();
+      explicit_model::require_small_slope(c.a, c.R);
+      const double load = c.hertz().load;
+      const app::ExplicitAlpha alpha_p = app::explicit_alpha(e);
+      std::fprintf(stderr,
+                   "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
+                   "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; alpha of the potential "
+                   "%.4f (max Fx/Fz %.4f): a/b_core^0 = %.3g; %s protocol, tolerance %g\n",
+                   c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
+                   e.model.sigma_over_d, c.material.nu, alpha_p.alpha, alpha_p.alpha_force,
+                   app::explicit_as_slide_scene(e, alpha_p).contact.a_over_bcore0(),
+                   slide::to_string(e.slide.options.protocol).c_str(),
+                   e.slide.options.minimizer.force_tolerance);
+      // Normal loading alone, with its comparison to Hertz, in <out>/loading.
+      explicit_model::LoadOptions lo{.load = load};
+      lo.minimizer = e.slide.options.minimizer;
+      lo.fft = e.slide.options.fft;
+      const auto lr = explicit_model::load_to_force(e.model, lo);
+      app::write_explicit_load_outputs(std::filesystem::path(out) / "loading", e, lr);
+      std::printf(
+          "loading: Fz = %.6g G d^2, delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
+          "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d); "
+          "%zu GF applications, %.2f s\n",
+          lr.state.Fz, lr.delta, lr.hertz.approach, 100.0 * lr.delta_error, 100.0 * lr.load_error,
+          lr.state.a_area, lr.state.a_moment, lr.hertz.a, lr.gf_applications, lr.wall_s);
+      if (lr.termination != Termination::converged) {
+        std::fprintf(stderr, "contact_slide: loading FAILED: %s\n", lr.message.c_str());
+        return 1;
+      }
+      const bool tty_e = isatty(2) != 0;
+      const slide::SlideResult r =
+          app::slide_explicit_scene(e, alpha_p, [tty_e](double Dx, double limit, int slips) {
+            if (tty_e) {
+              std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx,
+                           limit, slips);
+            }
+          });
+      if (tty_e) std::fprintf(stderr, "\n");
+      const auto files =
+          app::write_slide_outputs(out, app::explicit_as_slide_scene(e, alpha_p), r,
+                                   {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
+      std::printf(
+          "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
+          "%.4f d, precision %.1e), kinetic/static = %.3f, slip events %d\n",
+          r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", alpha_p.alpha,
+          alpha_p.alpha_force, r.peak_Dx, r.peak_precision, r.kinetic_over_static, r.slip_events);
+      std::printf(
+          "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications, %.2f s\n",
+          r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications, r.wall_s);
+      std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
+      for (const auto& f : files) {
+        if (f.extension() == ".png") std::printf(" %s", f.c_str());
+      }
+      std::printf("\n");
+      if (r.failed) std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+      return r.failed ? 1 : 0;
     }
 
     app::SlideScene s = app::read_slide_scene(scene_path);

@@ -255,6 +255,11 @@ void ExplicitContact::set_tip(double Dx, double h) {
   set_active_radius(radius_);
 }
 
+void ExplicitContact::clear_forces() {
+  std::fill(f_.begin(), f_.end(), 0.0);
+  std::fill(u_.begin(), u_.end(), 0.0);
+}
+
 void ExplicitContact::set_forces(const std::vector<double>& f) {
   if (f.size() != f_.size()) {
     throw std::invalid_argument("ExplicitContact::set_forces: got " + std::to_string(f.size()) +
@@ -310,7 +315,8 @@ double ExplicitContact::load() const {
 }
 
 minimize::MinimizeResult ExplicitContact::relax(const minimize::MinimizerOptions& options,
-                                                double margin, int max_growths, int* growths) {
+                                                double margin, int max_growths, int* growths,
+                                                const minimize::Observer& observer) {
   minimize::MinimizeResult total;
   const std::size_t gf0 = gf_applications();
   for (int grown = 0;; ++grown) {
@@ -323,7 +329,7 @@ minimize::MinimizeResult ExplicitContact::relax(const minimize::MinimizerOptions
       }
     }
     Problem problem(*this);
-    const auto r = minimize::minimize(problem, u, f, options);
+    const auto r = minimize::minimize(problem, u, f, options, observer);
     for (std::size_t k = 0; k < 3; ++k) {
       for (std::size_t j = 0; j < m; ++j)
         f_[k * n + sites_[j]] = f[k * m + j];

@@ -132,6 +132,9 @@ class ExplicitContact {
   void set_tip(double Dx, double h);
   // Active disk radius (d) around the tip centre; grows the block if needed.
   void set_active_radius(double radius);
+  // Zero forces and displacements (no GF application): before set_tip() and set_forces() load
+  // another state, so that the block can move without carrying the old one's forces.
+  void clear_forces();
   // Forces on the block sites (component-major x, y, z) as a start; u = G f is recomputed.
   void set_forces(const std::vector<double>& f);
   // The Hertz state at `load`: f_z = -p(r_i) d^2, the apex height of the Hertz approach; the
@@ -139,8 +142,11 @@ class ExplicitContact {
   void start_from_hertz(double load);
 
   // Minimises at the current tip, growing the active disk until no atom outside feels a force.
+  // `observer` sees every iteration of every minimisation (unknowns of active_site_list(),
+  // component-major); returning true stops relax() with Termination::interrupted.
   minimize::MinimizeResult relax(const minimize::MinimizerOptions& options, double margin,
-                                 int max_growths, int* growths = nullptr);
+                                 int max_growths, int* growths = nullptr,
+                                 const minimize::Observer& observer = {});
 
   [[nodiscard]] ExplicitState state() const;
   [[nodiscard]] const ExplicitScene& scene() const { return scene_; }
@@ -149,6 +155,10 @@ class ExplicitContact {
   [[nodiscard]] double active_radius() const { return radius_; }
   [[nodiscard]] std::size_t active_sites() const { return sites_.size(); }
   [[nodiscard]] const LatticeBlock& block() const { return block_; }
+  // The block fields (component-major x, y, z; G d^2 and d) and the active block sites.
+  [[nodiscard]] const std::vector<double>& forces() const { return f_; }
+  [[nodiscard]] const std::vector<double>& displacements() const { return u_; }
+  [[nodiscard]] const std::vector<std::size_t>& active_site_list() const { return sites_; }
   [[nodiscard]] Shape2 fft_grid() const;
   [[nodiscard]] std::size_t gf_applications() const {
     return gf_apps_ + (gf_ ? gf_->applications() : 0);

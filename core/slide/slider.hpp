@@ -70,7 +70,9 @@ struct Snapshot {
   std::vector<double> ux, uy;             // displacement (d)
   std::vector<double> sx, sy;             // relative position s = X + u - (Dx, 0) (d)
   std::vector<double> tau_x, tau_y;       // local shear stress f / d^2 (G)
-  std::vector<double> tau_max, pressure;  // envelope and Hertz pressure (G)
+  std::vector<double> tau_max, pressure;  // envelope and pressure (G): Hertz in the LFM; the
+                                          // explicit model's alpha p and p = -f_z / d^2
+  std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
   std::vector<std::uint8_t> in_contact;
 };
 
@@ -123,6 +125,7 @@ struct SlideFields {
   int shift = 0;             // block offset along x (lattice steps)
   std::vector<double> f, u;  // force (G d^2) and displacement (d) per block site, x then y
   double Fx = 0.0, Fz = 0.0, energy = 0.0;
+  double h = 0.0;  // explicit model: apex height of the tip (d); unused (0) in the LFM
 };
 
 // Everything slide() needs to continue a slide exactly where it was (checkpoint and resume): a

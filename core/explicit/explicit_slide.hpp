@@ -1,0 +1,49 @@
+// Sliding of the explicit atomistic model at fixed normal load (MODEL.md 4 protocol, MODEL.md 5
+// sliding): the tip is loaded to a target Fz, then moved in +x with the protocols of
+// slide/slider.hpp (reference and adaptive, bisection of instabilities, slip detection, peak
+// refinement). The protocol code is shared with the lateral force model (slide/protocol.hpp);
+// this file supplies the model:
+// - a step to tip position Dx is a minimisation at fixed apex height h followed, until
+//   |Fz - target| <= load_tolerance * target, by secant steps on h (each a warm-started
+//   minimisation): the state of a step is (Dx, h(Dx)), and the warm start extrapolates both the
+//   force field and h along the branch;
+// - the unknowns are the atoms of the active disk of ExplicitContact, which follows the tip and
+//   grows; states live on blocks of different size and origin, and are mapped onto each other
+//   by lattice index (warm starts, slip detection, snapshots);
+// - slip: an atom that feels a force whose x displacement changed by more than d/2 between two
+//   states (it moved to the next hollow of the tip);
+// - snapshots on a fixed square block around the tip (the same for every frame): displacement
+//   (with u_z), interface force as stress, pressure p = -f_z / d^2 per atom, and
+//   tau_max = alpha p with the alpha of the potential.
+// Not available for this model: checkpoints and resume (SlideControl::start, checkpoint), and
+// relaxation-path frames (SlideOptions::path_frame_every is ignored).
+#pragma once
+
+#include "explicit/explicit_contact.hpp"
+#include "slide/slider.hpp"
+
+namespace asperity::explicit_model {
+
+struct ExplicitSlideOptions {
+  double load = 0.0;             // target Fz (G d^2); > 0
+  double load_tolerance = 1e-4;  // per step, |Fz - target| <= this * target: mu = Fx/Fz of the
+                                 // state itself, so this only fixes the load mu refers to
+  int max_load_steps = 20;       // secant steps on h per tip position
+  double margin = 3.0;           // active disk beyond the farthest loaded atom (d)
+  int max_growths = 50;          // disk growths per minimisation
+  double alpha = 0.0;            // local friction coefficient of the potential, for mu/alpha and
+                                 // tau_max (alpha_path at the central load); > 0
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+// Loads, then slides (options: protocol, steps, distance, minimiser, FFT threads). The automatic
+// distance cap is 3 d + 3 alpha Fz / k with k = 8 G a_H / (2 - nu), as in the LFM. Returns the
+// LFM's result type: trace, mu (max Fx/Fz of the states), mu/alpha, snapshots ("peak",
+// "slip_NNN_before/after", "last_good"), cost. Throws std::invalid_argument for bad options,
+// a/R >= 0.1, or a control with a start state or checkpoints.
+slide::SlideResult slide_explicit(const ExplicitScene& scene, const ExplicitSlideOptions& eo,
+                                  const slide::SlideOptions& options,
+                                  const slide::SlideControl& control = {});
+
+}  // namespace asperity::explicit_model

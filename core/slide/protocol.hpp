@@ -1,0 +1,458 @@
+// The sliding protocols of MODEL.md section 5 (slider.hpp: reference and adaptive, bisection of
+// instabilities, slip detection, peak refinement, checkpoints), written once against a model of
+// the contact so that the lateral force model (slider.cpp) and the explicit atomistic model
+// (explicit/explicit_slide.cpp) slide through the same code.
+//
+// A Model provides (State = SlideFields; its fields live on a block of sites that the model
+// chooses, identified by State::shift and the field size):
+//   State initial();                           the state the slide starts from (unrelaxed)
+//   MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames, bool stop_on_slip);
+//                                              move s to tip position Dx and minimise; with
+//                                              stop_on_slip, return Termination::interrupted as
+//                                              soon as a site has moved by d/2
+//   void align(State& s, const State& like);   bring s's fields onto like's block (warm starts)
+//   int slipped_sites(const State& before, const State& after);  registry index changes
+//   Snapshot snapshot(const State& s, std::string label);
+//   std::size_t field_size(), contact_sites(), gf_applications();  Shape2 block_shape(),
+//   fft_grid();
+// Include only from the .cpp files that instantiate it.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/validate.hpp"
+#include "slide/slider.hpp"
+
+namespace asperity::slide::detail {
+
+// What the protocol needs to know of the scene.
+struct ProtocolParams {
+  double d = 1.0;             // lattice spacing (d)
+  double alpha = 1.0;         // local friction coefficient, for mu / alpha
+  double Fz_continuum = 0.0;  // continuum load reported with the result (G d^2)
+  double default_cap = 0.0;   // automatic distance cap when SlideOptions.max_distance = 0 (d)
+};
+
+// A start state must come from a slide of the same scene: every field on the same block.
+inline void check_start(const SlideState& st, std::size_t field_size) {
+  const auto fields = [&](const SlideFields& f, const char* name) {
+    if (f.f.size() != field_size || f.u.size() != field_size) {
+      reject(std::string("SlideState.") + name + " fields",
+             std::to_string(f.f.size()) + " and " + std::to_string(f.u.size()) + " values",
+             std::to_string(field_size) + " (2 per site of this scene's block)");
+    }
+    if (!std::isfinite(f.Dx) || !(f.Dx >= 0.0)) {
+      reject(std::string("SlideState.") + name + ".Dx", std::to_string(f.Dx), "finite and >= 0");
+    }
+  };
+  fields(st.current, "current");
+  fields(st.peak, "peak");
+  if (st.previous) fields(*st.previous, "previous");
+  if (st.earlier) fields(*st.earlier, "earlier");
+  if (st.runner_up) fields(*st.runner_up, "runner_up");
+  if (st.partial.trace.empty())
+    reject("SlideState.partial.trace", "empty", "the first row at least");
+}
+
+template <class Model>
+SlideResult run_protocol(Model& model, const ProtocolParams& params, const SlideOptions& options,
+                         const SlideControl& control, std::chrono::steady_clock::time_point t0) {
+  using State = SlideFields;
+  const auto elapsed = [&t0] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  SlideResult res;
+  // Of the earlier sessions of a resumed slide (counted in the start state).
+  std::size_t gf_before = 0;
+  double wall_before = 0.0;
+  if (control.start) {
+    check_start(*control.start, model.field_size());
+    res = control.start->partial;
+    gf_before = res.gf_applications;
+    wall_before = res.wall_s;
+  }
+  res.block = model.block_shape();
+  res.fft_grid = model.fft_grid();
+  res.Fz_continuum = params.Fz_continuum;
+  const double d = params.d;
+  const bool automatic = options.distance == 0.0;
+  const double limit =
+      automatic ? (options.max_distance > 0.0 ? options.max_distance : params.default_cap)
+                : options.distance;
+
+  State state = model.initial();
+  const auto record = [&](const State& s, const minimize::MinimizeResult& r, bool slip, int sites) {
+    res.trace.push_back(TraceRow{s.Dx, s.Fx, s.Fz, s.energy, r.iterations, r.gf_applications,
+                                 r.max_force, slip, sites});
+    res.iterations += r.iterations;
+  };
+  const auto count = [&](const minimize::MinimizeResult& r) {
+    ++res.minimizations;
+    res.gradient_evaluations += r.interface_evaluations;
+  };
+  // Why a relaxation to Dx (from the state at `from`) cannot be accepted: the minimiser did not
+  // converge, or the relaxed state has non-finite forces or energy. Empty if it can. The message
+  // names the step and the parameters needed to reproduce it.
+  const auto failure = [&](const minimize::MinimizeResult& r, const State& s, double Dx,
+                           double from) -> std::string {
+    const char* what = nullptr;
+    if (r.termination != Termination::converged) {
+      what = "";
+    } else if (!std::isfinite(s.Fx) || !std::isfinite(s.Fz) || !std::isfinite(s.energy)) {
+      what = "non-finite force or energy after ";
+    } else {
+      return {};
+    }
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "%sminimizer %s at Dx = %.9g d (step %d, from Dx = %.9g d, step size %.3g d; "
+                  "%d iterations, max force %.3g, energy %.9g; %s, tolerance %g, max "
+                  "iterations %d)",
+                  what, to_string(r.termination).c_str(), Dx, res.steps + 1, from, Dx - from,
+                  r.iterations, r.max_force, r.energy,
+                  minimize::to_string(options.minimizer.method).c_str(),
+                  options.minimizer.force_tolerance, options.minimizer.max_iterations);
+    return buf;
+  };
+
+  std::optional<State> peak, previous, earlier, runner_up;
+  double runner_up_ratio = -std::numeric_limits<double>::infinity();
+  double best = 0.0;
+  double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
+  double slip_at = std::numeric_limits<double>::infinity();
+  bool stopped = false;
+  if (control.start) {
+    const SlideState& st = *control.start;
+    state = st.current;
+    previous = st.previous;
+    earlier = st.earlier;
+    peak = st.peak;
+    runner_up = st.runner_up;
+    best = st.best;
+    runner_up_ratio = st.runner_up_ratio;
+    first_max_Dx = st.first_max_Dx;
+    slip_at = st.slip_at;
+    stopped = st.stepping_done;
+  } else {
+    auto first = model.relax(state, 0.0, nullptr);
+    count(first);
+    res.contact_sites = model.contact_sites();
+    record(state, first, false, 0);
+    best = state.Fx / state.Fz;
+    peak = state;
+    if (const std::string why = failure(first, state, 0.0, 0.0); !why.empty()) {
+      res.failed = true;  // no good state yet to keep
+      res.stop_reason = why;
+      stopped = true;
+    }
+  }
+
+  // The state at the top of the stepping loop (or after it), for checkpoints.
+  const auto capture = [&](bool stepping_done) {
+    SlideState st{.current = state,
+                  .previous = previous,
+                  .earlier = earlier,
+                  .peak = *peak,
+                  .runner_up = runner_up,
+                  .best = best,
+                  .runner_up_ratio = runner_up_ratio,
+                  .first_max_Dx = first_max_Dx,
+                  .slip_at = slip_at,
+                  .stepping_done = stepping_done,
+                  .partial = res};
+    st.partial.gf_applications = gf_before + model.gf_applications();
+    st.partial.wall_s = wall_before + elapsed();
+    return st;
+  };
+  // Stop on request: hand the state over and return what is known so far.
+  const auto interrupt = [&](const SlideState& st) {
+    if (control.checkpoint) control.checkpoint(st);
+    SlideResult out = st.partial;
+    out.interrupted = true;
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "interrupted at Dx = %.6g d%s", st.current.Dx,
+                  st.stepping_done ? " (refining the peak)" : "");
+    out.stop_reason = buf;
+    out.mu = st.best;
+    out.mu_over_alpha = st.best / params.alpha;
+    out.mu_is_lower_bound = true;  // the static peak is not established yet
+    out.peak_Dx = st.peak.Dx;
+    out.Fz = st.peak.Fz;
+    out.distance = st.current.Dx;
+    out.kinetic = out.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  };
+  const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
+  auto last_checkpoint = std::chrono::steady_clock::now();
+
+  const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
+  while (!stopped) {
+    if (stop_requested()) return interrupt(capture(false));
+    if (control.checkpoint) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_checkpoint).count() >=
+          control.checkpoint_every_s) {
+        control.checkpoint(capture(false));
+        last_checkpoint = now;
+      }
+    }
+    if (state.Dx >= limit - 1e-12) {
+      res.stop_reason = automatic ? "distance cap reached" : "distance reached";
+      break;
+    }
+    // Adaptive: a bracket [state.Dx, slip_at] around a known instability is bisected until it
+    // is min_step wide; the slip is then taken from its stable end.
+    // Smooth sliding (a maximum without a slip, Regime I): the kinetic friction is the mean of a
+    // near-sinusoid over the last period, which the trapezoid rule gets right only from evenly
+    // spread samples: eight per period from the first maximum on.
+    const double step =
+        options.protocol == Protocol::adaptive && first_max_Dx >= 0.0 && res.slip_events == 0
+            ? std::min(h, 0.125 * d)
+            : h;
+    double Dx = std::min(state.Dx + step, limit);
+    bool may_undo = false;
+    if (options.protocol == Protocol::adaptive) {
+      const double gap = slip_at - state.Dx;
+      if (!std::isfinite(slip_at)) {
+        may_undo = true;
+      } else if (gap > options.min_step * 1.0001) {
+        Dx = state.Dx + 0.5 * gap;
+        may_undo = true;
+      } else {
+        Dx = slip_at;
+      }
+    }
+    State trial = state;
+    // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or
+    // three states of the branch (Lagrange; u follows as G f). After a slip the branch is new.
+    const std::size_t rows = res.trace.size();
+    const bool on_branch1 = previous && !res.trace.back().slip && state.Dx > previous->Dx;
+    const bool on_branch2 = on_branch1 && earlier && rows >= 3 && !res.trace[rows - 2].slip &&
+                            previous->Dx > earlier->Dx;
+    if (options.extrapolate && on_branch1) {
+      State p1 = *previous;
+      model.align(p1, trial);
+      if (on_branch2) {
+        State p2 = *earlier;
+        model.align(p2, trial);
+        const double x0 = p2.Dx, x1 = p1.Dx, x2 = state.Dx;
+        const double l0 = (Dx - x1) * (Dx - x2) / ((x0 - x1) * (x0 - x2));
+        const double l1 = (Dx - x0) * (Dx - x2) / ((x1 - x0) * (x1 - x2));
+        const double l2 = (Dx - x0) * (Dx - x1) / ((x2 - x0) * (x2 - x1));
+        for (std::size_t i = 0; i < trial.f.size(); ++i) {
+          trial.f[i] = l0 * p2.f[i] + l1 * p1.f[i] + l2 * state.f[i];
+        }
+        trial.h = l0 * p2.h + l1 * p1.h + l2 * state.h;  // explicit model: tip height
+      } else {
+        const double w = (Dx - state.Dx) / (state.Dx - p1.Dx);
+        for (std::size_t i = 0; i < trial.f.size(); ++i)
+          trial.f[i] += w * (state.f[i] - p1.f[i]);
+        trial.h += w * (state.h - p1.h);
+      }
+    }
+    std::vector<Snapshot> frames;
+    const bool want_frames = options.path_frame_every > 0 && !may_undo;
+    const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
+    count(r);
+    if (may_undo && r.termination == Termination::interrupted) {
+      slip_at = Dx;  // slipped: bisect towards the instability
+      continue;
+    }
+    if (const std::string why = failure(r, trial, Dx, state.Dx); !why.empty()) {
+      // The trial is dropped; the last accepted state is kept as a checkpoint (resumable) and
+      // as snapshot "last_good".
+      if (control.checkpoint) control.checkpoint(capture(false));
+      res.failed = true;
+      res.stop_reason = why;
+      res.snapshots.push_back(model.snapshot(state, "last_good"));
+      break;
+    }
+    const int sites = model.slipped_sites(state, trial);
+    const bool slip = sites > 0;
+    if (slip && may_undo) {
+      slip_at = Dx;
+      continue;
+    }
+    // After a slip the bracket is used up; a stable state at the bracket's end means the
+    // instability lies further on (a trial from further back had slipped).
+    if (slip || Dx >= slip_at) slip_at = std::numeric_limits<double>::infinity();
+    if (slip) {
+      ++res.slip_events;
+      char label[32];
+      std::snprintf(label, sizeof label, "slip_%03d", res.slip_events);
+      res.snapshots.push_back(model.snapshot(state, std::string(label) + "_before"));
+      res.snapshots.push_back(model.snapshot(trial, std::string(label) + "_after"));
+      for (auto& frame : frames) {
+        frame.label = std::string(label) + "_path";
+        res.snapshots.push_back(std::move(frame));
+      }
+    }
+    earlier = std::move(previous);
+    previous = std::move(state);
+    state = std::move(trial);
+    record(state, r, slip, sites);
+    ++res.steps;
+    // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
+    // Regime I the trace repeats its first maximum a period later, and the first, which has
+    // samples on both sides, is the one to refine.
+    const double ratio = state.Fx / state.Fz;
+    if (ratio > best + 1e-6 * std::abs(best)) {
+      runner_up = std::move(peak);
+      runner_up_ratio = best;
+      best = ratio;
+      peak = state;
+    }
+    if (control.progress) control.progress(state.Dx, limit, res.slip_events);
+
+    // Regime I: a smooth maximum (rise then fall, no slip yet).
+    const std::size_t k = res.trace.size();
+    if (first_max_Dx < 0.0 && res.slip_events == 0 && k >= 3 &&
+        res.trace[k - 2].Fx > res.trace[k - 3].Fx && res.trace[k - 1].Fx < res.trace[k - 2].Fx) {
+      first_max_Dx = res.trace[k - 2].Dx;
+    }
+    if (automatic && res.slip_events >= options.slips_to_stop) {
+      res.stop_reason = "slip events reached";
+      break;
+    }
+    // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
+    // (the last period) must lie inside them.
+    const double lead = options.protocol == Protocol::adaptive ? h : 0.0;
+    if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
+        state.Dx >= first_max_Dx + lead + d - 1e-12) {
+      res.stop_reason = "one period past the first maximum (no slip)";
+      break;
+    }
+  }
+
+  // mu and its resolution. Before a slip the peak is the last stable state: the instability
+  // lies within one step after it, and mu is resolved to that step times the slope. A smooth
+  // maximum (Regime I) is refined, in the adaptive protocol, by parabolic search on Dx in the
+  // bracket of its neighbours (each point relaxed from the peak state); the reference protocol
+  // keeps the classic sampled maximum, and reports the parabola's excess as its precision.
+  // A maximum at the very end of the trace cannot be refined; if it only repeats an earlier one
+  // within the minimiser's noise (Regime I a period later; 1e-6 relative is seen), the earlier
+  // one, which has samples on both sides, is the peak.
+  // (Not when the runner-up is the sample just before: that is a ramp, cut off by the distance.)
+  // A stop requested during the refinement below returns this state: a resumed slide redoes
+  // the refinement from it.
+  // (Without the snapshots, which can be large and which the refinement leaves alone: they are
+  // added back if the state is used.)
+  std::optional<SlideState> stepping_end;
+  if (control.stop_requested) {
+    std::vector<Snapshot> snapshots = std::move(res.snapshots);
+    res.snapshots.clear();
+    stepping_end = capture(true);
+    res.snapshots = std::move(snapshots);
+  }
+  const std::size_t n_rows = res.trace.size();
+  if (runner_up && n_rows >= 2 && peak->Dx == res.trace.back().Dx &&
+      runner_up->Dx < res.trace[n_rows - 2].Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
+    peak = std::move(runner_up);
+    best = runner_up_ratio;
+  }
+  // Still rising at the last sample (cap or a fixed distance hit on the loading ramp): the
+  // static peak lies further on, mu is only a lower bound.
+  res.mu_is_lower_bound = peak->Dx == res.trace.back().Dx;
+  res.mu = best;
+  res.peak_Dx = peak->Dx;
+  res.Fz = peak->Fz;
+  const auto at_peak = std::find_if(res.trace.begin(), res.trace.end(),
+                                    [&](const TraceRow& row) { return row.Dx == peak->Dx; });
+  const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
+  if (at_peak != res.trace.begin() && at_peak != res.trace.end() &&
+      at_peak + 1 != res.trace.end()) {
+    const auto prev = at_peak - 1, next = at_peak + 1;
+    if (next->slip) {
+      res.peak_precision = (next->Dx - at_peak->Dx) *
+                           std::abs((ratio(*at_peak) - ratio(*prev)) / (at_peak->Dx - prev->Dx));
+    } else {
+      double x0 = prev->Dx, x1 = at_peak->Dx, x2 = next->Dx;
+      double y0 = ratio(*prev), y1 = ratio(*at_peak), y2 = ratio(*next);
+      const auto vertex = [&](double& yv) {
+        const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
+        const double curv = (d12 - d01) / (x2 - x0);
+        const double xv = 0.5 * (x0 + x1) - d01 / (2.0 * curv);
+        yv = y1 + (xv - x1) * (d01 + curv * (xv - x0));  // Newton form through the 3 points
+        return curv < 0.0 ? xv : x1;
+      };
+      double yv = y1;
+      double xv = vertex(yv);
+      res.peak_precision = std::max(0.0, yv - y1);
+      for (int k = 0;
+           k < 30 && options.protocol == Protocol::adaptive && x2 - x0 > 2.0 * options.min_step;
+           ++k) {
+        xv = std::clamp(vertex(yv), x0 + 0.25 * options.min_step, x2 - 0.25 * options.min_step);
+        if (std::abs(xv - x1) < 0.25 * options.min_step) {
+          xv = x1 + (x2 - x1 > x1 - x0 ? 0.5 : -0.5) * options.min_step;
+        }
+        if (stop_requested()) {
+          stepping_end->partial.snapshots = std::move(res.snapshots);
+          return interrupt(*stepping_end);
+        }
+        State probe = *peak;
+        const auto r = model.relax(probe, xv, nullptr);
+        count(r);
+        if (const std::string why = failure(r, probe, xv, peak->Dx); !why.empty()) {
+          res.failed = true;
+          res.stop_reason = "refining the peak: " + why;
+          break;
+        }
+        const bool off_branch = model.slipped_sites(*peak, probe) > 0;
+        const double y =
+            off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
+        if (y > y1) {
+          (xv < x1 ? x2 : x0) = x1;
+          (xv < x1 ? y2 : y0) = y1;
+          x1 = xv;
+          y1 = y;
+          peak = probe;
+        } else {
+          (xv < x1 ? x0 : x2) = xv;
+          (xv < x1 ? y0 : y2) = y;
+        }
+        if (!std::isfinite(y0) || !std::isfinite(y2)) break;
+        vertex(yv);
+        res.peak_precision = std::max(0.0, yv - y1);
+        if (res.peak_precision < 1e-9 * std::abs(y1)) break;
+      }
+      res.mu = std::max(best, y1);
+      res.peak_Dx = x1;
+      res.Fz = peak->Fz;
+    }
+  }
+  res.mu_over_alpha = res.mu / params.alpha;
+  res.distance = state.Dx;
+  const auto first_slip = std::find_if(res.trace.begin(), res.trace.end(),
+                                       [](const TraceRow& row) { return row.slip; });
+  // Kinetic friction: the mean of Fx/Fz over Dx (trapezoid: adaptive steps are uneven) after
+  // the first slip; without slips (smooth sliding) over the last whole period d.
+  auto from = first_slip;
+  if (from == res.trace.end() && state.Dx >= d) {
+    from = std::find_if(res.trace.begin(), res.trace.end(),
+                        [&](const TraceRow& row) { return row.Dx >= state.Dx - d - 1e-12; });
+  }
+  res.kinetic = res.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
+  if (from != res.trace.end()) {
+    double area = 0.0, span = 0.0;
+    for (auto a = from; a + 1 != res.trace.end(); ++a) {
+      const double w = (a + 1)->Dx - a->Dx;
+      area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
+      span += w;
+    }
+    res.kinetic = span > 0.0 ? area / span : from->Fx / from->Fz;
+    res.kinetic_over_static = res.kinetic / res.mu;
+  }
+  res.snapshots.insert(res.snapshots.begin(), model.snapshot(*peak, "peak"));
+  res.gf_applications = gf_before + model.gf_applications();
+  res.wall_s = wall_before + elapsed();
+  return res;
+}
+
+}  // namespace asperity::slide::detail
