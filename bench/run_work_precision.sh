@@ -30,7 +30,7 @@ fams = []
 for r in rows:
     if r["family"] not in fams: fams.append(r["family"])
 floor = 1e-8
-script = [f"set terminal pngcairo size 900,600", f"set output '{png}'", "set logscale xy",
+script = [f"set terminal pngcairo size 900,600 noenhanced", f"set output '{png}'", "set logscale xy",
           "set xlabel 'wall time (s)'", "set ylabel '|mu / mu_converged - 1|'",
           f"set title 'Work-precision, a = {a} d, R = 535 d (errors below 1e-8 drawn at 1e-8)'",
           "set key outside right", "set grid"]
