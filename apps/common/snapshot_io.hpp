@@ -4,9 +4,10 @@
 // Layout: dimensions frame, x (n0), y (n1), label_length. Per frame: label(frame,
 // label_length) (text), iteration, origin_x, origin_y (int), Dx, Fx, Fz, energy (double).
 // Fields (frame, x, y): ux, uy, sx, sy, tau_x, tau_y, tau_max, pressure (double), in_contact
-// (byte), and uz (double) when the frames carry it (explicit model). Coordinates x(x), y(y) in units of d are those of the first frame's block; the block may
-// follow the tip, so site (i, j) of frame k is at ((origin_x[k] + i) d, (origin_y[k] + j) d).
-// Every variable has `units` (lengths d, stresses G, forces G d^2, energy G d^3) and `long_name`.
+// (byte), and uz (double) when the frames carry it (explicit model). Coordinates x(x), y(y) in
+// units of d are those of the first frame's block; the block may follow the tip, so site (i, j) of
+// frame k is at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
+// stresses G, forces G d^2, energy G d^3) and `long_name`.
 #pragma once
 
 #include <filesystem>

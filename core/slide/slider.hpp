@@ -55,7 +55,7 @@ struct SlideOptions {
   // of 0.2 d per iteration (docs/benchmarks.md: mu within 3e-4 of converged at 1/7 of the
   // classic protocol's GF applications).
   minimize::MinimizerOptions minimizer = slide_minimizer_defaults();
-  fft::FFTOptions fft;                   // threads and planning of the GF transforms
+  fft::FFTOptions fft;  // threads and planning of the GF transforms
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
