@@ -1,0 +1,71 @@
+// Friction across Regimes I, II and III and the regime of a point (MODEL.md sections 5 and 8).
+//
+// Prediction: the nucleation condition (Regimes I and II, regime_two.hpp) and the integrated
+// Regime III law (regime_three.hpp); friction is the larger of the two, since the contact slides
+// only once loops both nucleate and move. The II -> III crossover is where they meet.
+//
+// Regime of a point, the same rule for a prediction and for a simulated mu / alpha:
+// - III: on the rising branch. A prediction is in III where the Regime III law exceeds the
+//   nucleation condition; a simulated point where its mu / alpha exceeds, by more than
+//   rise_tolerance, the lowest mu / alpha of a smaller contact at the same R (friction rising
+//   with load).
+// - otherwise I or II, whichever law is nearer in ln(mu / alpha): Regime I's mu / alpha = 1 or the
+//   Regime II law 3 (2 c0)^(2/3) (a / b_core^0)^(-2/3). The crossover is gradual; this puts the
+//   boundary where a point is as far from one asymptote as from the other, without a threshold.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "nucleation/regime_three.hpp"
+#include "nucleation/regime_two.hpp"
+
+namespace asperity::nucleation {
+
+enum class Regime { one = 1, two = 2, three = 3 };
+std::string to_string(Regime r);  // "I", "II", "III"
+
+struct Model {
+  double c0 = 0.0;   // Regime II nucleation distance / b_core*
+  PeierlsLaw law;    // Regime III
+  double f_P = 0.5;  // fraction of the local Peierls stress, (0, 1]
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+struct Prediction {
+  double nucleation = 0.0;            // min(1, 3 (1 - x*^2)): Regimes I and II
+  double law_two = 0.0;               // the leading-order Regime II law
+  double central = 0.0;               // Regime III, central estimate
+  double integrated = 0.0;            // Regime III, integrated f_P tau_P
+  double integrated_log_error = 0.0;  // standard error of ln(integrated) from k1, k2 errors
+  double mu_over_alpha = 0.0;         // max(nucleation, integrated)
+  Regime regime = Regime::one;
+};
+
+// a / b_core^0 and beta = b_core^0 / d of the contact.
+Prediction predict(double a_over_bcore0, double beta, const Model& model);
+
+// I or II by the nearer asymptote (see above).
+Regime nearer_of_one_two(double a_over_bcore0, double mu_over_alpha, double c0);
+
+// Simulated regime of each point (same order); points are grouped by R for the rising branch.
+std::vector<Regime> simulated_regimes(std::span<const ScalingPoint> points, double c0,
+                                      double rise_tolerance = 0.02);
+
+struct Crossover {
+  bool found = false;
+  double a = 0.0;              // contact radius (d)
+  double a_over_bcore0 = 0.0;  // there
+  double mu_over_alpha = 0.0;  // both predictions there
+  bool small_slope = true;     // a < 0.1 R (the continuum theory's range)
+};
+
+// The II -> III crossover at sphere radius R: a in [a_min, a_max] where the integrated Regime III
+// law meets the nucleation condition (rising minus falling: one sign change at most).
+Crossover regime_two_three_crossover(double R, double alpha, double nu, const Model& model,
+                                     double a_min = 1.0, double a_max = 1e6);
+
+}  // namespace asperity::nucleation

@@ -1,0 +1,252 @@
+// Regime III predictions and the Levenberg-Marquardt fit of k1, k2 (MODEL.md 8); see
+// regime_three.hpp.
+#include "nucleation/regime_three.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <unsupported/Eigen/LevenbergMarquardt>
+#include <vector>
+
+#include "common/validate.hpp"
+#include "nucleation/statistics.hpp"
+
+namespace asperity::nucleation {
+
+double exponential_integral_en(int n, double x) {
+  if (n < 0) throw std::invalid_argument("exponential_integral_en: n must be >= 0");
+  if (!(x > 0.0) || !std::isfinite(x))
+    throw std::invalid_argument("exponential_integral_en: x must be finite and > 0");
+  constexpr double eps = 1e-16;
+  constexpr double euler = 0.57721566490153286061;
+  constexpr int max_iterations = 1000;
+  if (n == 0) return std::exp(-x) / x;
+  const int nm1 = n - 1;
+  if (x > 1.0) {
+    // Modified Lentz evaluation of the continued fraction (converges fast for x > 1).
+    double b = x + n;
+    double c = 1.0 / std::numeric_limits<double>::min();
+    double d = 1.0 / b;
+    double h = d;
+    for (int i = 1; i <= max_iterations; ++i) {
+      const double an = -static_cast<double>(i) * (nm1 + i);
+      b += 2.0;
+      d = 1.0 / (an * d + b);
+      c = b + an / c;
+      const double del = c * d;
+      h *= del;
+      if (std::abs(del - 1.0) < eps) return h * std::exp(-x);
+    }
+    throw std::runtime_error("exponential_integral_en: continued fraction did not converge");
+  }
+  // Power series (x <= 1).
+  double ans = nm1 != 0 ? 1.0 / nm1 : -std::log(x) - euler;
+  double fact = 1.0;
+  for (int i = 1; i <= max_iterations; ++i) {
+    fact *= -x / i;
+    double del;
+    if (i != nm1) {
+      del = -fact / (i - nm1);
+    } else {
+      double psi = -euler;
+      for (int k = 1; k <= nm1; ++k)
+        psi += 1.0 / k;
+      del = fact * (-std::log(x) + psi);
+    }
+    ans += del;
+    if (std::abs(del) < std::abs(ans) * eps) return ans;
+  }
+  throw std::runtime_error("exponential_integral_en: series did not converge");
+}
+
+void PeierlsLaw::validate() const {
+  require_positive("PeierlsLaw.k1", k1);
+  require_positive("PeierlsLaw.k2", k2);
+  for (const auto& [name, v] :
+       {std::pair{"PeierlsLaw.k1_error", k1_error}, std::pair{"PeierlsLaw.k2_error", k2_error}}) {
+    if (!(v >= 0.0) || !std::isfinite(v)) reject(name, std::to_string(v), "finite and >= 0");
+  }
+}
+
+std::string to_string(RegimeThreeForm form) {
+  return form == RegimeThreeForm::central ? "central" : "integrated";
+}
+
+double bcore0(double a, double R, double alpha, double nu) {
+  require_positive("bcore0.a", a);
+  require_positive("bcore0.R", R);
+  require_positive("bcore0.alpha", alpha);
+  if (!(nu >= 0.0 && nu < 1.0)) reject("bcore0.nu", std::to_string(nu), "[0, 1)");
+  const double c = 4.0 / (std::numbers::pi * (1.0 - nu));
+  return R / (c * alpha * a);
+}
+
+double regime_three_central(double beta, const PeierlsLaw& law) {
+  return law.k1 * std::exp(-law.k2 * beta);
+}
+
+double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {
+  return 3.0 * f_P * law.k1 * exponential_integral_en(4, law.k2 * beta);
+}
+
+double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, double f_P) {
+  return form == RegimeThreeForm::central ? regime_three_central(beta, law)
+                                          : regime_three_integrated(beta, law, f_P);
+}
+
+namespace {
+
+// d ln(mu/alpha) / d k2.
+double dlog_dk2(RegimeThreeForm form, double beta, double k2) {
+  if (form == RegimeThreeForm::central) return -beta;
+  // d E_n(x)/dx = -E_{n-1}(x).
+  const double x = k2 * beta;
+  return -beta * exponential_integral_en(3, x) / exponential_integral_en(4, x);
+}
+
+}  // namespace
+
+double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLaw& law) {
+  const double a = law.k1_error / law.k1;
+  const double b = dlog_dk2(form, beta, law.k2) * law.k2_error;
+  return std::hypot(a, b);
+}
+
+void RegimeThreeFitOptions::validate() const {
+  if (!(f_P > 0.0 && f_P <= 1.0))
+    reject("RegimeThreeFitOptions.f_P", std::to_string(f_P), "(0, 1]");
+  require_at_least("RegimeThreeFitOptions.max_function_evaluations", max_function_evaluations, 10);
+}
+
+namespace {
+
+// Residuals ln(mu_i) - ln(model_i(k1, k2)) for Eigen's LM; parameters (k1, k2).
+struct Residuals : Eigen::DenseFunctor<double> {
+  std::span<const double> beta, mu;
+  RegimeThreeForm form;
+  double f_P;
+
+  Residuals(std::span<const double> b, std::span<const double> m, RegimeThreeForm fo, double f)
+      : Eigen::DenseFunctor<double>(2, static_cast<int>(b.size())),
+        beta(b),
+        mu(m),
+        form(fo),
+        f_P(f) {}
+
+  // ln(model) and its k2 derivative; k2 beta <= 0 (an LM trial step) continues the integrated
+  // form by f_P k1 exp(-k2 beta), which matches it at 0 (E_4(0) = 1/3) in value and slope sign.
+  [[nodiscard]] double log_model(double k1, double k2, double b) const {
+    if (form == RegimeThreeForm::integrated && k2 * b <= 0.0) return std::log(f_P * k1) - k2 * b;
+    return std::log(regime_three(form, b, {.k1 = k1, .k2 = k2}, f_P));
+  }
+  [[nodiscard]] double dlog_model_dk2(double k2, double b) const {
+    if (form == RegimeThreeForm::integrated && k2 * b <= 0.0) return -b;
+    return dlog_dk2(form, b, k2);
+  }
+
+  int operator()(const InputType& p, ValueType& r) const {
+    // k1 <= 0 is undefined: a huge residual sends LM back.
+    const double k1 = std::max(p(0), 1e-300);
+    for (std::size_t i = 0; i < beta.size(); ++i)
+      r(static_cast<Eigen::Index>(i)) = std::log(mu[i]) - log_model(k1, p(1), beta[i]);
+    return 0;
+  }
+  int df(const InputType& p, JacobianType& J) const {
+    for (std::size_t i = 0; i < beta.size(); ++i) {
+      const auto row = static_cast<Eigen::Index>(i);
+      J(row, 0) = -1.0 / p(0);
+      J(row, 1) = -dlog_model_dk2(p(1), beta[i]);
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+RegimeThreeFit fit_regime_three(std::span<const double> beta, std::span<const double> mu_over_alpha,
+                                const RegimeThreeFitOptions& options) {
+  options.validate();
+  if (beta.size() != mu_over_alpha.size())
+    throw std::invalid_argument("fit_regime_three: beta and mu_over_alpha differ in length");
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    require_positive("fit_regime_three.beta[" + std::to_string(i) + "]", beta[i]);
+    require_positive("fit_regime_three.mu_over_alpha[" + std::to_string(i) + "]", mu_over_alpha[i]);
+  }
+  RegimeThreeFit fit;
+  fit.points = beta.size();
+  if (beta.size() < 3) {
+    fit.reason = "fewer than 3 points (2 parameters and a scatter to estimate)";
+    return fit;
+  }
+  // Start: the closed-form log-linear fit of the central form (exact for that form).
+  const double n = static_cast<double>(beta.size());
+  double mx = 0.0, my = 0.0;
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    mx += beta[i] / n;
+    my += std::log(mu_over_alpha[i]) / n;
+  }
+  double sxx = 0.0, sxy = 0.0;
+  fit.beta_min = fit.beta_max = beta[0];
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    sxx += (beta[i] - mx) * (beta[i] - mx);
+    sxy += (beta[i] - mx) * (std::log(mu_over_alpha[i]) - my);
+    fit.beta_min = std::min(fit.beta_min, beta[i]);
+    fit.beta_max = std::max(fit.beta_max, beta[i]);
+  }
+  if (!(sxx > 1e-12 * mx * mx)) {
+    fit.reason = "no spread in b_core^0: k1 and k2 cannot be separated";
+    return fit;
+  }
+  double k2 = -sxy / sxx;
+  if (!(k2 > 0.0)) k2 = 1e-3;  // mu falling with b_core^0 is the only physical sign
+  double k1 = std::exp(my + k2 * mx);
+  if (options.form == RegimeThreeForm::integrated) {
+    double shift = 0.0;
+    for (std::size_t i = 0; i < beta.size(); ++i)
+      shift += (std::log(mu_over_alpha[i]) -
+                std::log(regime_three_integrated(beta[i], {.k1 = 1.0, .k2 = k2}, options.f_P))) /
+               n;
+    k1 = std::exp(shift);
+  }
+  Residuals functor(beta, mu_over_alpha, options.form, options.f_P);
+  Eigen::LevenbergMarquardt<Residuals> lm(functor);
+  lm.setMaxfev(options.max_function_evaluations);
+  lm.setXtol(1e-14);
+  lm.setFtol(1e-14);
+  Eigen::VectorXd p(2);
+  p << k1, k2;
+  const Eigen::LevenbergMarquardtSpace::Status status = lm.minimize(p);
+  fit.evaluations = static_cast<int>(lm.nfev());
+  if (status == Eigen::LevenbergMarquardtSpace::ImproperInputParameters ||
+      status == Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation || !(p(0) > 0.0) ||
+      !(p(1) > 0.0)) {
+    fit.reason = "Levenberg-Marquardt did not converge to k1, k2 > 0 (status " +
+                 std::to_string(static_cast<int>(status)) + ")";
+    return fit;
+  }
+  Eigen::VectorXd r(static_cast<Eigen::Index>(beta.size()));
+  functor(p, r);
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(beta.size()), 2);
+  functor.df(p, J);
+  const double ssr = r.squaredNorm();
+  fit.dof = n - 2.0;
+  const double s2 = ssr / fit.dof;
+  const Eigen::Matrix2d cov = (J.transpose() * J).inverse() * s2;
+  fit.t_factor = t_factor(fit.dof);
+  fit.law.k1 = p(0);
+  fit.law.k2 = p(1);
+  fit.k1_se = std::sqrt(cov(0, 0));
+  fit.k2_se = std::sqrt(cov(1, 1));
+  fit.law.k1_error = fit.k1_se * fit.t_factor;
+  fit.law.k2_error = fit.k2_se * fit.t_factor;
+  fit.law.b_min = fit.beta_min;
+  fit.law.b_max = fit.beta_max;
+  fit.correlation = cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1));
+  fit.rms_log_residual = std::sqrt(ssr / n);
+  fit.valid = true;
+  return fit;
+}
+
+}  // namespace asperity::nucleation

@@ -1,0 +1,74 @@
+// Regime III (MODEL.md sections 6 and 8): friction set by the stress to move arrested loops.
+//
+// Local Peierls stress under the Hertz pressure p(r) (edge law of the Peierls cell):
+//   tau_P(r) = k1 alpha p(r) exp(-k2 b_core(r) / d),  b_core(r) = d G / (alpha p(r)).
+// Integrated prediction: a fraction f_P of tau_P over the contact, divided by alpha Fz. With
+// p = p0 w, w = sqrt(1 - r^2/a^2), and Fz = 2 pi a^2 p0 / 3 the integral is exact:
+//   mu / alpha = 3 f_P k1 int_0^1 w^2 exp(-k2 beta / w) dw = 3 f_P k1 E_4(k2 beta),
+// beta = b_core^0 / d = R / (c alpha a), E_n the exponential integral int_1^inf t^-n e^(-x t) dt.
+// Central estimate (the centre's core width everywhere): mu / alpha = k1 exp(-k2 beta).
+// Both depend on a and R separately, not on a / b_core^0 alone (beta = a / (a / b_core^0)).
+//
+// fit_regime_three() fits k1, k2 of either form to friction data with Eigen's
+// Levenberg-Marquardt on logarithmic residuals (relative scatter), with errors from the
+// curvature (J^T J)^-1 s^2 reported as in statistics.hpp.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+
+namespace asperity::nucleation {
+
+// E_n(x) for n >= 0 and x > 0 (n = 0, 1 need x > 0; continued fraction for x > 1, series below).
+double exponential_integral_en(int n, double x);
+
+// tau_P / tau_max = k1 exp(-k2 b_core / d), with the errors of wherever it came from.
+struct PeierlsLaw {
+  double k1 = 0.0, k1_error = 0.0;  // dimensionless
+  double k2 = 0.0, k2_error = 0.0;  // dimensionless (b_core in units of d)
+  double b_min = 0.0, b_max = 0.0;  // window of core widths the law was fitted on (d); 0: unknown
+
+  void validate() const;  // k1, k2 > 0, errors >= 0, all finite
+};
+
+enum class RegimeThreeForm { central, integrated };
+std::string to_string(RegimeThreeForm form);
+
+// b_core^0 / d of a Hertz contact: R / (c alpha a), c = 4 / (pi (1 - nu)) (MODEL.md 3).
+double bcore0(double a, double R, double alpha, double nu);
+
+// mu / alpha of the two forms at beta = b_core^0 / d.
+double regime_three_central(double beta, const PeierlsLaw& law);
+double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);
+double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, double f_P);
+// Standard error of ln(mu / alpha) from the errors of k1 and k2 (taken as uncorrelated: a
+// peierls_scan summary gives no covariance).
+double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLaw& law);
+
+struct RegimeThreeFitOptions {
+  RegimeThreeForm form = RegimeThreeForm::integrated;
+  double f_P = 0.5;  // fraction of the local Peierls stress (integrated form only), in (0, 1]
+  int max_function_evaluations = 2000;  // LM cap
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+struct RegimeThreeFit {
+  bool valid = false;
+  std::string reason;
+  PeierlsLaw law;                         // k1, k2 and their reported errors (statistics.hpp)
+  double k1_se = 0.0, k2_se = 0.0;        // plain standard errors
+  double correlation = 0.0;               // of k1 and k2
+  double beta_min = 0.0, beta_max = 0.0;  // window: b_core^0 / d of the points
+  std::size_t points = 0;
+  double dof = 0.0, t_factor = 0.0;
+  double rms_log_residual = 0.0;
+  int evaluations = 0;
+};
+
+// beta = b_core^0 / d and mu / alpha per point (same length, >= 3 points, all finite and > 0).
+RegimeThreeFit fit_regime_three(std::span<const double> beta, std::span<const double> mu_over_alpha,
+                                const RegimeThreeFitOptions& options = {});
+
+}  // namespace asperity::nucleation

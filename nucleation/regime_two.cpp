@@ -1,0 +1,230 @@
+// Regime II fit of c0 and the nucleation condition (MODEL.md 8); see regime_two.hpp.
+#include "nucleation/regime_two.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "common/validate.hpp"
+#include "nucleation/statistics.hpp"
+
+namespace asperity::nucleation {
+
+namespace {
+
+// ln(mu/alpha) + (2/3) ln(a/b_core^0) - ln 3 = (2/3) ln(2 c0) for a point on the law.
+double log_term(const ScalingPoint& p) {
+  return std::log(p.mu_over_alpha) + (2.0 / 3.0) * std::log(p.a_over_bcore0) - std::log(3.0);
+}
+
+struct Estimate {
+  double mean = 0.0;  // of log_term: (2/3) ln(2 c0)
+  double max_relative_deviation = 0.0;
+  double rms_log_residual = 0.0;
+};
+
+Estimate estimate(std::span<const ScalingPoint> points, const std::vector<std::size_t>& used) {
+  Estimate e;
+  for (std::size_t i : used)
+    e.mean += log_term(points[i]);
+  e.mean /= static_cast<double>(used.size());
+  double ss = 0.0;
+  for (std::size_t i : used) {
+    const double r = log_term(points[i]) - e.mean;
+    ss += r * r;
+    e.max_relative_deviation = std::max(e.max_relative_deviation, std::abs(std::expm1(r)));
+  }
+  e.rms_log_residual = std::sqrt(ss / static_cast<double>(used.size()));
+  return e;
+}
+
+void check_points(std::span<const ScalingPoint> points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    const std::string field = "ScalingPoint[" + std::to_string(i) + "]";
+    require_positive(field + ".a_over_bcore0", p.a_over_bcore0);
+    require_positive(field + ".mu_over_alpha", p.mu_over_alpha);
+    if (!std::isfinite(p.a) || p.a < 0.0) reject(field + ".a", std::to_string(p.a), ">= 0");
+    if (!std::isfinite(p.R) || p.R < 0.0) reject(field + ".R", std::to_string(p.R), ">= 0");
+  }
+}
+
+}  // namespace
+
+void WindowOptions::validate() const {
+  require_positive("WindowOptions.crossover_max", crossover_max);
+  if (!(rise_tolerance >= 0.0) || !std::isfinite(rise_tolerance))
+    reject("WindowOptions.rise_tolerance", std::to_string(rise_tolerance), "finite and >= 0");
+  require_positive("WindowOptions.max_deviation", max_deviation);
+  require_at_least("WindowOptions.min_points", static_cast<long long>(min_points), 2);
+  require_at_least("WindowOptions.min_branch_points", static_cast<long long>(min_branch_points), 1);
+}
+
+void RegimeTwoFitOptions::validate() const {
+  automatic.validate();
+  if (window) {
+    require_positive("RegimeTwoFitOptions.window.first", window->first);
+    require_positive("RegimeTwoFitOptions.window.second", window->second);
+    if (!(window->first <= window->second))
+      reject("RegimeTwoFitOptions.window",
+             std::to_string(window->first) + ".." + std::to_string(window->second),
+             "first <= second");
+  }
+  require_at_least("RegimeTwoFitOptions.bootstrap_samples", bootstrap_samples, 100);
+}
+
+double regime_two_law(double a_over_bcore0, double c0) {
+  return 3.0 * std::pow(2.0 * c0, 2.0 / 3.0) * std::pow(a_over_bcore0, -2.0 / 3.0);
+}
+
+double c0_of_point(double a_over_bcore0, double mu_over_alpha) {
+  return 0.5 * std::pow(mu_over_alpha / 3.0, 1.5) * a_over_bcore0;
+}
+
+std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
+                                          const WindowOptions& options) {
+  options.validate();
+  check_points(points);
+  // Per R: the descending branch between the crossover and the upturn.
+  std::map<double, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    groups[points[i].R].push_back(i);
+  std::vector<std::vector<std::size_t>> branches;
+  for (auto& [R, idx] : groups) {
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
+      return points[i].a_over_bcore0 < points[j].a_over_bcore0;
+    });
+    std::vector<std::size_t> branch;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      const ScalingPoint& p = points[idx[k]];
+      if (branch.empty()) {
+        if (p.mu_over_alpha <= options.crossover_max) branch.push_back(idx[k]);
+        continue;
+      }
+      if (p.mu_over_alpha > points[branch.back()].mu_over_alpha * (1.0 + options.rise_tolerance))
+        break;  // the upturn: Regime III from here on
+      branch.push_back(idx[k]);
+    }
+    if (!branch.empty() && branch.size() >= options.min_branch_points)
+      branches.push_back(std::move(branch));
+  }
+  const auto flatten = [&] {
+    std::vector<std::size_t> all;
+    for (const auto& b : branches)
+      all.insert(all.end(), b.begin(), b.end());
+    std::sort(all.begin(), all.end());
+    return all;
+  };
+  std::vector<std::size_t> used = flatten();
+  // Trim the branch ends while the fixed-slope law misses a point by more than max_deviation.
+  while (used.size() > options.min_points) {
+    const Estimate e = estimate(points, used);
+    if (e.max_relative_deviation <= options.max_deviation) break;
+    double worst = -1.0;
+    std::size_t worst_branch = 0;
+    bool worst_front = true;
+    for (std::size_t b = 0; b < branches.size(); ++b) {
+      if (branches[b].empty()) continue;
+      for (bool front : {true, false}) {
+        const std::size_t i = front ? branches[b].front() : branches[b].back();
+        const double dev = std::abs(std::expm1(log_term(points[i]) - e.mean));
+        if (dev > worst) {
+          worst = dev;
+          worst_branch = b;
+          worst_front = front;
+        }
+      }
+    }
+    auto& br = branches[worst_branch];
+    if (worst_front) {
+      br.erase(br.begin());
+    } else {
+      br.pop_back();
+    }
+    used = flatten();
+  }
+  if (used.size() < options.min_points) used.clear();
+  return used;
+}
+
+RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
+                            const RegimeTwoFitOptions& options) {
+  options.validate();
+  check_points(points);
+  RegimeTwoFit fit;
+  fit.window_automatic = !options.window.has_value();
+  if (options.window) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double x = points[i].a_over_bcore0;
+      if (x >= options.window->first && x <= options.window->second) fit.used.push_back(i);
+    }
+  } else {
+    fit.used = automatic_window(points, options.automatic);
+  }
+  fit.points = fit.used.size();
+  if (fit.used.size() < 2) {
+    fit.reason = fit.window_automatic
+                     ? "fewer than min_points points past the Regime I crossover and before the "
+                       "Regime III upturn"
+                     : "fewer than 2 points in the given window";
+    return fit;
+  }
+  const Estimate e = estimate(points, fit.used);
+  std::vector<double> terms;
+  fit.window_lo = points[fit.used.front()].a_over_bcore0;
+  fit.window_hi = fit.window_lo;
+  for (std::size_t i : fit.used) {
+    terms.push_back(log_term(points[i]));
+    fit.window_lo = std::min(fit.window_lo, points[i].a_over_bcore0);
+    fit.window_hi = std::max(fit.window_hi, points[i].a_over_bcore0);
+  }
+  const double n = static_cast<double>(terms.size());
+  const double se_boot = bootstrap_se_of_mean(terms, options.bootstrap_samples, options.seed);
+  fit.dof = n - 1.0;
+  fit.t_factor = t_factor(fit.dof);
+  const double err_mean = se_boot * std::sqrt(n / (n - 1.0)) * fit.t_factor;
+  fit.c0 = 0.5 * std::exp(1.5 * e.mean);
+  fit.c0_se_bootstrap = 1.5 * fit.c0 * se_boot;
+  fit.c0_error = 1.5 * fit.c0 * err_mean;
+  fit.c0_lo = 0.5 * std::exp(1.5 * (e.mean - 2.0 * err_mean));
+  fit.c0_hi = 0.5 * std::exp(1.5 * (e.mean + 2.0 * err_mean));
+  fit.prefactor = 3.0 * std::exp(e.mean);
+  fit.prefactor_error = fit.prefactor * err_mean;
+  fit.max_relative_deviation = e.max_relative_deviation;
+  fit.rms_log_residual = e.rms_log_residual;
+  fit.valid = true;
+  return fit;
+}
+
+NucleationSolution nucleation_condition(double a_over_bcore0, double c0) {
+  require_positive("nucleation_condition.a_over_bcore0", a_over_bcore0);
+  require_positive("nucleation_condition.c0", c0);
+  NucleationSolution s;
+  const double q = c0 / a_over_bcore0;
+  if (q >= 1.0) {
+    s.bonded_mu_over_alpha = 3.0;
+    return s;
+  }
+  // g(x) = (1 - x) sqrt(1 - x^2) falls monotonically from 1 to 0 on [0, 1]: bisection to
+  // round-off (the root moves towards the edge as q -> 0, where g ~ sqrt(2) (1 - x)^(3/2)).
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
+    const double x = 0.5 * (lo + hi);
+    const double g = (1.0 - x) * std::sqrt((1.0 - x) * (1.0 + x));
+    (g > q ? lo : hi) = x;
+  }
+  s.x = 0.5 * (lo + hi);
+  s.bonded_mu_over_alpha = 3.0 * (1.0 - s.x) * (1.0 + s.x);
+  s.rigid = s.bonded_mu_over_alpha >= 1.0;
+  s.mu_over_alpha = std::min(1.0, s.bonded_mu_over_alpha);
+  return s;
+}
+
+double regime_one_crossover(double c0) {
+  require_positive("regime_one_crossover.c0", c0);
+  // 3 (1 - x^2) = 1 at x = sqrt(2/3), where (1 - x) sqrt(1 - x^2) = (1 - sqrt(2/3)) / sqrt(3).
+  return c0 * std::sqrt(3.0) / (1.0 - std::sqrt(2.0 / 3.0));
+}
+
+}  // namespace asperity::nucleation

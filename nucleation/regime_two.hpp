@@ -1,0 +1,118 @@
+// Regimes I and II (MODEL.md sections 3, 5 and 8).
+//
+// Regime II law: a dislocation loop nucleates at distance c0 b_core* from the contact edge, b_core*
+// the local core width there, when the shear stress of the bonded (stuck) contact reaches the
+// local strength alpha p. To leading order in b_core^0 / a this gives
+//   mu / alpha = 3 (2 c0)^(2/3) (a / b_core^0)^(-2/3),
+// which is linear in the single unknown ln c0 after taking logarithms with the slope fixed:
+//   ln(mu/alpha) + (2/3) ln(a/b_core^0) - ln 3 = (2/3) ln(2 c0).
+// fit_regime_two() estimates ln(2 c0) as the mean of the left side over the points of a window
+// (closed-form least squares), with a bootstrap-over-points standard error (statistics.hpp says
+// how it is reported).
+//
+// The same condition without the expansion: bonded rigid-disk traction (MODEL.md 2)
+//   tau(r) = Fx / (2 pi a^2) (1 - r^2/a^2)^(-1/2),  Hertz strength alpha p0 (1 - r^2/a^2)^(1/2),
+// equal at r* = x a where the distance to the edge is c0 times the local core width,
+//   a (1 - x) = c0 d G / (alpha p(r*))  <=>  (1 - x) sqrt(1 - x^2) = c0 / (a / b_core^0),
+// gives Fx / (alpha Fz) = 3 (1 - x^2). The left side falls from 1 at the centre to 0 at the edge,
+// so there is one root for c0 < a / b_core^0. The contact cannot carry more than alpha Fz (rigid
+// sliding, Regime I), hence mu / alpha = min(1, 3 (1 - x^2)): this also predicts the crossover from
+// Regime I, at a / b_core^0 = c0 / ((1 - sqrt(2/3)) / sqrt(3)) = 9.44 c0.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace asperity::nucleation {
+
+// One friction measurement. a and R are needed by the Regime III prediction (which depends on
+// b_core^0 = a / (a / b_core^0), not on a / b_core^0 alone) and to group points by R.
+struct ScalingPoint {
+  double a_over_bcore0 = 0.0;  // control parameter a / b_core^0 (MODEL.md 3)
+  double mu_over_alpha = 0.0;  // static friction / alpha
+  double a = 0.0;              // contact radius (d); 0: unknown
+  double R = 0.0;              // sphere radius (d); 0: unknown (all such points are one group)
+};
+
+// Mu / alpha of the leading-order Regime II law.
+double regime_two_law(double a_over_bcore0, double c0);
+// c0 of a point that lies exactly on the law.
+double c0_of_point(double a_over_bcore0, double mu_over_alpha);
+
+// Automatic Regime II window, per R (points sorted by a / b_core^0):
+// - starts at the first point with mu / alpha <= crossover_max (past the crossover from
+//   Regime I, where mu / alpha leaves 1);
+// - ends at the last point before mu / alpha rises again by more than rise_tolerance (relative)
+//   from one point to the next: the Regime III upturn;
+// - a branch of fewer than min_branch_points points is left out: one point cannot show whether
+//   the upturn has begun at its R;
+// - then, while the fixed-slope fit misses a point by more than max_deviation (relative), the end
+//   point that deviates most is dropped, down to min_points.
+struct WindowOptions {
+  double crossover_max = 0.75;        // mu / alpha at or below which a point is past the crossover
+  double rise_tolerance = 0.02;       // relative rise of mu / alpha that marks the upturn
+  double max_deviation = 0.10;        // relative |data - fit| / fit allowed over the window
+  std::size_t min_points = 3;         // at least this many points in the window
+  std::size_t min_branch_points = 2;  // points a branch (one R) needs to take part
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+struct RegimeTwoFitOptions {
+  // Window in a / b_core^0 (inclusive); empty: automatic (WindowOptions).
+  std::optional<std::pair<double, double>> window;
+  WindowOptions automatic;
+  int bootstrap_samples = 4000;   // resamples of the points (>= 100)
+  std::uint64_t seed = 20240909;  // bootstrap generator seed: the same data give the same error
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+struct RegimeTwoFit {
+  bool valid = false;
+  std::string reason;  // why there is no fit, when !valid
+  double c0 = 0.0;
+  // Reported error: bootstrap standard error of ln(2 c0), scaled by sqrt(n / (n - 1)) (the
+  // bootstrap's small-sample bias) and by t_factor(n - 1), carried to c0 by c0' = 1.5 c0 (ln 2c0)'.
+  double c0_error = 0.0;
+  double c0_se_bootstrap = 0.0;     // the plain bootstrap standard error of c0
+  double c0_lo = 0.0, c0_hi = 0.0;  // c0 at ln(2 c0) -+ 2 reported errors (asymmetric interval)
+  double prefactor = 0.0, prefactor_error = 0.0;  // 3 (2 c0)^(2/3) and its reported error
+  double window_lo = 0.0, window_hi = 0.0;        // a / b_core^0 of the first and last point used
+  bool window_automatic = true;
+  std::vector<std::size_t> used;  // indices of the points in the window
+  std::size_t points = 0;
+  double dof = 0.0, t_factor = 0.0;
+  double max_relative_deviation = 0.0;  // max |data - fit| / fit over the window
+  double rms_log_residual = 0.0;
+};
+
+// Throws std::invalid_argument if options are invalid or a point is not finite and positive
+// (R and a may be 0).
+RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
+                            const RegimeTwoFitOptions& options = {});
+
+// Indices of the automatic window (empty if fewer than min_points qualify).
+std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
+                                          const WindowOptions& options);
+
+// The nucleation condition without the small-b_core expansion.
+struct NucleationSolution {
+  double mu_over_alpha = 1.0;         // min(1, 3 (1 - x^2))
+  double x = 0.0;                     // r* / a of the nucleation site (0 if there is no root)
+  double bonded_mu_over_alpha = 0.0;  // 3 (1 - x^2) before the cap
+  bool rigid = true;  // Regime I: the bonded contact slides as a whole before any nucleation
+};
+// c0 > 0 and a / b_core^0 > 0. If c0 >= a / b_core^0 the site would lie beyond the centre: no
+// root, bonded_mu_over_alpha = 3 (the value at the centre) and the contact is rigid.
+NucleationSolution nucleation_condition(double a_over_bcore0, double c0);
+
+// a / b_core^0 where the nucleation condition reaches mu / alpha = 1: below it, Regime I.
+double regime_one_crossover(double c0);
+
+}  // namespace asperity::nucleation

@@ -1,0 +1,150 @@
+// Regression tier: fit_scaling on the committed sweeps (issue 9, acceptances 2-4).
+// - data/reference/sweep_R535.csv (friction_sweep, default sweep scene, R = 535 d): the Regime II
+//   fit gives the stored c0 and its line passes within 10% of every point of its window
+//   (recomputed here from predictions.csv, not taken from the tool's own statistic);
+// - data/reference/regime3_R1700.csv (R = 1700 d, a = 250 d up) and regime3_R100.csv (R = 100 d,
+//   a = 20 ... 95 d): the prediction against the large contacts, and what the data show (no
+//   upturn in the committed range);
+// - the regime map puts every committed point in its simulated regime where the Peierls law is
+//   used within its fitted window.
+// The Peierls law comes from the project's own peierls_scan (default scene, run by the fixture).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/output_files.hpp"
+
+using asperity::app::CsvTable;
+
+namespace {
+
+nlohmann::json summary(const std::string& dir = FIT_DIR) {
+  std::ifstream in(dir + "/summary.json");
+  return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST(FitScalingRegression, RegimeTwoFitOnTheR535Sweep) {
+  const auto s = summary(FIT_R535_DIR);
+  const auto& r2 = s["regime_two"];
+  // Stored value (the table is committed and the bootstrap seeded: only a change of the fit or
+  // its window moves it).
+  EXPECT_NEAR(r2["c0"].get<double>(), C0_REFERENCE, 1e-3 * C0_REFERENCE);
+  EXPECT_GT(r2["c0_error"].get<double>(), 0.0);
+  EXPECT_TRUE(r2["window_automatic"].get<bool>());
+  EXPECT_GE(r2["points"].get<int>(), 3);
+  const double c0 = r2["c0"].get<double>();
+  const CsvTable t = CsvTable::read(FIT_R535_DIR "/predictions.csv");
+  int in_window = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (t.integer(i, "in_window") == 0) continue;
+    ++in_window;
+    const double x = t.number(i, "a_over_bcore0"), mu = t.number(i, "mu_over_alpha");
+    const double law = 3.0 * std::pow(2.0 * c0, 2.0 / 3.0) * std::pow(x, -2.0 / 3.0);
+    EXPECT_LE(std::abs(mu / law - 1.0), 0.10) << "a/b_core^0 = " << x;  // acceptance 2
+    EXPECT_EQ(t.number(i, "R"), 535.0);
+  }
+  EXPECT_EQ(in_window, r2["points"].get<int>());
+}
+
+// Acceptance 4, as far as the prediction's input holds: every point whose centre core width
+// b_core^0 lies within the Peierls fit window (2..6 d) is predicted in its simulated regime. The
+// R = 100 d points with b_core^0 < 1 d are not: there the extrapolated Peierls law predicts
+// Regime III and the simulation stays in Regime II (docs/nucleation.md); they are listed, not
+// hidden, and any disagreement elsewhere fails.
+TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsWindow) {
+  const auto s = summary();
+  const auto& map = s["regime_map"];
+  const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
+  EXPECT_EQ(static_cast<std::size_t>(map["points"].get<int>()), t.rows());
+  int in_law = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const bool same = t.text(i, "predicted_regime") == t.text(i, "simulated_regime");
+    if (t.integer(i, "law_extrapolated") == 0) {
+      ++in_law;
+      EXPECT_TRUE(same) << "a = " << t.number(i, "a") << ", R = " << t.number(i, "R");
+    } else if (!same) {
+      std::printf(
+          "extrapolated Peierls law: a = %g d, R = %g d, b_core^0 = %.2f d: predicted %s, "
+          "simulated %s\n",
+          t.number(i, "a"), t.number(i, "R"), t.number(i, "bcore0"),
+          t.text(i, "predicted_regime").c_str(), t.text(i, "simulated_regime").c_str());
+    }
+  }
+  EXPECT_GE(in_law, 14);
+  EXPECT_EQ(map["agree_law_in_window"].get<int>(), map["points_law_in_window"].get<int>());
+}
+
+// What the committed large-a/b_core^0 data show: no upturn. At R = 100 d (a/b_core^0 up to 161,
+// b_core^0 down to 0.59 d) and R = 1700 d mu/alpha falls with every larger contact and stays
+// within 10% of the Regime II law fitted on all points.
+TEST(FitScalingRegression, NoUpturnInTheCommittedRange) {
+  const auto s = summary();
+  EXPECT_TRUE(s["regime_three_upturns"].empty());
+  const double c0 = s["regime_two"]["c0"].get<double>();
+  const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
+  for (double R : {100.0, 1700.0}) {
+    double last_a = 0.0, last_mu = 2.0;
+    int n = 0;
+    for (std::size_t i = 0; i < t.rows(); ++i) {
+      if (t.number(i, "R") != R) continue;
+      const double a = t.number(i, "a"), x = t.number(i, "a_over_bcore0"),
+                   mu = t.number(i, "mu_over_alpha");
+      ASSERT_GT(a, last_a);  // the table is sorted by a
+      EXPECT_LT(mu, last_mu) << "R = " << R << ", a = " << a;
+      const double law = 3.0 * std::pow(2.0 * c0, 2.0 / 3.0) * std::pow(x, -2.0 / 3.0);
+      EXPECT_LE(std::abs(mu / law - 1.0), 0.10) << "R = " << R << ", a = " << a;
+      last_a = a;
+      last_mu = mu;
+      ++n;
+    }
+    EXPECT_GE(n, 2) << R;
+  }
+}
+
+// Acceptance 3 over the committed large-contact range: the prediction built from the project's
+// own Peierls scan, max(nucleation condition, integrated Regime III law), against the R = 1700 d
+// points: the same sign of d ln(mu)/d ln(a) and every point within a factor 2.
+TEST(FitScalingRegression, PredictionFollowsTheLargeContacts) {
+  const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
+  std::vector<double> la, ld, lp;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (t.number(i, "R") != 1700.0) continue;
+    const double ratio = t.number(i, "data_over_predicted");
+    EXPECT_GT(ratio, 0.5) << "a = " << t.number(i, "a");
+    EXPECT_LT(ratio, 2.0) << "a = " << t.number(i, "a");
+    la.push_back(std::log(t.number(i, "a")));
+    ld.push_back(std::log(t.number(i, "mu_over_alpha")));
+    lp.push_back(std::log(t.number(i, "predicted")));
+  }
+  ASSERT_GE(la.size(), 1u);
+  if (la.size() < 2) GTEST_SKIP() << "one large contact committed: no slope to compare yet";
+  const auto slope = [&](const std::vector<double>& y) {
+    double mx = 0, my = 0;
+    for (std::size_t i = 0; i < la.size(); ++i) {
+      mx += la[i] / static_cast<double>(la.size());
+      my += y[i] / static_cast<double>(la.size());
+    }
+    double sxx = 0, sxy = 0;
+    for (std::size_t i = 0; i < la.size(); ++i) {
+      sxx += (la[i] - mx) * (la[i] - mx);
+      sxy += (la[i] - mx) * (y[i] - my);
+    }
+    return sxy / sxx;
+  };
+  const double data = slope(ld), predicted = slope(lp);
+  std::printf("R = 1700 d: d ln(mu)/d ln(a): data %.3f, prediction %.3f\n", data, predicted);
+  EXPECT_EQ(data > 0.0, predicted > 0.0);
+}
+
+TEST(FitScalingRegression, FiguresWritten) {
+  for (const char* f : {"collapse.png", "regime_map.png"})
+    EXPECT_GT(std::filesystem::file_size(std::filesystem::path(FIT_DIR) / f), 10000u) << f;
+}

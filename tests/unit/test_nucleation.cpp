@@ -1,0 +1,199 @@
+// nucleation/ (MODEL.md 8): window selection, the c0 fit on exact data, the nucleation
+// condition's limits, the Regime III forms, the LM fit on exact data, crossovers, regimes, and
+// the options' validation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "nucleation/regime_map.hpp"
+#include "nucleation/regime_three.hpp"
+#include "nucleation/regime_two.hpp"
+#include "nucleation/statistics.hpp"
+
+using namespace asperity::nucleation;
+
+namespace {
+
+std::string message_of(auto&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no std::invalid_argument";
+  return {};
+}
+
+// A synthetic branch: Regime I (mu/alpha = 1) up to the crossover, the law with c0 after it, and
+// an upturn past x_up.
+std::vector<ScalingPoint> branch(double c0, double x_up) {
+  std::vector<ScalingPoint> p;
+  for (double x : {0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 15.0, 30.0, 60.0, 120.0, 240.0}) {
+    double mu = std::min(1.0, regime_two_law(x, c0));
+    if (x > x_up) mu = regime_two_law(x_up, c0) * std::pow(x / x_up, 0.5);
+    p.push_back({.a_over_bcore0 = x, .mu_over_alpha = mu, .R = 535});
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(Statistics, TFactorLimits) {
+  EXPECT_NEAR(t_factor(1e7), 1.0, 1e-5);
+  EXPECT_NEAR(t_factor(1.0), 6.9837, 1e-3);  // t_1(0.97725) = tan(pi (0.97725 - 1/2)) / 2
+  EXPECT_GT(t_factor(3.0), t_factor(10.0));
+}
+
+TEST(Statistics, BootstrapIsDeterministicAndNearClassical) {
+  const std::vector<double> v = {0.1, -0.2, 0.05, 0.3, -0.1, 0.0, 0.2, -0.25};
+  const double a = bootstrap_se_of_mean(v, 20000, 7), b = bootstrap_se_of_mean(v, 20000, 7);
+  EXPECT_EQ(a, b);
+  double m = 0.0, s2 = 0.0;
+  for (double x : v)
+    m += x / 8.0;
+  for (double x : v)
+    s2 += (x - m) * (x - m) / 7.0;
+  // Bootstrap SE ~ sqrt((n - 1) / n) s / sqrt(n).
+  EXPECT_NEAR(a, std::sqrt(7.0 / 8.0) * std::sqrt(s2 / 8.0), 0.03 * a);
+}
+
+TEST(RegimeTwo, ExactDataGiveC0AndTheAutomaticWindow) {
+  const auto points = branch(0.2, 60.0);
+  const RegimeTwoFit fit = fit_regime_two(points);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_NEAR(fit.c0, 0.2, 1e-12);
+  EXPECT_NEAR(fit.c0_error, 0.0, 1e-12);
+  // Past the crossover (law(2) = 1.06 is capped at 1, law(4) = 0.67 <= 0.75) up to the upturn.
+  EXPECT_DOUBLE_EQ(fit.window_lo, 4.0);
+  EXPECT_DOUBLE_EQ(fit.window_hi, 60.0);
+  EXPECT_TRUE(fit.window_automatic);
+  EXPECT_EQ(fit.points, 5u);
+  EXPECT_NEAR(fit.prefactor, 3.0 * std::pow(0.4, 2.0 / 3.0), 1e-12);
+}
+
+TEST(RegimeTwo, ALonePointAtItsRIsLeftOut) {
+  auto points = branch(0.2, 1e9);
+  points.push_back({.a_over_bcore0 = 50.0, .mu_over_alpha = 0.2, .R = 1700});  // off the law
+  const RegimeTwoFit fit = fit_regime_two(points);
+  ASSERT_TRUE(fit.valid);
+  EXPECT_NEAR(fit.c0, 0.2, 1e-12);
+  EXPECT_EQ(fit.points, 7u);  // 4 ... 240 at R = 535
+}
+
+TEST(RegimeTwo, GivenWindow) {
+  auto points = branch(0.2, 1e9);
+  const RegimeTwoFit given = fit_regime_two(points, {.window = std::pair{10.0, 100.0}});
+  ASSERT_TRUE(given.valid);
+  EXPECT_FALSE(given.window_automatic);
+  EXPECT_EQ(given.points, 3u);  // 15, 30 and 60
+  EXPECT_DOUBLE_EQ(given.window_lo, 15.0);
+  EXPECT_DOUBLE_EQ(given.window_hi, 60.0);
+}
+
+TEST(RegimeTwo, TrimsAnOutlyingEnd) {
+  auto points = branch(0.2, 1e9);
+  points[4].mu_over_alpha *= 1.4;  // x = 4: far off the law (the rounded crossover)
+  const RegimeTwoFit fit = fit_regime_two(points);
+  ASSERT_TRUE(fit.valid);
+  EXPECT_GT(fit.window_lo, 4.0);
+  EXPECT_LE(fit.max_relative_deviation, 0.10);
+  EXPECT_NEAR(fit.c0, 0.2, 1e-12);
+}
+
+TEST(RegimeTwo, ErrorsAreReportedWithTheirCause) {
+  EXPECT_NE(
+      message_of([] { fit_regime_two({}, {.bootstrap_samples = 10}); }).find("bootstrap_samples"),
+      std::string::npos);
+  EXPECT_NE(message_of([] {
+              fit_regime_two({}, {.window = std::pair{5.0, 1.0}});
+            }).find("window"),
+            std::string::npos);
+  const std::vector<ScalingPoint> bad = {{.a_over_bcore0 = 1.0, .mu_over_alpha = -1.0}};
+  EXPECT_NE(message_of([&] { fit_regime_two(bad); }).find("ScalingPoint[0].mu_over_alpha"),
+            std::string::npos);
+  const RegimeTwoFit none = fit_regime_two(branch(0.2, 1e9), {.window = std::pair{1e3, 1e4}});
+  EXPECT_FALSE(none.valid);
+  EXPECT_FALSE(none.reason.empty());
+}
+
+TEST(Nucleation, LimitsOfTheCondition) {
+  // Large a / b_core^0: the leading-order law.
+  const double c0 = 0.2;
+  for (double x : {1e3, 1e5, 1e7}) {
+    const NucleationSolution s = nucleation_condition(x, c0);
+    EXPECT_FALSE(s.rigid);
+    EXPECT_NEAR(s.mu_over_alpha / regime_two_law(x, c0), 1.0, 2.0 * std::pow(c0 / x, 1.0 / 3.0));
+  }
+  // Below the crossover: rigid sliding, mu = alpha.
+  EXPECT_TRUE(nucleation_condition(0.5, c0).rigid);
+  EXPECT_EQ(nucleation_condition(0.5, c0).mu_over_alpha, 1.0);
+  EXPECT_EQ(nucleation_condition(0.1, c0).bonded_mu_over_alpha, 3.0);  // c0 > a / b_core^0
+  const double xc = regime_one_crossover(c0);
+  EXPECT_NEAR(nucleation_condition(xc, c0).bonded_mu_over_alpha, 1.0, 1e-9);
+  EXPECT_NEAR(xc / c0, 9.4396, 1e-3);
+}
+
+TEST(RegimeThree, FormsAndBcore0) {
+  const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
+  // b_core^0 = R / (c alpha a), c = 8 / pi at nu = 0.5.
+  EXPECT_NEAR(bcore0(250, 1700, 0.7, 0.5), 1700.0 / (8.0 / std::numbers::pi * 0.7 * 250.0), 1e-12);
+  EXPECT_NEAR(regime_three_central(2.0, law), 2.3 * std::exp(-3.6), 1e-15);
+  // beta -> 0: E_4(0) = 1/3, so the integrated form tends to f_P k1.
+  EXPECT_NEAR(regime_three_integrated(1e-9, law, 0.5), 0.5 * 2.3, 1e-6);
+  // Integrated below central (the edge has wider cores).
+  EXPECT_LT(regime_three_integrated(2.0, law, 1.0), regime_three_central(2.0, law));
+  EXPECT_NE(message_of([] { PeierlsLaw{.k1 = 0, .k2 = 1}.validate(); }).find("PeierlsLaw.k1"),
+            std::string::npos);
+}
+
+TEST(RegimeThree, LevenbergMarquardtRecoversExactParameters) {
+  const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
+  for (RegimeThreeForm form : {RegimeThreeForm::central, RegimeThreeForm::integrated}) {
+    std::vector<double> beta, mu;
+    for (double b = 1.5; b <= 4.01; b += 0.5) {
+      beta.push_back(b);
+      mu.push_back(regime_three(form, b, law, 0.5));
+    }
+    const RegimeThreeFit fit = fit_regime_three(beta, mu, {.form = form});
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    EXPECT_NEAR(fit.law.k1, 2.3, 1e-6) << to_string(form);
+    EXPECT_NEAR(fit.law.k2, 1.8, 1e-6) << to_string(form);
+    EXPECT_DOUBLE_EQ(fit.beta_min, 1.5);
+  }
+  const std::vector<double> two = {1.0, 2.0};
+  EXPECT_FALSE(fit_regime_three(two, two).valid);
+  EXPECT_NE(message_of([] { RegimeThreeFitOptions{.f_P = 1.5}.validate(); }).find("f_P"),
+            std::string::npos);
+}
+
+TEST(RegimeMap, PredictionsCrossoverAndRegimes) {
+  const Model model{.c0 = 0.2, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
+  // Regime I, II and III along R = 1700 d.
+  const auto at = [&](double a) {
+    const double x = 8.0 / std::numbers::pi * 0.7 * a * a / 1700.0;
+    return predict(x, bcore0(a, 1700, 0.7, 0.5), model);
+  };
+  EXPECT_EQ(at(10).regime, Regime::one);
+  EXPECT_EQ(at(150).regime, Regime::two);
+  EXPECT_EQ(at(5000).regime, Regime::three);
+  const Crossover c = regime_two_three_crossover(1700, 0.7, 0.5, model);
+  ASSERT_TRUE(c.found);
+  EXPECT_NE(at(c.a * 0.999).regime, Regime::three);
+  EXPECT_EQ(at(c.a * 1.001).regime, Regime::three);
+  // Simulated: I near 1, II on the law, III once friction rises again at the same R.
+  const std::vector<ScalingPoint> pts = {{.a_over_bcore0 = 0.5, .mu_over_alpha = 0.98, .R = 1},
+                                         {.a_over_bcore0 = 20, .mu_over_alpha = 0.3, .R = 1},
+                                         {.a_over_bcore0 = 40, .mu_over_alpha = 0.2, .R = 1},
+                                         {.a_over_bcore0 = 80, .mu_over_alpha = 0.25, .R = 1},
+                                         {.a_over_bcore0 = 40, .mu_over_alpha = 0.2, .R = 2}};
+  const auto r = simulated_regimes(pts, 0.2);
+  EXPECT_EQ(r[0], Regime::one);
+  EXPECT_EQ(r[1], Regime::two);
+  EXPECT_EQ(r[2], Regime::two);
+  EXPECT_EQ(r[3], Regime::three);
+  EXPECT_EQ(r[4], Regime::two);  // alone at its R: no branch to rise above
+}
