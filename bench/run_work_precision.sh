@@ -4,6 +4,7 @@
 # curve per solver/protocol family. Figures in docs/figures/, tables and provenance in
 # docs/benchmarks.md (section "Work-precision").
 # Usage: bench/run_work_precision.sh [build dir] [threads] [sizes]   (defaults: build, 2, "16 43 138")
+# REUSE_SIZES="138" redraws that scene from its CSV in docs/figures instead of re-running it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -18,7 +19,12 @@ for a in $sizes; do
   mode=""
   [ "$a" -ge 100 ] && mode=small
   csv="docs/figures/work_precision_a$a.csv"
-  "$build/bin/bench_work_precision" "$a" 535 "$threads" $mode >"$csv"
+  # REUSE_SIZES="138": keep that scene's committed CSV (it takes half an hour) and only redraw.
+  if [[ " ${REUSE_SIZES:-} " == *" $a "* ]] && [ -s "$csv" ]; then
+    :
+  else
+    "$build/bin/bench_work_precision" "$a" 535 "$threads" $mode >"$csv"
+  fi
   png="docs/figures/work_precision_a$a.png"
   body+=$(python3 - "$csv" "$png" "$a" <<'PY'
 import csv, io, subprocess, sys
