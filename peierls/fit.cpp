@@ -1,9 +1,12 @@
 // Closed-form log-linear least squares for tau_P = k1 tau_max exp(-k2 b_core); see fit.hpp.
 #include "peierls/fit.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include "common/line_fit.hpp"
 
 namespace asperity::peierls {
 
@@ -21,35 +24,17 @@ ExponentialFit fit_exponential(std::span<const double> b_core, std::span<const d
   ExponentialFit fit;
   fit.points = x.size();
   if (x.size() < 3) return fit;
-  const double n = static_cast<double>(x.size());
-  double mx = 0.0, my = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += x[i] / n;
-    my += y[i] / n;
-  }
-  double sxx = 0.0, sxy = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
-  }
-  if (!(sxx > 0.0)) return fit;
-  const double slope = sxy / sxx;
-  const double intercept = my - slope * mx;
-  double ssr = 0.0;
-  fit.b_min = x.front();
-  fit.b_max = x.front();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double r = y[i] - (intercept + slope * x[i]);
-    ssr += r * r;
-    fit.b_min = std::min(fit.b_min, x[i]);
-    fit.b_max = std::max(fit.b_max, x[i]);
-  }
-  const double sigma2 = ssr / (n - 2.0);
-  fit.k2 = -slope;
-  fit.k2_error = std::sqrt(sigma2 / sxx);
-  fit.k1 = std::exp(intercept);
-  fit.k1_error = fit.k1 * std::sqrt(sigma2 * (1.0 / n + mx * mx / sxx));
-  fit.rms_log_residual = std::sqrt(ssr / n);
+  const LineFit line = fit_line(x, y);
+  if (!(line.sxx > 0.0)) return fit;
+  const double n = static_cast<double>(line.n);
+  fit.b_min = *std::min_element(x.begin(), x.end());
+  fit.b_max = *std::max_element(x.begin(), x.end());
+  const double sigma2 = line.ssr / (n - 2.0);
+  fit.k2 = -line.slope;
+  fit.k2_error = std::sqrt(sigma2 / line.sxx);
+  fit.k1 = std::exp(line.intercept);
+  fit.k1_error = fit.k1 * std::sqrt(sigma2 * (1.0 / n + line.mean_x * line.mean_x / line.sxx));
+  fit.rms_log_residual = std::sqrt(line.ssr / n);
   fit.valid = true;
   return fit;
 }

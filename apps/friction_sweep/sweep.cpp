@@ -1,5 +1,6 @@
 // Sweep scene, points and results table of friction_sweep; see sweep.hpp.
 #include "sweep.hpp"
+#include "common/line_fit.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,6 +13,7 @@
 #include <thread>
 
 #include "common/cli.hpp"
+#include "common/line_fit.hpp"
 #include "common/toml_reader.hpp"
 
 namespace asperity::app {
@@ -361,34 +363,17 @@ nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi
                         {"window", {lo, hi}},
                         {"points", x.size()},
                         {"regime_ii_slope", -2.0 / 3.0}};
-  const double n = static_cast<double>(x.size());
-  double mx = 0.0, my = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += x[i] / n;
-    my += y[i] / n;
-  }
-  double sxx = 0.0, sxy = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
-  }
+  const LineFit line = fit_line(x, y);
   // Points at a single a/b_core^0 (several R, one target) fix no slope.
-  if (x.size() < 2 || !(sxx > 1e-12 * n)) {
+  if (x.size() < 2 || !(line.sxx > 1e-12 * static_cast<double>(line.n))) {
     fit["slope"] = nullptr;
     fit["note"] = "needs points at 2 or more distinct a/b_core^0 in the window";
     return fit;
   }
-  const double slope = sxy / sxx;
-  const double intercept = my - slope * mx;
-  fit["slope"] = slope;
-  fit["prefactor"] = std::exp(intercept);
+  fit["slope"] = line.slope;
+  fit["prefactor"] = std::exp(line.intercept);
   if (x.size() > 2) {
-    double ss = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double e = y[i] - intercept - slope * x[i];
-      ss += e * e;
-    }
-    fit["slope_stderr"] = std::sqrt(ss / (n - 2.0) / sxx);
+    fit["slope_stderr"] = std::sqrt(line.slope_variance());
   } else {
     fit["slope_stderr"] = nullptr;  // two points: the line passes through both
   }
