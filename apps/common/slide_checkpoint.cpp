@@ -26,6 +26,47 @@ const char* const kByteOrder = std::endian::native == std::endian::little ? "lit
 // Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
 constexpr long long kMaxSites = 1LL << 28;
 
+// Deepest nesting a checkpoint has is 4 (root, state, fields, snapshot block); the limit only
+// has to stop a damaged file from nesting arrays thousands deep, which would overflow the
+// stack in the recursive CBOR reader (found by fuzz_checkpoint).
+constexpr std::size_t kMaxDepth = 32;
+
+// The library's DOM builder behind a depth check: the reader stops (returns false) at the first
+// container past kMaxDepth instead of recursing further.
+class DepthLimitedDom {
+ public:
+  explicit DepthLimitedDom(json& root) : dom_(root, true) {}
+  bool null() { return dom_.null(); }
+  bool boolean(bool v) { return dom_.boolean(v); }
+  bool number_integer(json::number_integer_t v) { return dom_.number_integer(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return dom_.number_unsigned(v); }
+  bool number_float(json::number_float_t v, const json::string_t& s) {
+    return dom_.number_float(v, s);
+  }
+  bool string(json::string_t& v) { return dom_.string(v); }
+  bool binary(json::binary_t& v) { return dom_.binary(v); }
+  bool start_object(std::size_t n) { return ++depth_ <= kMaxDepth && dom_.start_object(n); }
+  bool key(json::string_t& k) { return dom_.key(k); }
+  bool end_object() {
+    --depth_;
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t n) { return ++depth_ <= kMaxDepth && dom_.start_array(n); }
+  bool end_array() {
+    --depth_;
+    return dom_.end_array();
+  }
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& token, const Exception& e) {
+    return dom_.parse_error(position, token, e);
+  }
+  bool too_deep() const { return depth_ > kMaxDepth; }
+
+ private:
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  std::size_t depth_ = 0;
+};
+
 // Shortest form that reads back to the same double: fingerprints compare exactly.
 std::string exact(double v) {
   char buf[64];
@@ -372,7 +413,12 @@ SlideCheckpoint decode_checkpoint(std::span<const std::uint8_t> bytes, const std
   const std::string prefix = source + ": not a contact_slide checkpoint of this version: ";
   json j;
   try {
-    j = json::from_cbor(bytes.begin(), bytes.end());
+    DepthLimitedDom dom(j);
+    if (!json::sax_parse(bytes.begin(), bytes.end(), &dom, json::input_format_t::cbor)) {
+      const std::string why = dom.too_deep() ? "nested deeper than " + std::to_string(kMaxDepth)
+                                             : "damaged or truncated";
+      throw std::invalid_argument(prefix + why);
+    }
   } catch (const json::exception& e) {
     throw std::invalid_argument(prefix + "damaged or truncated (" + e.what() + ")");
   }

@@ -7,11 +7,13 @@
 // - A minimiser that stops converging mid-slide fails the slide with the step, Dx, step size and
 //   solver settings in stop_reason, keeps the last good state as snapshot "last_good" and hands
 //   it to the checkpoint callback.
-// - Damaged checkpoints, start states of another scene and other settings are rejected.
+// - Damaged checkpoints (truncated, corrupted, nested past the reader's depth limit), start
+//   states of another scene and other settings are rejected.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -199,6 +201,16 @@ TEST(SlideCheckpoint, RejectsStatesAndFilesThatDoNotFit) {
       app::decode_checkpoint(damaged, "c.cbor");
     } catch (const std::invalid_argument&) {
     }
+  }
+
+  // Arrays nested a million deep (0x81: an array of one element) once overflowed the stack of
+  // the recursive CBOR reader (fuzz_checkpoint); the reader now stops at a fixed depth.
+  const std::vector<std::uint8_t> deep(1'000'000, 0x81);
+  try {
+    app::decode_checkpoint(deep, "deep.cbor");
+    ADD_FAILURE() << "deep nesting accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("nested deeper than"), std::string::npos) << e.what();
   }
 }
 
