@@ -102,6 +102,7 @@ struct Crossing {
   int axis = 0;        // 0: edge along x, 1: along y
   Point at;            // position (d), before unwrapping
   int cells_seen = 0;  // cells of the processed region that contain this crossing
+  long seam = 0;       // registry winding subtracted from q's phase: the edge wraps the cell
 };
 
 class Tracer {
@@ -133,6 +134,7 @@ class Tracer {
     const auto i0 = static_cast<int>(s / static_cast<std::size_t>(n1_));
     return f_.sx[s] / f_.d - static_cast<double>(f_.block.origin0 + i0);
   }
+  void measure_windings();
 
   void find_crossings();
   void march(Graph& g);
@@ -150,7 +152,34 @@ class Tracer {
   std::vector<std::int32_t> edge_node_;  // per grid edge: crossing index or kNo/kRegistry
   std::vector<Crossing> crossings_;
   std::size_t registry_crossings_ = 0;
+  // Registry winding of a periodic cell per axis: the phase of the site across the side minus
+  // that of the site before it, away from cores (an integer; 0 unless the registry is frustrated)
+  std::array<long, 2> winding_{0, 0};
 };
+
+// A Peierls cell is frustrated (MODEL.md 6): its rigid body is shifted by
+// w = d (m_x X + m_y Y)/L, so the registry offset s_x - X = u - w is periodic only up to the
+// integers m_x, m_y: crossing a side of the cell the phase jumps by them although u is
+// continuous there. Such a jump is no core. The winding is the median jump along each side
+// (cores cross a side at a few sites only); unfrustrated cells have winding 0.
+void Tracer::measure_windings() {
+  winding_ = {0, 0};
+  if (!f_.periodic) return;
+  std::vector<double> jumps;
+  for (int axis = 0; axis < 2; ++axis) {
+    jumps.clear();
+    const int along = axis == 0 ? n1_ : n0_;
+    for (int k = 0; k < along; ++k) {
+      const std::size_t p = axis == 0 ? site(n0_ - 1, k) : site(k, n1_ - 1);
+      const std::size_t q = axis == 0 ? site(0, k) : site(k, 0);
+      if (valid_[p] && valid_[q]) jumps.push_back(phase(q) - phase(p));
+    }
+    if (jumps.empty()) continue;
+    const auto mid = jumps.begin() + static_cast<std::ptrdiff_t>(jumps.size() / 2);
+    std::nth_element(jumps.begin(), mid, jumps.end());
+    winding_[static_cast<std::size_t>(axis)] = std::lround(*mid);
+  }
+}
 
 void Tracer::find_crossings() {
   const std::size_t n = f_.block.shape.count();
@@ -163,6 +192,7 @@ void Tracer::find_crossings() {
       t_[s] = f_.tau_x[s] / f_.tau_max[s];
     }
   }
+  measure_windings();
   edge_node_.assign(2 * n, kNoCrossing);
   constexpr double two_pi = 2.0 * std::numbers::pi;
   for (int i0 = 0; i0 < n0_; ++i0) {
@@ -178,7 +208,9 @@ void Tracer::find_crossings() {
         // and the registry index n = round(s_x / d - X / d) changes. Between sites closer than
         // d/2 in phase, cos interpolated like the stress decides (robust to noise at the core);
         // across larger jumps (cores narrower than d) interpolation cannot, and the index does.
-        const double pp = phase(p), pq = phase(q);
+        const bool wraps = j0 < i0 || j1 < i1;
+        const long seam = wraps ? winding_[static_cast<std::size_t>(axis)] : 0;
+        const double pp = phase(p), pq = phase(q) - static_cast<double>(seam);
         const bool jump = std::abs(pq - pp) > 0.5;
         double frac = t_[p] / (t_[p] - t_[q]);
         bool core = false;
@@ -200,6 +232,7 @@ void Tracer::find_crossings() {
         c.p = p;
         c.q = q;
         c.axis = axis;
+        c.seam = seam;
         c.at = Point{(f_.block.origin0 + i0 + (axis == 0 ? frac : 0.0)) * f_.d,
                      (f_.block.origin1 + i1 + (axis == 1 ? frac : 0.0)) * f_.d};
         edge_node_[edge_id(p, axis)] = static_cast<std::int32_t>(crossings_.size());
@@ -450,7 +483,7 @@ void Tracer::sense(Line& line, const std::vector<std::size_t>& order, const Grap
     const bool q_positive = t_[c.q] >= 0.0;
     q_left[k] = q_positive == positive_left ? 1 : 0;
     // A site exactly on the core (s_x = d/2 mod d) has no index: such crossings do not vote.
-    const double pp = phase(c.p), pq = phase(c.q);
+    const double pp = phase(c.p), pq = phase(c.q) - static_cast<double>(c.seam);
     if (std::abs(std::abs(pp - std::floor(pp)) - 0.5) < 1e-9 ||
         std::abs(std::abs(pq - std::floor(pq)) - 0.5) < 1e-9) {
       jumps[k] = std::numeric_limits<long>::min();

@@ -231,7 +231,10 @@ std::string point_name(const Point& p) {
 }
 
 // The whole L x L cell in the snapshot layout of the contact simulator (MODEL.md 5 fields):
-// s = u - w x-hat (registry offset, not wrapped), tau = f / d^2, uniform tau_max, no pressure.
+// s_x = X + u_x - w(X) with the frustration w = d (m_x X + m_y Y)/L of MODEL.md 6, unwrapped
+// inside the cell so that the registry offset s_x - X is continuous there (it winds by m_x, m_y
+// across the cell's sides, which track_loops measures), tau = f / d^2, uniform tau_max, no
+// pressure.
 slide::Snapshot cell_snapshot(const peierls::PeierlsCell& cell, const std::vector<double>& u,
                               const std::string& label, double tau_ext) {
   const int L = cell.options().L;
@@ -256,11 +259,11 @@ slide::Snapshot cell_snapshot(const peierls::PeierlsCell& cell, const std::vecto
     for (int Y = 0; Y < L; ++Y) {
       const std::size_t i =
           static_cast<std::size_t>(X) * static_cast<std::size_t>(L) + static_cast<std::size_t>(Y);
-      const long long k = (static_cast<long long>(cell.options().mx) * X +
-                           static_cast<long long>(cell.options().my) * Y) %
-                          L;
-      s.sx[i] = s.ux[i] - static_cast<double>(k) / L;
-      s.tau_x[i] = -cell.tau_max() * std::sin(two_pi * s.sx[i]);
+      const double w = static_cast<double>(static_cast<long long>(cell.options().mx) * X +
+                                           static_cast<long long>(cell.options().my) * Y) /
+                       L;
+      s.sx[i] = X + s.ux[i] - w;
+      s.tau_x[i] = -cell.tau_max() * std::sin(two_pi * (s.ux[i] - w));
       s.tau_y[i] = -cell.tau_max() * std::sin(two_pi * s.sy[i]);
     }
   }
