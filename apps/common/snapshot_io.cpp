@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <initializer_list>
 #include <numeric>
@@ -11,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "common/memory.hpp"
 #include "common/output_files.hpp"
 
 namespace asperity::app {
@@ -262,6 +264,25 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
   int frame_dim = -1, x_dim = -1, y_dim = -1, label_dim = -1;
   const std::size_t n = dim("frame", frame_dim), n0 = dim("x", x_dim), n1 = dim("y", y_dim),
                     label_length = dim("label_length", label_dim);
+  // The header's sizes decide every allocation below: a damaged or hostile header must not
+  // turn into a crash. Blocks are indexed by int; the frames must fit in memory.
+  constexpr std::size_t kMaxSide = 1 << 20, kMaxLabel = 1 << 16;
+  if (n == 0) in.fail("no frames");
+  if (n0 == 0 || n1 == 0 || n0 > kMaxSide || n1 > kMaxSide) {
+    in.fail("block of " + std::to_string(n0) + " x " + std::to_string(n1) +
+            " sites (each side must be 1 .. " + std::to_string(kMaxSide) + ")");
+  }
+  if (label_length > kMaxLabel) {
+    in.fail("labels of " + std::to_string(label_length) + " characters (at most " +
+            std::to_string(kMaxLabel) + ")");
+  }
+  const double fields_per_site = static_cast<double>(kFields.size()) + 2.0;  // + uz, in_contact
+  check_fits_in_memory("'" + nc.string() + "'",
+                       static_cast<double>(n) * (static_cast<double>(n0) * static_cast<double>(n1) *
+                                                     8.0 * fields_per_site +
+                                                 static_cast<double>(label_length)),
+                       std::to_string(n) + " frames of " + std::to_string(n0) + " x " +
+                           std::to_string(n1) + " sites, as its header says");
 
   // Looks up a variable and checks its dimensions, so that reads cannot overrun the buffers.
   const auto var = [&](const std::string& name, std::initializer_list<int> dims) {
@@ -302,6 +323,15 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
     for (std::size_t k = 0; k < n; ++k)
       frames[k].*s.value = values[k];
   }
+  // Snapshots hold converged, finite states (a failed run saves its last good one): a
+  // non-finite value means a damaged file, which would otherwise pass as an empty frame.
+  const auto finite = [&](const std::vector<double>& values, const char* name, std::size_t k) {
+    if (!std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
+      in.fail(std::string("non-finite values in '") + name + "' of frame " + std::to_string(k));
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!std::isfinite(frames[k].Dx)) in.fail("non-finite 'Dx' in frame " + std::to_string(k));
+  }
   const std::initializer_list<int> field_dims{frame_dim, x_dim, y_dim};
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t start[] = {k, 0, 0}, count[] = {1, n0, n1};
@@ -310,6 +340,7 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
       values.resize(n0 * n1);
       in.check(nc_get_vara_double(in.id, var(f.name, field_dims), start, count, values.data()),
                std::string("reading '") + f.name + "'");
+      finite(values, f.name, k);
     }
     frames[k].in_contact.resize(n0 * n1);
     in.check(nc_get_vara_uchar(in.id, var("in_contact", field_dims), start, count,
@@ -319,6 +350,7 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
       frames[k].uz.resize(n0 * n1);
       in.check(nc_get_vara_double(in.id, var("uz", field_dims), start, count, frames[k].uz.data()),
                "reading 'uz'");
+      finite(frames[k].uz, "uz", k);
     }
   }
   return frames;

@@ -1,7 +1,8 @@
 // libFuzzer target: scene files. Any input must either give a scene that passes validation or
 // throw std::invalid_argument (a clear message for the user); anything else (a crash, another
-// exception, a sanitizer report, a hang) is a bug. Both readers are fuzzed: the slide scene
-// (contact_slide) and, on the same text, the sweep scene keys (friction_sweep).
+// exception, a sanitizer report, a hang) is a bug. The TOML parsing and typed-key checks of
+// SceneReader, which every tool's scene goes through, and the slide scene's keys
+// (contact_slide); the other tools' key tables live in their apps and are not fuzzed here.
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>

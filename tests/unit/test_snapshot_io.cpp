@@ -183,6 +183,40 @@ TEST_F(SnapshotIo, DamagedFilesThrowInvalidArgument) {
   ASSERT_EQ(nc_close(id), NC_NOERR);
   EXPECT_NE(invalid_argument_message([&] { read_snapshots(nc); }).find("variable 'ux' missing"),
             std::string::npos);
+
+  // A non-finite field value (a damaged file) is named, not read as an empty frame.
+  write_snapshots(nc, frames(), {});
+  ASSERT_EQ(nc_open(nc.c_str(), NC_WRITE, &id), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(id, "tau_x", &var), NC_NOERR);
+  const std::size_t at[] = {1, 2, 1};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ASSERT_EQ(nc_put_var1_double(id, var, at, &nan), NC_NOERR);
+  ASSERT_EQ(nc_close(id), NC_NOERR);
+  const std::string non_finite = invalid_argument_message([&] { read_snapshots(nc); });
+  EXPECT_NE(non_finite.find("non-finite values in 'tau_x' of frame 1"), std::string::npos)
+      << non_finite;
+}
+
+// The sizes in a file's header decide the reader's allocations. A classic-format snapshot
+// (the fuzz seed tests/fuzz/corpus/snapshot/classic_3x2.nc, one frame) whose record count is
+// patched to 2^31 - 1 claims about 1 TiB: it is rejected with the estimate, before any
+// allocation (it once ended in std::bad_alloc); patched to 0 it has no frames.
+TEST_F(SnapshotIo, HeaderSizesAreCheckedBeforeAllocation) {
+  std::ifstream in(CLASSIC_SEED, std::ios::binary);
+  ASSERT_TRUE(in.good()) << CLASSIC_SEED;
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_EQ(bytes.substr(0, 4), std::string("CDF\x01", 4));
+  EXPECT_EQ(read_snapshots(CLASSIC_SEED).size(), 1u);
+  const auto patched = [&](const std::string& numrecs) {
+    const fs::path nc = dir_ / "patched.nc";
+    std::ofstream(nc, std::ios::binary) << bytes.substr(0, 4) + numrecs + bytes.substr(8);
+    return invalid_argument_message([&] { read_snapshots(nc); });
+  };
+  const std::string huge = patched(std::string("\x7f\xff\xff\xff", 4));
+  EXPECT_NE(huge.find("GiB of memory (2147483647 frames of 3 x 2 sites"), std::string::npos)
+      << huge;
+  const std::string none = patched(std::string(4, '\0'));
+  EXPECT_NE(none.find("no frames"), std::string::npos) << none;
 }
 
 TEST_F(SnapshotIo, NcdumpReadsTheHeader) {

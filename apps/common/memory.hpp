@@ -1,0 +1,19 @@
+// Memory checks before large allocations (issue 8): an input whose estimated memory exceeds
+// what this machine has is rejected with the estimate, before anything is allocated, instead
+// of failing later with std::bad_alloc or being killed by the kernel.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace asperity::app {
+
+// Physical memory of this machine in bytes (0 if it cannot be read).
+std::uint64_t physical_memory_bytes();
+
+// Throws std::invalid_argument "<what> needs about X GiB of memory (<how>), more than the Y GiB
+// this machine has" when `bytes` exceeds 90% of the physical memory (or is not finite).
+// `what` names the input (key, flag or file), so the message says what to change.
+void check_fits_in_memory(const std::string& what, double bytes, const std::string& how);
+
+}  // namespace asperity::app
