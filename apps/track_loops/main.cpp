@@ -107,13 +107,29 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
   const std::array<std::string, 3> colours = {"#ffffff", "#ff9900", "#ff0000"};
   std::array<bool, 3> titled{};
   std::vector<app::Series> overlays;
+  // Lines through the sides of a periodic cell are traced unwrapped; drawn, they are wrapped
+  // back into the cell and broken where they cross a side.
+  const double x0 = blk.x(0, f.d), y0 = blk.y(0, f.d);
+  const double Lx = blk.shape.n0 * f.d, Ly = blk.shape.n1 * f.d;
+  const auto wrapped = [&](tracking::Point p) {
+    if (f.periodic) {
+      p.x = x0 + std::fmod(std::fmod(p.x - x0, Lx) + Lx, Lx);
+      p.y = y0 + std::fmod(std::fmod(p.y - y0, Ly) + Ly, Ly);
+    }
+    return p;
+  };
   for (const auto& l : f.lines) {
     const std::size_t m = l.points.size();
     int current = -1;
     for (std::size_t k = 0; k < l.angle_deg.size(); ++k) {
       const int c = l.angle_deg[k] < 30.0 ? 0 : (l.angle_deg[k] > 60.0 ? 2 : 1);
-      const auto& a = l.points[k];
-      const auto& b = l.points[(k + 1) % m];
+      const auto a = wrapped(l.points[k]);
+      const auto b = wrapped(l.points[(k + 1) % m]);
+      const bool crosses = std::abs(b.x - a.x) > 0.5 * Lx || std::abs(b.y - a.y) > 0.5 * Ly;
+      if (crosses) {
+        current = -1;  // the next segment starts a new series on the other side
+        continue;
+      }
       if (c != current) {
         const auto cc = static_cast<std::size_t>(c);
         overlays.push_back({.x = {a.x},
