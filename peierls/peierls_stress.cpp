@@ -197,4 +197,44 @@ PeierlsResult peierls_stress(const PeierlsOptions& options) {
   return result;
 }
 
+void CellSizeOptions::validate() const {
+  if (!(tolerance >= 0.0 && tolerance < 1.0))
+    reject("CellSizeOptions.tolerance", std::to_string(tolerance), "in [0, 1)");
+  if (!(max_L >= 8 && max_L <= (1 << 16)))
+    reject("CellSizeOptions.max_L", std::to_string(max_L), "in [8, 65536]");
+}
+
+CellSizeResult peierls_stress_converged(const PeierlsOptions& options,
+                                        const CellSizeOptions& cell_size) {
+  cell_size.validate();
+  PeierlsOptions o = options;
+  CellSizeResult out;
+  out.result = peierls_stress(o);
+  out.change = std::numeric_limits<double>::quiet_NaN();
+  out.converged = cell_size.tolerance == 0.0;
+  const auto relative_change = [](const Threshold& now, const Threshold& before) {
+    if (now.resolved != before.resolved) return std::numeric_limits<double>::quiet_NaN();
+    return now.resolved ? std::abs(now.tau_P / before.tau_P - 1.0) : 0.0;
+  };
+  while (!out.converged && 2 * o.cell.L <= cell_size.max_L) {
+    if (!out.result.positive.resolved && !out.result.negative.resolved) break;
+    o.cell.L *= 2;
+    PeierlsResult next = peierls_stress(o);
+    next.iterations += out.result.iterations;
+    next.transforms += out.result.transforms;
+    next.interface_evaluations += out.result.interface_evaluations;
+    const double positive = relative_change(next.positive, out.result.positive);
+    const double negative =
+        options.both_signs ? relative_change(next.negative, out.result.negative) : 0.0;
+    out.change = std::isnan(positive) || std::isnan(negative)
+                     ? std::numeric_limits<double>::quiet_NaN()
+                     : std::max(positive, negative);
+    out.result = std::move(next);
+    ++out.cells;
+    if (std::isnan(out.change)) break;  // resolved at one size only: no comparison
+    out.converged = out.change <= cell_size.tolerance;
+  }
+  return out;
+}
+
 }  // namespace asperity::peierls

@@ -25,6 +25,7 @@
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/snapshot_io.hpp"
@@ -45,8 +46,16 @@ struct Scene {
   bool snapshots = false;
   double min_line_spacing = 16.0;
   peierls::PeierlsOptions options;
+  peierls::CellSizeOptions cell_size;
   double fit_b_min = 2.0, fit_b_max = 1e9;
 };
+
+// Shortest round-trip text of a double: fingerprints compare exactly.
+std::string exact(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
 
 Scene read_scene(const std::string& path) {
   app::SceneReader r = app::SceneReader::from_file(path);
@@ -60,6 +69,8 @@ Scene read_scene(const std::string& path) {
   s.snapshots = r.boolean("scan.snapshots", false);
   auto& c = s.options.cell;
   c.L = r.integer("cell.L", 256, Range::closed(8, 1 << 16));
+  s.cell_size.tolerance = r.number("cell.L_tolerance", 0.01, Range::closed_open(0, 1));
+  s.cell_size.max_L = r.integer("cell.max_L", 4096, Range::closed(8, 1 << 16));
   const std::string model = r.string("cell.model", "reduced");
   try {
     c.model = peierls::cell_model_from_string(model);
@@ -82,14 +93,14 @@ Scene read_scene(const std::string& path) {
   s.fit_b_min = r.number("fit.b_min", 2.0, Range::non_negative());
   s.fit_b_max = r.number("fit.b_max", 1e9, Range::positive());
   r.reject_unknown();
+  if (s.b_core.empty())
+    throw std::invalid_argument(path + ": scan.b_core: empty, give at least one");
+  if (s.theta.empty()) throw std::invalid_argument(path + ": scan.theta: empty, give at least one");
+  if (s.fit_b_min >= s.fit_b_max) {
+    throw std::invalid_argument(path + ": fit.b_min = " + exact(s.fit_b_min) +
+                                " must be below fit.b_max = " + exact(s.fit_b_max));
+  }
   return s;
-}
-
-// Shortest round-trip text of a double: fingerprints compare exactly.
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
 }
 
 // Everything but the point's own (b_core, orientation) that changes a result.
@@ -101,6 +112,8 @@ std::string fingerprint(const Scene& s) {
     f.append(key).append("=").append(value);
   };
   add("L", std::to_string(o.cell.L));
+  add("L_tol", exact(s.cell_size.tolerance));
+  add("max_L", std::to_string(s.cell_size.max_L));
   add("model", peierls::to_string(o.cell.model));
   add("alias", std::to_string(o.cell.alias_images));
   add("G", exact(o.cell.material.G));
@@ -112,6 +125,11 @@ std::string fingerprint(const Scene& s) {
   add("mem", std::to_string(o.minimizer.memory));
   add("maxdisp", exact(o.minimizer.max_displacement));
   if (o.cell.model == peierls::CellModel::full) add("push", exact(o.perturbation));
+  // Another build may resolve a threshold differently: its rows are not reused.
+  std::string code = app::provenance_string();
+  for (char& ch : code)
+    if (ch == ' ') ch = '_';
+  add("code", code);
   return f;
 }
 
@@ -122,6 +140,8 @@ struct Point {
 
 struct Row {
   Point point;
+  int L = 0;              // cell size of the result (sites per period)
+  double L_change = NAN;  // |tau_P(L)/tau_P(L/2) - 1|; NaN: one cell
   bool resolved_pos = false, resolved_neg = false;
   double tau_pos = NAN, tau_neg = NAN;  // tau_P / tau_max
   double floor = NAN;                   // resolution floor / tau_max
@@ -137,6 +157,7 @@ const std::vector<std::string>& columns() {
                                              "m_x",
                                              "m_y",
                                              "L",
+                                             "L_change",
                                              "model",
                                              "tau_P_over_tau_max_pos",
                                              "tau_P_over_tau_max_neg",
@@ -162,7 +183,8 @@ std::vector<app::CsvTable::Cell> cells(const Row& r, const Scene& s) {
           r.point.orientation.theta_deg,
           static_cast<long long>(r.point.orientation.mx),
           static_cast<long long>(r.point.orientation.my),
-          static_cast<long long>(s.options.cell.L),
+          static_cast<long long>(r.L),
+          r.L_change,
           peierls::to_string(s.options.cell.model),
           tau(r.resolved_pos, r.tau_pos),
           tau(r.resolved_neg, r.tau_neg),
@@ -205,6 +227,8 @@ std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
         continue;
       Row r;
       r.point = p;
+      r.L = static_cast<int>(t.integer(i, "L"));
+      r.L_change = number_or_nan(i, "L_change");
       r.resolved_pos = t.integer(i, "resolved_pos") != 0;
       r.resolved_neg = t.integer(i, "resolved_neg") != 0;
       r.tau_pos = number_or_nan(i, "tau_P_over_tau_max_pos");
@@ -304,7 +328,7 @@ std::vector<fs::path> write_figures(const fs::path& dir, const Scene& s,
     by_b[r.point.b_core].push_back(&r);
   }
   char title[200];
-  std::snprintf(title, sizeof title, "Peierls stress, L = %d, nu = %g, %s cell, precision %g",
+  std::snprintf(title, sizeof title, "Peierls stress, L >= %d, nu = %g, %s cell, precision %g",
                 s.options.cell.L, s.options.cell.material.nu,
                 peierls::to_string(s.options.cell.model).c_str(), s.options.precision);
 
@@ -430,7 +454,8 @@ int main(int argc, char** argv) {
     std::vector<double> b_core, theta;
     std::optional<int> L, jobs;
     std::optional<std::string> model;
-    std::optional<double> nu, precision, tolerance;
+    std::optional<double> nu, precision, tolerance, L_tolerance;
+    std::optional<int> max_L;
     bool snapshots = false, list_angles = false;
     cli.add_option("scene", scene_path, "Scan scene file (TOML)")
         ->check(CLI::ExistingFile)
@@ -442,6 +467,11 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->check(app::finite_number(0, 90));
     cli.add_option("--L", L, "Cell size (sites per period)")->check(CLI::Range(8, 1 << 16));
+    cli.add_option("--L-tolerance", L_tolerance,
+                   "Double L until tau_P changes by less than this (relative; 0: L as given)")
+        ->check(app::finite_number(0, 1));
+    cli.add_option("--max-L", max_L, "Largest cell tried when doubling L")
+        ->check(CLI::Range(8, 1 << 16));
     cli.add_option("--model", model, "Cell model: reduced | full")
         ->check(CLI::IsMember({"reduced", "full"}));
     cli.add_option("--nu", nu, "Poisson ratio")->check(app::finite_number(0, 0.5));
@@ -461,6 +491,8 @@ int main(int argc, char** argv) {
     if (!b_core.empty()) s.b_core = b_core;
     if (!theta.empty()) s.theta = theta;
     if (L) s.options.cell.L = *L;
+    if (L_tolerance) s.cell_size.tolerance = *L_tolerance;
+    if (max_L) s.cell_size.max_L = *max_L;
     if (model) s.options.cell.model = peierls::cell_model_from_string(*model);
     if (nu) s.options.cell.material.nu = *nu;
     if (precision) s.options.precision = *precision;
@@ -468,6 +500,19 @@ int main(int argc, char** argv) {
     if (jobs) s.jobs = *jobs;
     if (snapshots) s.snapshots = true;
     s.options.validate();
+    s.cell_size.validate();
+    if (s.options.cell.model == peierls::CellModel::full) {
+      // The full cell holds L^2 sites: fields, L-BFGS pairs and FFT buffers, about 512 bytes a
+      // site (the reduced chain holds L). The largest cell the doubling may reach counts.
+      const int largest = s.cell_size.tolerance > 0.0
+                              ? std::max(s.options.cell.L, s.cell_size.max_L)
+                              : s.options.cell.L;
+      const double sites = static_cast<double>(largest) * static_cast<double>(largest);
+      app::check_fits_in_memory("--L " + std::to_string(s.options.cell.L) + " (max_L " +
+                                    std::to_string(s.cell_size.max_L) + ", model full)",
+                                512.0 * sites * std::min(s.jobs > 0 ? s.jobs : 2, 2),
+                                "estimate: 512 bytes a site of an L x L cell per point at once");
+    }
     if (list_angles) {
       std::printf("theta_deg m_x m_y line_spacing_d (L = %d, images >= %g d apart)\n",
                   s.options.cell.L, s.min_line_spacing);
@@ -514,11 +559,12 @@ int main(int argc, char** argv) {
     });
     const int n_jobs = std::max(1, std::min(n_jobs_wanted, static_cast<int>(order.size())));
     std::fprintf(stderr,
-                 "peierls_scan: %zu points (%zu reused from %s), L = %d, %s cell, nu = %g, "
-                 "precision %g, tolerance %g x tau; %d at once\n",
-                 points.size(), reused, csv.c_str(), s.options.cell.L,
-                 peierls::to_string(s.options.cell.model).c_str(), s.options.cell.material.nu,
-                 s.options.precision, s.options.tolerance, n_jobs);
+                 "peierls_scan: %zu points (%zu reused from %s), L = %d (doubled up to %d until "
+                 "tau_P changes by less than %g), %s cell, nu = %g, precision %g, tolerance %g x "
+                 "tau; %d at once\n",
+                 points.size(), reused, csv.c_str(), s.options.cell.L, s.cell_size.max_L,
+                 s.cell_size.tolerance, peierls::to_string(s.options.cell.model).c_str(),
+                 s.options.cell.material.nu, s.options.precision, s.options.tolerance, n_jobs);
     for (const auto& o : orientations)
       std::fprintf(stderr, "peierls_scan: theta = %.4f deg from (m_x, m_y) = (%d, %d)\n",
                    o.theta_deg, o.mx, o.my);
@@ -535,9 +581,13 @@ int main(int argc, char** argv) {
       o.cell.mx = p.orientation.mx;
       o.cell.my = p.orientation.my;
       const auto started = std::chrono::steady_clock::now();
-      const peierls::PeierlsResult r = peierls::peierls_stress(o);
+      const peierls::CellSizeResult converged = peierls::peierls_stress_converged(o, s.cell_size);
+      const peierls::PeierlsResult& r = converged.result;
+      o.cell.L = r.L;
       Row row;
       row.point = p;
+      row.L = r.L;
+      row.L_change = converged.change;
       row.resolved_pos = r.positive.resolved;
       row.resolved_neg = r.negative.resolved;
       row.tau_pos = r.positive.tau_P / r.tau_max;
@@ -655,6 +705,8 @@ int main(int argc, char** argv) {
         {"b_core", bs},
         {"theta_requested", s.theta},
         {"L", s.options.cell.L},
+        {"L_tolerance", s.cell_size.tolerance},
+        {"max_L", s.cell_size.max_L},
         {"model", peierls::to_string(s.options.cell.model)},
         {"G", s.options.cell.material.G},
         {"nu", s.options.cell.material.nu},

@@ -45,4 +45,17 @@ b_core = [0]')"
 check scene_nu "material.nu" "$(scene nu '[material]
 nu = nan')"
 check scene_missing "scene" "$dir/no_such_scene.toml"
+check flag_L_tolerance "--L-tolerance" --L-tolerance -0.1
+check flag_L_tolerance_one "CellSizeOptions.tolerance" --L-tolerance 1
+check flag_max_L "--max-L" --max-L 100000
+check scene_b_core_empty "scan.b_core" "$(scene bcore_empty '[scan]
+b_core = []')"
+check scene_theta_empty "scan.theta" "$(scene theta_empty '[scan]
+theta = []')"
+check scene_fit_window "fit.b_min" "$(scene fit_window '[fit]
+b_min = 6
+b_max = 2')"
+check scene_L_tolerance "cell.L_tolerance" "$(scene L_tolerance '[cell]
+L_tolerance = 2')"
+check full_cell_memory "GiB of memory" --model full --L 65536 --L-tolerance 0
 exit $fail
