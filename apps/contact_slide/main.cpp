@@ -20,6 +20,7 @@
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
@@ -271,6 +272,10 @@ int main(int argc, char** argv) {
     if (threads) s.options.fft.threads = *threads;
     s.contact.validate();
     s.options.validate();
+    char a_text[64];
+    std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
+    app::check_fits_in_memory(a_text, slide::estimated_slide_bytes(s.contact),
+                              "estimate: 260 bytes per point of the padded FFT grid of the block");
 
     const std::filesystem::path checkpoint_file = std::filesystem::path(out) / "checkpoint.cbor";
     const std::string settings = app::slide_fingerprint(s);

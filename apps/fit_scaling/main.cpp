@@ -162,12 +162,37 @@ LawSource read_law(const Options& o) {
       throw std::invalid_argument(p.string() +
                                   ": the edge fit is not valid (too few resolved "
                                   "points)");
-    s.law.k1 = e.at("k1").get<double>();
-    s.law.k1_error = e.at("k1_error").get<double>();
-    s.law.k2 = e.at("k2").get<double>();
-    s.law.k2_error = e.at("k2_error").get<double>();
-    s.law.b_min = e.at("window_b_core")[0].get<double>();
-    s.law.b_max = e.at("window_b_core")[1].get<double>();
+    // The summary is a file like any other input: every number is checked, and a missing or
+    // mistyped key is named (it once crashed on an empty window).
+    const auto number = [&](const nlohmann::json& v, const std::string& key, bool positive) {
+      if (!v.is_number() || !std::isfinite(v.get<double>()) ||
+          (positive ? v.get<double>() <= 0.0 : v.get<double>() < 0.0)) {
+        throw std::invalid_argument(
+            p.string() + ": fits.edge." + key + " = " + v.dump() +
+            (positive ? ": not a finite positive number" : ": not a finite non-negative number"));
+      }
+      return v.get<double>();
+    };
+    const auto field = [&](const char* key) {
+      if (!e.contains(key))
+        throw std::invalid_argument(p.string() + ": fits.edge." + key + " missing");
+      return e[key];
+    };
+    s.law.k1 = number(field("k1"), "k1", true);
+    s.law.k1_error = number(field("k1_error"), "k1_error", false);
+    s.law.k2 = number(field("k2"), "k2", true);
+    s.law.k2_error = number(field("k2_error"), "k2_error", false);
+    const nlohmann::json window = field("window_b_core");
+    if (!window.is_array() || window.size() != 2) {
+      throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
+                                  ": not a pair [b_min, b_max]");
+    }
+    s.law.b_min = number(window[0], "window_b_core[0]", false);
+    s.law.b_max = number(window[1], "window_b_core[1]", true);
+    if (s.law.b_min >= s.law.b_max) {
+      throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
+                                  ": b_min must be below b_max");
+    }
     j = {{"source", p.string()},
          {"fit", "edge (theta = 90 deg), tau_P = k1 tau_max exp(-k2 b_core/d)"},
          {"window_b_core", {s.law.b_min, s.law.b_max}},

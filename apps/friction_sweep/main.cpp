@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
@@ -26,6 +27,7 @@
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/slide_io.hpp"
@@ -252,6 +254,29 @@ int main(int argc, char** argv) {
     s.base.contact.validate();
     s.base.options.validate();
     const std::vector<app::SweepPoint> points = app::sweep_points(s);  // validates s
+    {
+      // The largest contacts, as many at once as run in parallel, must fit together.
+      std::vector<double> bytes;
+      for (const auto& p : points) {
+        interface::ContactScene c = s.base.contact;
+        c.a = p.a;
+        c.R = p.R;
+        bytes.push_back(slide::estimated_slide_bytes(c));
+      }
+      std::sort(bytes.rbegin(), bytes.rend());
+      const std::size_t at_once =
+          std::min(bytes.size(), static_cast<std::size_t>(s.effective_jobs()));
+      const double total = std::accumulate(bytes.begin(), bytes.begin() + at_once, 0.0);
+      double a_max = 0.0;
+      for (const auto& p : points)
+        a_max = std::max(a_max, p.a);
+      char what[160];
+      std::snprintf(what, sizeof what,
+                    "running the sweep's %zu largest contacts at once (a up to %g d; fewer with --jobs)",
+                    at_once, a_max);
+      app::check_fits_in_memory(what, total,
+                                "estimate: 260 bytes per point of each block's padded FFT grid");
+    }
     const std::string settings = app::settings_fingerprint(s.base);
 
     const auto t0 = std::chrono::steady_clock::now();

@@ -129,6 +129,13 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
       const double v = list.values[i];
       const double a = s.a ? v : contact_radius_for(c, v);
       if (a >= kMinA && a <= kMaxA && a < c.R) {
+        interface::ContactScene point = c;
+        point.a = a;
+        try {
+          point.validate();
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument(element(s.R, j) + ": " + e.what());
+        }
         points.push_back({a, c.R});
         continue;
       }

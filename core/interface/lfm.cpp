@@ -6,6 +6,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,13 @@ void ContactScene::validate() const {
   if (!(a < R)) {
     throw std::invalid_argument("ContactScene.a: got " + std::to_string(a) +
                                 ", allowed: < R = " + std::to_string(R));
+  }
+  // A sphere of 1e9 d is a 0.3 m ball at d = 0.3 nm; far beyond, the Hertz pressure
+  // 2 a E*/(pi R) underflows and Fz = 0 would make mu = Fx/Fz meaningless.
+  if (!(R <= 1e9 * d)) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", R);
+    reject("ContactScene.R", got, "<= 1e9 d (a 0.3 m sphere at d = 0.3 nm)");
   }
 }
 

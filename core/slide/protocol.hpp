@@ -105,8 +105,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     const char* what = nullptr;
     if (r.termination != Termination::converged) {
       what = "";
-    } else if (!std::isfinite(s.Fx) || !std::isfinite(s.Fz) || !std::isfinite(s.energy)) {
-      what = "non-finite force or energy after ";
+    } else if (!std::isfinite(s.Fx) || !std::isfinite(s.Fz) || !std::isfinite(s.energy) ||
+               !(s.Fz > 0.0)) {
+      // Fz = 0 (a load that underflowed) would make mu = Fx / Fz NaN.
+      what = "non-finite force or energy, or no load, after ";
     } else {
       return {};
     }

@@ -314,4 +314,13 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   return detail::run_protocol(slider, params, options, control, t0);
 }
 
+double estimated_slide_bytes(const interface::ContactScene& scene) {
+  const double half = std::ceil(scene.a / scene.d) + 2.0;
+  const double n = 2.0 * half + 1.0;
+  // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
+  const double grid =
+      2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;
+  return 260.0 * grid * grid;
+}
+
 }  // namespace asperity::slide

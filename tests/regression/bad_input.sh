@@ -68,15 +68,19 @@ check $cs "--threads" --threads 0
 check $cs "--distance" --distance -1
 check $cs "--bogus" --bogus
 check $cs "scene" "$work/no_such_scene.toml"
+check $cs "ContactScene.R" --R 1e10
+check $cs "contact.a = 4096 d needs about" --a 4096 --R 1e6
 
 fs=friction_sweep
 check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
-check $fs "sweep" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
+check $fs "give exactly one" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
 check $fs "sweep.a" "$(scene w3 <<<$'[sweep]\nR = [535]\na = [-1]')"
 check $fs "contact.a" "$(scene w4 <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na = 5')"
 check $fs "sweep.jobs" "$(scene w5 <<<$'[sweep]\nR = [535]\na = [5]\njobs = 0')"
 check $fs "--R" --R 535,nan
 check $fs "--jobs" --jobs 0
+check $fs "ContactScene.R" --R 1e308 --a 5
+check $fs "GiB of memory" --R 1e6 --a 2000,3000,4000
 
 gv=gf_validate
 check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"
