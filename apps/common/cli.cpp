@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -105,6 +107,47 @@ void Progress::print() {
   out_ << label_ << ": " << done_ << "/" << total_ << " (" << percent << "%), " << elapsed;
   out_ << (interactive_ ? "" : "\n") << std::flush;
   shown_percent_ = percent;
+}
+
+namespace {
+// Set by the signal handler, read between steps. Lock-free, so that setting it is
+// async-signal-safe.
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void request_stop(int) {
+  g_stop.store(true);
+}
+}  // namespace
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // system calls in flight (file writes) just go on
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+bool stop_requested() {
+  return g_stop.load();
+}
+
+std::string command_line(int argc, char** argv, const std::string& extra) {
+  std::string out;
+  bool has_extra = extra.empty();
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    has_extra = has_extra || arg == extra;
+    if (arg.empty() || arg.find_first_of(" \t'\"$`\\*?;&|()<>") != std::string::npos) {
+      std::string quoted = "'";
+      for (char c : arg)
+        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      arg = quoted + "'";
+    }
+    out += (i ? " " : "") + arg;
+  }
+  return has_extra ? out : out + " " + extra;
 }
 
 }  // namespace asperity::app

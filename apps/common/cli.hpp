@@ -50,6 +50,19 @@ bool parse_command_line(CLI::App& app, int argc, char** argv);
 // at run time (any other std::exception).
 int run_main(int argc, char** argv, const std::function<int(int, char**)>& body);
 
+// Exit status of a run stopped by SIGINT or SIGTERM after saving what it had (0: done,
+// 1: failed, 2: bad input).
+constexpr int kInterrupted = 3;
+
+// Installs handlers for SIGINT and SIGTERM that only set a flag (async-signal-safe): long runs
+// poll stop_requested() between steps, save their state and return kInterrupted.
+void install_stop_handlers();
+bool stop_requested();
+
+// The command line as typed, quoted for a POSIX shell, with `extra` appended unless an argument
+// equals it already (e.g. "--resume"; empty: nothing appended).
+std::string command_line(int argc, char** argv, const std::string& extra = "");
+
 // One-line progress report for long loops. On a terminal the line is rewritten in place; in a
 // log file a line is printed each time another `percent_step` percent is done, so logs stay short.
 // advance() may be called from several threads. The destructor prints the final state.

@@ -27,50 +27,6 @@
 
 using namespace asperity;
 
-namespace {
-
-// Exit status of a run stopped by SIGINT or SIGTERM after saving its checkpoint (0: done, 1:
-// failed, 2: bad input).
-constexpr int kInterrupted = 3;
-
-// Set by the signal handler, read between steps of the slide. Lock-free, so that setting it is
-// async-signal-safe.
-std::atomic<bool> g_stop{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
-
-extern "C" void request_stop(int) {
-  g_stop.store(true);
-}
-
-void install_stop_handlers() {
-  struct sigaction action {};
-  action.sa_handler = request_stop;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;  // system calls in flight (file writes) just go on
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
-
-// The command line as typed, with --resume added: what continues this run.
-std::string resume_command(int argc, char** argv) {
-  std::string out;
-  bool has_resume = false;
-  for (int i = 0; i < argc; ++i) {
-    std::string arg = argv[i];
-    has_resume = has_resume || arg == "--resume";
-    if (arg.empty() || arg.find_first_of(" \t'\"$`\\*?;&|()<>") != std::string::npos) {
-      std::string quoted = "'";
-      for (char c : arg)
-        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      arg = quoted + "'";
-    }
-    out += (i ? " " : "") + arg;
-  }
-  return has_resume ? out : out + " --resume";
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
     CLI::App cli{"Quasi-static sliding of a sphere on a crystalline flat (lateral force model)"};
@@ -342,9 +298,9 @@ int main(int argc, char** argv) {
               ++checkpoints;
             },
         .checkpoint_every_s = checkpoint_every,
-        .stop_requested = [] { return g_stop.load(); },
+        .stop_requested = app::stop_requested,
         .start = start ? &start->state : nullptr};
-    install_stop_handlers();
+    app::install_stop_handlers();
     const slide::SlideResult r = slide::slide(s.contact, s.options, control);
     if (tty) std::fprintf(stderr, "\n");
     if (r.interrupted) {
@@ -352,8 +308,9 @@ int main(int argc, char** argv) {
                    "contact_slide: %s; state saved in %s (%d checkpoint%s, %.2f s)\n"
                    "continue with:\n  %s\n",
                    r.stop_reason.c_str(), checkpoint_file.c_str(), checkpoints,
-                   checkpoints == 1 ? "" : "s", checkpoint_s, resume_command(argc_, argv_).c_str());
-      return kInterrupted;
+                   checkpoints == 1 ? "" : "s", checkpoint_s,
+                   app::command_line(argc_, argv_, "--resume").c_str());
+      return app::kInterrupted;
     }
     const auto files = app::write_slide_outputs(out, s, r);
     if (!r.failed) {

@@ -30,6 +30,7 @@
 #include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
+#include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
 #include "sweep.hpp"
 
@@ -238,6 +239,11 @@ int main(int argc, char** argv) {
     cli.add_flag("--figures", figures,
                  "Per point also the figures and NetCDF snapshots (as contact_slide)");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    double checkpoint_every = 300.0;
+    cli.add_option("--checkpoint-every", checkpoint_every,
+                   "Seconds of run time between checkpoints of each running point (0: every step)")
+        ->check(app::non_negative())
+        ->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     app::SweepScene s = app::read_sweep_scene(scene_path);
@@ -271,9 +277,10 @@ int main(int argc, char** argv) {
       for (const auto& p : points)
         a_max = std::max(a_max, p.a);
       char what[160];
-      std::snprintf(what, sizeof what,
-                    "running the sweep's %zu largest contacts at once (a up to %g d; fewer with --jobs)",
-                    at_once, a_max);
+      std::snprintf(
+          what, sizeof what,
+          "running the sweep's %zu largest contacts at once (a up to %g d; fewer with --jobs)",
+          at_once, a_max);
       app::check_fits_in_memory(what, total,
                                 "estimate: 260 bytes per point of each block's padded FFT grid");
     }
@@ -333,21 +340,63 @@ int main(int argc, char** argv) {
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
-    std::size_t finished = 0;
+    std::size_t finished = 0, resumed_points = 0;
+    std::atomic<std::size_t> interrupted{0};
     const auto run_point = [&](std::size_t k) {
       app::SlideScene ps = s.base;
       ps.contact.a = points[k].a;
       ps.contact.R = points[k].R;
       const auto started = std::chrono::steady_clock::now();
+      // A point in flight saves its slide in its folder every checkpoint_every seconds and when
+      // the sweep is stopped (SIGINT, SIGTERM); the next run continues it from there, to the same
+      // result bit for bit. A checkpoint of other settings is replaced.
+      const fs::path point_dir = dir / "points" / app::point_folder(points[k]);
+      const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
+      const std::string point_settings = app::slide_fingerprint(ps);
+      std::optional<app::SlideCheckpoint> start;
+      if (fs::exists(checkpoint_file)) {
+        try {
+          app::SlideCheckpoint c = app::read_checkpoint(checkpoint_file);
+          app::check_checkpoint_settings(c, ps, checkpoint_file);
+          start = std::move(c);
+        } catch (const std::invalid_argument& e) {
+          const std::lock_guard lock(table_mutex);
+          std::fprintf(stderr, "friction_sweep: starting the point over: %s\n", e.what());
+        }
+      }
       app::SweepRow row;
       try {
-        const slide::SlideResult result = slide::slide(ps.contact, ps.options);
+        if (start) {
+          const std::lock_guard lock(table_mutex);
+          ++resumed_points;
+          std::fprintf(stderr,
+                       "friction_sweep: resuming a = %.4g d, R = %g d from its checkpoint at Dx = "
+                       "%.4f d\n",
+                       points[k].a, points[k].R, start->state.current.Dx);
+        }
+        const slide::SlideControl control{.checkpoint =
+                                              [&](const slide::SlideState& state) {
+                                                app::ensure_directory(point_dir);
+                                                app::write_checkpoint(
+                                                    checkpoint_file,
+                                                    {.settings = point_settings, .state = state});
+                                              },
+                                          .checkpoint_every_s = checkpoint_every,
+                                          .stop_requested = app::stop_requested,
+                                          .start = start ? &start->state : nullptr};
+        const slide::SlideResult result = slide::slide(ps.contact, ps.options, control);
+        if (result.interrupted) {
+          ++interrupted;  // no row: the next run continues from the checkpoint
+          return;
+        }
         {
           std::unique_lock lock(output_mutex, std::defer_lock);
           if (figures) lock.lock();
-          app::write_slide_outputs(dir / "points" / app::point_folder(points[k]), ps, result,
+          app::write_slide_outputs(point_dir, ps, result,
                                    {.figures = figures, .snapshots = figures});
         }
+        std::error_code ec;
+        fs::remove(checkpoint_file, ec);  // the row below is final
         row = app::sweep_row(ps, result, settings);
       } catch (const std::exception& e) {
         // Recorded as a failed point; the other points go on.
@@ -371,11 +420,12 @@ int main(int argc, char** argv) {
         stop = true;
       }
     };
+    app::install_stop_handlers();
     {
       std::vector<std::jthread> pool;
       for (int j = 0; j < n_jobs; ++j) {
         pool.emplace_back([&] {
-          while (!stop) {
+          while (!stop && !app::stop_requested()) {
             const std::size_t i = next++;
             if (i >= order.size()) break;
             run_point(order[i]);
@@ -384,6 +434,14 @@ int main(int argc, char** argv) {
       }
     }  // joins
     if (fatal) std::rethrow_exception(fatal);
+    if (app::stop_requested()) {
+      std::fprintf(stderr,
+                   "friction_sweep: stopped; %zu point%s finished in this run (kept in %s), %zu "
+                   "in flight saved to points/*/checkpoint.cbor\ncontinue with:\n  %s\n",
+                   finished, finished == 1 ? "" : "s", csv.c_str(), interrupted.load(),
+                   app::command_line(argc_, argv_).c_str());
+      return app::kInterrupted;
+    }
 
     std::vector<app::SweepRow> done;
     for (auto& row : rows)

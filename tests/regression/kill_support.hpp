@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/output_files.hpp"
+#include "common/slide_checkpoint.hpp"
 #include "common/snapshot_io.hpp"
 
 extern char** environ;
@@ -131,6 +132,8 @@ inline OutputCheck check_outputs(const fs::path& dir) {
       } else if (ext == ".json") {
         const auto json = nlohmann::json::parse(slurp(p));
         if (json.is_discarded()) throw std::runtime_error("not JSON");
+      } else if (ext == ".cbor") {
+        (void)app::read_checkpoint(p);
       } else if (ext == ".nc") {
         if (app::read_snapshots(p).empty()) throw std::runtime_error("no frames");
       } else if (ext == ".png") {

@@ -10,6 +10,10 @@
 // processes, so none remain at the end. The final sweep.csv must be byte-identical to the
 // reference, and so must every point's trace.csv and summary.json (less its "run": wall time and
 // provenance). The seed of the kill times is printed; ASPERITY_KILL_SEED=<n> repeats a run.
+//
+// SIGINT (and SIGTERM) stop a sweep cleanly instead: the points in flight save their slides to
+// points/<point>/checkpoint.cbor, the sweep exits with status 3, and the same command continues
+// those points from their checkpoints to the uninterrupted result, bit for bit.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -27,14 +31,31 @@ using Clock = std::chrono::steady_clock;
 
 const fs::path kWork = WORK_DIR;
 
-std::vector<std::string> sweep_command(const fs::path& out) {
-  return {FRICTION_SWEEP, SCENE, "--figures", "--out", out.string()};
+std::vector<std::string> sweep_command(const fs::path& out, bool figures = true) {
+  std::vector<std::string> args = {FRICTION_SWEEP, SCENE, "--out", out.string()};
+  if (figures) args.push_back("--figures");
+  return args;
 }
 
 void expect_complete(const fs::path& dir, const std::string& when) {
   const OutputCheck c = check_outputs(dir);
   for (const auto& b : c.broken)
     ADD_FAILURE() << when << ": incomplete result file " << b;
+}
+
+// Every point of `reference` has the same trace.csv and summary.json (less "run") in `other`;
+// returns the number of points compared.
+std::size_t expect_same_points(const fs::path& reference, const fs::path& other) {
+  std::size_t points = 0;
+  for (const auto& entry : fs::directory_iterator(reference / "points")) {
+    const fs::path same = other / "points" / entry.path().filename();
+    EXPECT_EQ(slurp(same / "trace.csv"), slurp(entry.path() / "trace.csv")) << same;
+    EXPECT_EQ(without_run(nlohmann::json::parse(slurp(same / "summary.json"))),
+              without_run(nlohmann::json::parse(slurp(entry.path() / "summary.json"))))
+        << same;
+    ++points;
+  }
+  return points;
 }
 
 }  // namespace
@@ -111,19 +132,58 @@ TEST(FrictionSweepKill, ResumesToTheUninterruptedTable) {
               leftovers, end.files);
 
   EXPECT_EQ(slurp(killed / "sweep.csv"), slurp(reference / "sweep.csv"));
-  std::size_t points = 0;
-  for (const auto& entry : fs::directory_iterator(reference / "points")) {
-    const fs::path other = killed / "points" / entry.path().filename();
-    EXPECT_EQ(slurp(other / "trace.csv"), slurp(entry.path() / "trace.csv")) << other;
-    EXPECT_EQ(without_run(nlohmann::json::parse(slurp(other / "summary.json"))),
-              without_run(nlohmann::json::parse(slurp(entry.path() / "summary.json"))))
-        << other;
-    ++points;
-  }
-  EXPECT_EQ(points, 8u);
+  EXPECT_EQ(expect_same_points(reference, killed), 8u);
   // The sweep's summary differs only in what was reused and in "run".
   EXPECT_EQ(
       without_run(nlohmann::json::parse(slurp(killed / "summary.json")), {"computed", "reused"}),
       without_run(nlohmann::json::parse(slurp(reference / "summary.json")),
                   {"computed", "reused"}));
+}
+
+// Without --figures: the points' figures and snapshots (gnuplot, NetCDF) take most of a run with
+// them, written after the slide, and a stop there leaves no slide in flight to save; without,
+// the run is slides nearly all the time.
+TEST(FrictionSweepKill, SigintSavesThePointsInFlightAndTheNextRunContinuesThem) {
+  const fs::path reference = kWork / "reference_tables", stopped = kWork / "sigint";
+  const fs::path log = kWork / "sigint_log.txt";
+  fs::create_directories(kWork);
+  fs::remove_all(stopped);
+  fs::remove(log);
+  double T = 0.0;
+  {
+    fs::remove_all(reference);
+    const auto t0 = Clock::now();
+    Child run(sweep_command(reference, false), log);
+    ASSERT_EQ(describe_status(run.wait()), "exit 0") << "see " << log;
+    T = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  // Stop it while points are in flight (two run at once over the whole sweep).
+  unsigned seed = std::random_device{}();
+  if (const char* s = std::getenv("ASPERITY_KILL_SEED"))
+    seed = static_cast<unsigned>(std::stoul(s));
+  std::mt19937 gen(seed);
+  const double delay = std::uniform_real_distribution<double>(0.2 * T, 0.6 * T)(gen);
+  std::size_t checkpoints = 0;
+  {
+    Child run(sweep_command(stopped, false), log);
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+    ASSERT_TRUE(run.signal(SIGINT)) << "the sweep ended before " << delay << " s of " << T;
+    ASSERT_EQ(describe_status(run.wait()), "exit 3") << "see " << log;
+  }
+  for (const auto& entry : fs::recursive_directory_iterator(stopped))
+    checkpoints += entry.path().filename() == "checkpoint.cbor" ? 1 : 0;
+  expect_complete(stopped, "after SIGINT");  // checkpoints included: they must decode
+  EXPECT_GE(checkpoints, 1u) << "no point in flight saved its slide";
+  std::printf("SIGINT after %.3f s of %.2f s (seed %u): exit 3, %zu checkpoint(s)\n", delay, T,
+              seed, checkpoints);
+  {
+    Child run(sweep_command(stopped, false), log);
+    ASSERT_EQ(describe_status(run.wait()), "exit 0") << "see " << log;
+  }
+  EXPECT_NE(slurp(log).find("from its checkpoint"), std::string::npos)
+      << "the second run did not continue from a checkpoint; see " << log;
+  for (const auto& entry : fs::recursive_directory_iterator(stopped))
+    EXPECT_NE(entry.path().filename(), "checkpoint.cbor") << "left after the sweep finished";
+  EXPECT_EQ(slurp(stopped / "sweep.csv"), slurp(reference / "sweep.csv"));
+  EXPECT_EQ(expect_same_points(reference, stopped), 8u);
 }
