@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "common/validate.hpp"
 
@@ -28,7 +30,7 @@ void PeierlsOptions::validate() const {
 
 namespace {
 
-enum class Outcome { stable, glides, below_resolution, undetermined };
+enum class Outcome { stable, glides, below_resolution, undetermined, failed };
 
 struct Runner {
   PeierlsCell& cell;
@@ -69,6 +71,14 @@ struct Runner {
     result.transforms += r.stiffness_applications;
     result.interface_evaluations += r.interface_evaluations;
     if (r.termination == Termination::interrupted) return Outcome::glides;
+    if (r.termination == Termination::diverged) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "relaxation diverged (non-finite forces) at tau = %.6g G after %d iterations",
+                    tau, r.iterations);
+      t.failure = buf;
+      return Outcome::failed;
+    }
     // A converged state must also not have glided on the last step.
     if (r.termination == Termination::converged)
       return glide(0, u) ? Outcome::glides : Outcome::stable;
@@ -91,6 +101,7 @@ struct Runner {
     while (true) {
       std::vector<double> u = u_lo;
       const Outcome o = relax(u, sign * tau, t);
+      if (o == Outcome::failed) return t;
       if (o == Outcome::stable) {
         lo = tau;
         u_lo = std::move(u);
@@ -122,7 +133,9 @@ struct Runner {
     while ((hi - lo) / (2.0 * std::sqrt(lo * hi)) > options.precision) {
       const double mid = std::sqrt(lo * hi);
       std::vector<double> u = u_lo;
-      if (relax(u, sign * mid, t) == Outcome::stable) {
+      const Outcome o = relax(u, sign * mid, t);
+      if (o == Outcome::failed) return t;
+      if (o == Outcome::stable) {
         lo = mid;
         u_lo = std::move(u);
       } else {
@@ -189,11 +202,18 @@ PeierlsResult peierls_stress(const PeierlsOptions& options) {
 
   if (r0.termination == Termination::diverged) {
     result.positive.resolved = result.negative.resolved = false;
+    result.failure = "zero-stress relaxation diverged (non-finite forces) after " +
+                     std::to_string(r0.iterations) + " iterations";
     return result;
   }
   Runner runner{cell, options, result.u_zero, result};
   result.positive = runner.threshold(+1.0);
   if (options.both_signs) result.negative = runner.threshold(-1.0);
+  for (const auto& [name, t] : {std::pair{"+x", &result.positive}, {"-x", &result.negative}}) {
+    if (t->failure.empty()) continue;
+    if (!result.failure.empty()) result.failure += "; ";
+    result.failure += std::string(name) + " stress: " + t->failure;
+  }
   return result;
 }
 
@@ -217,6 +237,7 @@ CellSizeResult peierls_stress_converged(const PeierlsOptions& options,
     return now.resolved ? std::abs(now.tau_P / before.tau_P - 1.0) : 0.0;
   };
   while (!out.converged && 2 * o.cell.L <= cell_size.max_L) {
+    if (!out.result.failure.empty()) break;
     if (!out.result.positive.resolved && !out.result.negative.resolved) break;
     o.cell.L *= 2;
     PeierlsResult next = peierls_stress(o);

@@ -58,6 +58,9 @@ struct Threshold {
   double floor = 0.0;    // resolution floor of this threshold (G): the cell's, raised past any
                          // stress whose relaxation stalled at round-off
   long iterations = 0;
+  // A relaxation that diverged (non-finite forces): the bracket stops there, the threshold is
+  // not resolved, and this says at which stress. Empty: no numerical failure.
+  std::string failure;
 };
 
 struct PeierlsResult {
@@ -79,6 +82,9 @@ struct PeierlsResult {
   long iterations = 0;
   std::size_t transforms = 0;  // FFT pairs (K and P applications)
   std::size_t interface_evaluations = 0;
+  // Numerical failures of the zero-stress relaxation or of either threshold, joined; empty if
+  // none. A failed point is not a result: callers report it and exit with an error status.
+  std::string failure;
   // States for snapshots: relaxed at zero stress, and the last stable one under +tau.
   std::vector<double> u_zero, u_loaded;
   double tau_loaded = 0.0;

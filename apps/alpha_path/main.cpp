@@ -48,9 +48,11 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->check(app::finite_number(0.6, 1.5))
         ->capture_default_str();
-    cli.add_option("--forces", forces, "Normal forces Fz (eps/sigma), comma-separated")
+    // Beyond 1000 eps/sigma the atom is pressed to ~0.8 sigma, deep inside the repulsive wall
+    // (and 1e300 overflows the height search).
+    cli.add_option("--forces", forces, "Normal forces Fz (eps/sigma, up to 1000), comma-separated")
         ->delimiter(',')
-        ->check(app::positive())
+        ->check(app::finite_number(0.0, 1000.0, true))
         ->capture_default_str();
     cli.add_option("--samples", samples, "Points along x over one period (odd)")
         ->check(CLI::Range(3, 1000001))

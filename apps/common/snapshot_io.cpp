@@ -245,7 +245,11 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
   tmp.commit();
 }
 
-std::vector<Snapshot> read_snapshots(const fs::path& nc) {
+namespace {
+
+// read_snapshots, or with `data` false only its checks of the header: dimensions, sizes, the
+// memory the frames need and every variable's presence and shape (no field is read).
+std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
   Reader in("cannot read '" + nc.string() + "': ");
   if (!fs::exists(nc)) in.fail("no such file");
   int id = -1;
@@ -296,6 +300,17 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
       in.fail("variable '" + name + "' has unexpected dimensions");
     return v;
   };
+  if (!data) {
+    var("label", {frame_dim, label_dim});
+    for (const char* name : {"iteration", "origin_x", "origin_y"})
+      var(name, {frame_dim});
+    for (const Scalar& sc : kScalars)
+      var(sc.name, {frame_dim});
+    for (const Field& f : kFields)
+      var(f.name, {frame_dim, x_dim, y_dim});
+    var("in_contact", {frame_dim, x_dim, y_dim});
+    return std::vector<Snapshot>(n);
+  }
   const auto get_ints = [&](const std::string& name) {
     std::vector<int> values(n);
     in.check(nc_get_var_int(in.id, var(name, {frame_dim}), values.data()),
@@ -354,6 +369,16 @@ std::vector<Snapshot> read_snapshots(const fs::path& nc) {
     }
   }
   return frames;
+}
+
+}  // namespace
+
+std::vector<Snapshot> read_snapshots(const fs::path& nc) {
+  return read_file(nc, true);
+}
+
+std::size_t check_snapshot_file(const fs::path& nc) {
+  return read_file(nc, false).size();
 }
 
 }  // namespace asperity::app

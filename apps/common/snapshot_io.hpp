@@ -32,4 +32,9 @@ void write_snapshots(const std::filesystem::path& nc, const std::vector<slide::S
 // problem if it is missing, not a NetCDF file, truncated, or lacks a dimension or variable.
 std::vector<slide::Snapshot> read_snapshots(const std::filesystem::path& nc);
 
+// The checks of read_snapshots that need no field data (the file opens, its dimensions, sizes
+// and variables are right, its frames fit in memory); returns the number of frames. For tools
+// that read many files: a bad last file stops the run before any work.
+std::size_t check_snapshot_file(const std::filesystem::path& nc);
+
 }  // namespace asperity::app

@@ -147,6 +147,10 @@ struct Row {
   double floor = NAN;                   // resolution floor / tau_max
   double core_width = NAN, core_width_continuum = NAN, rigid = NAN;
   long long iterations = 0, transforms = 0;
+  // Relaxations that neither converged nor glided (counted unstable: tau_P is bracketed from
+  // below by verified equilibria only), over both signs.
+  long long undetermined = 0;
+  std::string failure;  // numerical failure (non-finite forces); empty: none
   double wall_s = NAN;
   std::string settings;
 };
@@ -169,6 +173,8 @@ const std::vector<std::string>& columns() {
                                              "rigid_pn_estimate",
                                              "iterations",
                                              "transforms",
+                                             "undetermined",
+                                             "failure",
                                              "wall_s",
                                              "settings"};
   return c;
@@ -196,6 +202,8 @@ std::vector<app::CsvTable::Cell> cells(const Row& r, const Scene& s) {
           r.rigid,
           r.iterations,
           r.transforms,
+          r.undetermined,
+          r.failure,
           r.wall_s,
           r.settings};
 }
@@ -219,7 +227,8 @@ std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
     return text.empty() ? NAN : t.number(i, c);
   };
   for (std::size_t i = 0; i < t.rows(); ++i) {
-    if (t.text(i, "settings") != settings) continue;
+    // A failed point is computed again (it may have been an interrupted machine's fault).
+    if (t.text(i, "settings") != settings || !t.text(i, "failure").empty()) continue;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const Point& p = points[k];
       if (rows[k] || t.number(i, "b_core") != p.b_core || t.integer(i, "m_x") != p.orientation.mx ||
@@ -239,6 +248,7 @@ std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
       r.rigid = t.number(i, "rigid_pn_estimate");
       r.iterations = t.integer(i, "iterations");
       r.transforms = t.integer(i, "transforms");
+      r.undetermined = t.integer(i, "undetermined");
       r.wall_s = t.number(i, "wall_s");
       r.settings = settings;
       rows[k] = r;
@@ -312,6 +322,7 @@ std::string character_name(const peierls::Orientation& o) {
 
 // tau_P of a row: the mean of the resolved signs (they agree to the bracket precision).
 std::optional<double> row_tau(const Row& r) {
+  if (!r.failure.empty()) return std::nullopt;  // not a result at all
   if (r.resolved_pos && r.resolved_neg) return 0.5 * (r.tau_pos + r.tau_neg);
   if (r.resolved_pos) return r.tau_pos;
   if (r.resolved_neg) return r.tau_neg;
@@ -341,7 +352,7 @@ std::vector<fs::path> write_figures(const fs::path& dir, const Scene& s,
       if (const auto tau = row_tau(*r)) {
         line.x.push_back(r->point.b_core);
         line.y.push_back(*tau);
-      } else {
+      } else if (r->failure.empty()) {
         unresolved.x.push_back(r->point.b_core);
         unresolved.y.push_back(r->floor);
       }
@@ -598,6 +609,8 @@ int main(int argc, char** argv) {
       row.rigid = r.rigid_estimate;
       row.iterations = r.iterations;
       row.transforms = static_cast<long long>(r.transforms);
+      row.undetermined = r.positive.undetermined + r.negative.undetermined;
+      row.failure = r.failure;
       row.wall_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       row.settings = settings;
@@ -619,7 +632,9 @@ int main(int argc, char** argv) {
       const std::lock_guard lock(table_mutex);
       ++finished;
       char tau_text[96];
-      if (const auto tau = row_tau(row)) {
+      if (!row.failure.empty()) {
+        std::snprintf(tau_text, sizeof tau_text, "FAILED");
+      } else if (const auto tau = row_tau(row)) {
         std::snprintf(tau_text, sizeof tau_text, "tau_P/tau_max = %.5e", *tau);
       } else {
         std::snprintf(tau_text, sizeof tau_text, "unresolved (floor %.1e tau_max)", row.floor);
@@ -634,11 +649,14 @@ int main(int argc, char** argv) {
         stop = true;
       }
     };
+    // SIGINT/SIGTERM: no new point starts; the points in flight (seconds each) finish and are
+    // kept, and the same command continues with the rest.
+    app::install_stop_handlers();
     {
       std::vector<std::jthread> pool;
       for (int j = 0; j < n_jobs; ++j) {
         pool.emplace_back([&] {
-          while (!stop) {
+          while (!stop && !app::stop_requested()) {
             const std::size_t i = next++;
             if (i >= order.size()) break;
             try {
@@ -653,6 +671,15 @@ int main(int argc, char** argv) {
       }
     }
     if (fatal) std::rethrow_exception(fatal);
+    if (app::stop_requested() &&
+        std::any_of(rows.begin(), rows.end(), [](const auto& r) { return !r.has_value(); })) {
+      std::fprintf(stderr,
+                   "peierls_scan: stopped; %zu point%s finished in this run (kept in %s)\n"
+                   "continue with:\n  %s\n",
+                   finished, finished == 1 ? "" : "s", csv.c_str(),
+                   app::command_line(argc_, argv_).c_str());
+      return app::kInterrupted;
+    }
 
     std::vector<Row> done;
     for (auto& r : rows)
@@ -746,6 +773,13 @@ int main(int argc, char** argv) {
     std::printf("table:   %s\n", fs::absolute(csv).c_str());
     for (const auto& f : figures)
       std::printf("figure:  %s\n", fs::absolute(f).c_str());
-    return 0;
+    std::size_t failed = 0;
+    for (const Row& r : done) {
+      if (r.failure.empty()) continue;
+      if (failed++ == 0) std::fprintf(stderr, "peierls_scan: numerical failures:\n");
+      std::fprintf(stderr, "  b_core = %g d, theta = %.1f deg (L = %d): %s\n", r.point.b_core,
+                   r.point.orientation.theta_deg, r.L, r.failure.c_str());
+    }
+    return failed > 0 ? 1 : 0;
   });
 }

@@ -216,8 +216,10 @@ int main(int argc, char** argv) {
     std::map<std::string, int> kinds;
     std::size_t max_lines = 0, figures = 0;
     double detect_s = 0.0, detect_max_s = 0.0;
+    // A bad file anywhere in the list stops the run before any work (fields are read later).
+    for (const auto& file : files)
+      app::check_snapshot_file(file);
     for (const auto& file : files) {
-      // Read every file before writing anything about it: a bad file stops the run early.
       const std::vector<slide::Snapshot> snaps = app::read_snapshots(file);
       const bool periodic = force_periodic || periodic_attribute(file);
       inputs.push_back({{"file", fs::absolute(file).string()},
