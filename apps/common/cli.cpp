@@ -19,6 +19,13 @@ std::string provenance_string() {
   return std::string("asperity ") + ASPERITY_VERSION + " (commit " + ASPERITY_GIT_COMMIT + ")";
 }
 
+std::string provenance_token() {
+  std::string token = provenance_string();
+  for (char& ch : token)
+    if (ch == ' ') ch = '_';
+  return token;
+}
+
 nlohmann::json provenance_json() {
   const std::time_t now = std::time(nullptr);
   std::tm utc{};
@@ -124,7 +131,9 @@ void install_stop_handlers() {
   struct sigaction action {};
   action.sa_handler = request_stop;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;  // system calls in flight (file writes) just go on
+  // System calls in flight (file writes) just go on; a second signal, while the run finishes
+  // what is in flight, ends it at once (the default action).
+  action.sa_flags = SA_RESTART | SA_RESETHAND;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
 }

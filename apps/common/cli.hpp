@@ -36,6 +36,9 @@ namespace asperity::app {
 
 // "asperity <version> (commit <hash>)"; the hash is "unknown" outside a git checkout.
 std::string provenance_string();
+// The same without spaces, for settings fingerprints ("asperity_0.1.0_(commit_abc1234)"):
+// results of another build are not reused or resumed.
+std::string provenance_token();
 
 // Program, version, commit, UTC date-time (ISO 8601), hostname and hardware threads: stored with
 // every result so that it can be traced back to the code and machine that produced it.

@@ -5,11 +5,22 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 namespace asperity::app {
 
 std::uint64_t physical_memory_bytes() {
+  if (const char* text = std::getenv("ASPERITY_MEMORY_GIB")) {
+    char* end = nullptr;
+    const double gib = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !std::isfinite(gib) || !(gib > 0.0) || gib > 1e9) {
+      throw std::invalid_argument(std::string("ASPERITY_MEMORY_GIB = '") + text +
+                                  "': allowed: a positive number of GiB");
+    }
+    return static_cast<std::uint64_t>(gib * 1024.0 * 1024.0 * 1024.0);
+  }
   const long pages = ::sysconf(_SC_PHYS_PAGES);
   const long page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return 0;

@@ -8,11 +8,13 @@
 
 namespace asperity::app {
 
-// Physical memory of this machine in bytes (0 if it cannot be read).
+// Memory the checks may plan with, in bytes: the environment variable ASPERITY_MEMORY_GIB if set
+// (a positive number: to keep a run within a share of a machine, and for tests), otherwise the
+// physical memory of this machine (0 if it cannot be read).
 std::uint64_t physical_memory_bytes();
 
 // Throws std::invalid_argument "<what> needs about X GiB of memory (<how>), more than the Y GiB
-// this machine has" when `bytes` exceeds 90% of the physical memory (or is not finite).
+// this machine has" when `bytes` exceeds 90% of physical_memory_bytes() (or is not finite).
 // `what` names the input (key, flag or file), so the message says what to change.
 void check_fits_in_memory(const std::string& what, double bytes, const std::string& how);
 

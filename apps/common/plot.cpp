@@ -40,8 +40,15 @@ ProcessResult run_process(const std::vector<std::string>& args) {
   for (const auto& a : args)
     argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  // Its own process group: a Ctrl-C at the terminal is for our process, which finishes the
+  // figure it is drawing before it stops (a killed gnuplot would fail a finished point).
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int err = ::posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int err = ::posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   ::close(fds[1]);
   if (err != 0) {
@@ -191,26 +198,27 @@ void heatmap_png(const std::filesystem::path& png, const std::vector<double>& x,
                                 "': grid coordinates must be strictly increasing");
   }
   // A picture cannot show more cells than it has pixels, and gnuplot takes seconds per million
-  // cells (17 s for a 2048 x 2048 snapshot): larger grids are averaged over bin x bin blocks (the
+  // cells (17 s for a 2048 x 2048 snapshot): larger grids are averaged over blocks (the
   // finite values of each) down to at most kMaxCells per axis.
   constexpr std::size_t kMaxCells = 512;
-  const std::size_t bin = (std::max(x.size(), y.size()) + kMaxCells - 1) / kMaxCells;
-  const auto block_mean = [bin](const std::vector<double>& v, std::size_t i) {
+  const std::size_t bx = (x.size() + kMaxCells - 1) / kMaxCells;
+  const std::size_t by = (y.size() + kMaxCells - 1) / kMaxCells;
+  const auto block_mean = [](const std::vector<double>& v, std::size_t i, std::size_t bin) {
     double sum = 0.0;
     std::size_t end = std::min(v.size(), (i + 1) * bin), n = 0;
     for (std::size_t a = i * bin; a < end; ++a, ++n)
       sum += v[a];
     return sum / static_cast<double>(n);
   };
-  const std::size_t nx = (x.size() + bin - 1) / bin, ny = (y.size() + bin - 1) / bin;
+  const std::size_t nx = (x.size() + bx - 1) / bx, ny = (y.size() + by - 1) / by;
   // One gnuplot scan per x value; pm3d colours each grid cell by the mean of its corners.
   std::string data = "$map << EOD\n";
   for (std::size_t i = 0; i < nx; ++i) {
     for (std::size_t j = 0; j < ny; ++j) {
       double sum = 0.0;
       std::size_t count = 0;
-      for (std::size_t a = i * bin; a < std::min(x.size(), (i + 1) * bin); ++a) {
-        for (std::size_t b = j * bin; b < std::min(y.size(), (j + 1) * bin); ++b) {
+      for (std::size_t a = i * bx; a < std::min(x.size(), (i + 1) * bx); ++a) {
+        for (std::size_t b = j * by; b < std::min(y.size(), (j + 1) * by); ++b) {
           const double v = values[a * y.size() + b];
           if (std::isfinite(v)) {
             sum += v;
@@ -219,7 +227,7 @@ void heatmap_png(const std::filesystem::path& png, const std::vector<double>& x,
         }
       }
       const double v = count > 0 ? sum / static_cast<double>(count) : std::nan("");
-      data += num(block_mean(x, i)) + " " + num(block_mean(y, j)) + " " + num(v) + "\n";
+      data += num(block_mean(x, i, bx)) + " " + num(block_mean(y, j, by)) + " " + num(v) + "\n";
     }
     data += "\n";
   }

@@ -31,40 +31,72 @@ constexpr long long kMaxSites = 1LL << 28;
 // stack in the recursive CBOR reader (found by fuzz_checkpoint).
 constexpr std::size_t kMaxDepth = 32;
 
-// The library's DOM builder behind a depth check: the reader stops (returns false) at the first
-// container past kMaxDepth instead of recursing further.
+// Builds the document from the reader's SAX events (the public json_sax interface; the
+// library's own DOM builder is an internal class whose signature changes between versions),
+// and stops the reader (returns false) at the first container past kMaxDepth instead of
+// recursing further.
 class DepthLimitedDom {
  public:
-  explicit DepthLimitedDom(json& root) : dom_(root, true) {}
-  bool null() { return dom_.null(); }
-  bool boolean(bool v) { return dom_.boolean(v); }
-  bool number_integer(json::number_integer_t v) { return dom_.number_integer(v); }
-  bool number_unsigned(json::number_unsigned_t v) { return dom_.number_unsigned(v); }
-  bool number_float(json::number_float_t v, const json::string_t& s) {
-    return dom_.number_float(v, s);
+  explicit DepthLimitedDom(json& root) : root_(root) {}
+  bool null() { return add(json(nullptr)); }
+  bool boolean(bool v) { return add(json(v)); }
+  bool number_integer(json::number_integer_t v) { return add(json(v)); }
+  bool number_unsigned(json::number_unsigned_t v) { return add(json(v)); }
+  bool number_float(json::number_float_t v, const json::string_t&) { return add(json(v)); }
+  bool string(json::string_t& v) { return add(json(std::move(v))); }
+  bool binary(json::binary_t& v) { return add(json(std::move(v))); }
+  bool start_object(std::size_t) { return open(json::object()); }
+  bool key(json::string_t& k) {
+    key_ = std::move(k);
+    return true;
   }
-  bool string(json::string_t& v) { return dom_.string(v); }
-  bool binary(json::binary_t& v) { return dom_.binary(v); }
-  bool start_object(std::size_t n) { return ++depth_ <= kMaxDepth && dom_.start_object(n); }
-  bool key(json::string_t& k) { return dom_.key(k); }
-  bool end_object() {
-    --depth_;
-    return dom_.end_object();
-  }
-  bool start_array(std::size_t n) { return ++depth_ <= kMaxDepth && dom_.start_array(n); }
-  bool end_array() {
-    --depth_;
-    return dom_.end_array();
-  }
+  bool end_object() { return close(); }
+  bool start_array(std::size_t) { return open(json::array()); }
+  bool end_array() { return close(); }
   template <class Exception>
-  bool parse_error(std::size_t position, const std::string& token, const Exception& e) {
-    return dom_.parse_error(position, token, e);
+  bool parse_error(std::size_t, const std::string&, const Exception& e) {
+    throw e;
   }
-  bool too_deep() const { return depth_ > kMaxDepth; }
+  bool too_deep() const { return too_deep_; }
 
  private:
-  nlohmann::detail::json_sax_dom_parser<json> dom_;
-  std::size_t depth_ = 0;
+  // Places a value where the reader is: the root, the next element of an array, or the value
+  // of the last key of an object. Returns where it went.
+  json* place(json&& v) {
+    if (stack_.empty()) {
+      root_ = std::move(v);
+      return &root_;
+    }
+    json& parent = *stack_.back();
+    if (parent.is_array()) {
+      parent.push_back(std::move(v));
+      return &parent.back();
+    }
+    json& slot = parent[key_];
+    slot = std::move(v);
+    return &slot;
+  }
+  bool add(json&& v) {
+    place(std::move(v));
+    return true;
+  }
+  bool open(json&& container) {
+    if (stack_.size() >= kMaxDepth) {
+      too_deep_ = true;
+      return false;
+    }
+    stack_.push_back(place(std::move(container)));
+    return true;
+  }
+  bool close() {
+    stack_.pop_back();
+    return true;
+  }
+
+  json& root_;
+  std::vector<json*> stack_;  // open containers, innermost last
+  json::string_t key_;
+  bool too_deep_ = false;
 };
 
 // Shortest form that reads back to the same double: fingerprints compare exactly.
@@ -382,10 +414,7 @@ std::string slide_fingerprint(const SlideScene& scene) {
   add("fft_threads", std::to_string(o.fft.threads));
   add("fft_planner", fft::to_string(o.fft.planner));
   // Another build may round differently: its continuation would not be the same slide.
-  std::string code = provenance_string();
-  for (char& ch : code)
-    if (ch == ' ') ch = '_';
-  add("code", code);
+  add("code", provenance_token());
   return s;
 }
 

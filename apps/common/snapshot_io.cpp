@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <numeric>
 #include <stdexcept>
@@ -247,9 +248,10 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
 
 namespace {
 
-// read_snapshots, or with `data` false only its checks of the header: dimensions, sizes, the
-// memory the frames need and every variable's presence and shape (no field is read).
-std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
+// read_snapshots into `frames`, or with `frames` null only its checks of the header:
+// dimensions, sizes, the memory the frames need and every variable's presence and shape (no
+// field is read). Returns the number of frames.
+std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out) {
   Reader in("cannot read '" + nc.string() + "': ");
   if (!fs::exists(nc)) in.fail("no such file");
   int id = -1;
@@ -281,12 +283,27 @@ std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
             std::to_string(kMaxLabel) + ")");
   }
   const double fields_per_site = static_cast<double>(kFields.size()) + 2.0;  // + uz, in_contact
-  check_fits_in_memory("'" + nc.string() + "'",
-                       static_cast<double>(n) * (static_cast<double>(n0) * static_cast<double>(n1) *
-                                                     8.0 * fields_per_site +
-                                                 static_cast<double>(label_length)),
-                       std::to_string(n) + " frames of " + std::to_string(n0) + " x " +
-                           std::to_string(n1) + " sites, as its header says");
+  const double sites = static_cast<double>(n0) * static_cast<double>(n1);
+  // The classic formats store every value uncompressed: a header claiming more records than
+  // the file holds is damaged (each record has at least the 8 fields and in_contact).
+  int format = 0;
+  in.check(nc_inq_format(in.id, &format), "format");
+  if (format != NC_FORMAT_NETCDF4 && format != NC_FORMAT_NETCDF4_CLASSIC) {
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(nc, ec);
+    const double record = sites * (8.0 * static_cast<double>(kFields.size()) + 1.0);
+    if (!ec && static_cast<double>(n) * record > static_cast<double>(size)) {
+      in.fail(std::to_string(n) + " frames of " + std::to_string(n0) + " x " + std::to_string(n1) +
+              " sites in a file of " + std::to_string(size) +
+              " bytes: the header claims more data than the file holds");
+    }
+  }
+  check_fits_in_memory(
+      "'" + nc.string() + "'",
+      static_cast<double>(n) * (sites * 8.0 * fields_per_site + static_cast<double>(label_length) +
+                                static_cast<double>(sizeof(Snapshot))),
+      std::to_string(n) + " frames of " + std::to_string(n0) + " x " + std::to_string(n1) +
+          " sites, as its header says");
 
   // Looks up a variable and checks its dimensions, so that reads cannot overrun the buffers.
   const auto var = [&](const std::string& name, std::initializer_list<int> dims) {
@@ -300,7 +317,7 @@ std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
       in.fail("variable '" + name + "' has unexpected dimensions");
     return v;
   };
-  if (!data) {
+  if (out == nullptr) {
     var("label", {frame_dim, label_dim});
     for (const char* name : {"iteration", "origin_x", "origin_y"})
       var(name, {frame_dim});
@@ -309,7 +326,7 @@ std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
     for (const Field& f : kFields)
       var(f.name, {frame_dim, x_dim, y_dim});
     var("in_contact", {frame_dim, x_dim, y_dim});
-    return std::vector<Snapshot>(n);
+    return n;
   }
   const auto get_ints = [&](const std::string& name) {
     std::vector<int> values(n);
@@ -318,7 +335,8 @@ std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
     return values;
   };
 
-  std::vector<Snapshot> frames(n);
+  std::vector<Snapshot>& frames = *out;
+  frames.assign(n, Snapshot{});
   std::string labels(n * label_length, '\0');
   in.check(nc_get_var_text(in.id, var("label", {frame_dim, label_dim}), labels.data()),
            "reading 'label'");
@@ -368,17 +386,19 @@ std::vector<Snapshot> read_file(const fs::path& nc, bool data) {
       finite(frames[k].uz, "uz", k);
     }
   }
-  return frames;
+  return n;
 }
 
 }  // namespace
 
 std::vector<Snapshot> read_snapshots(const fs::path& nc) {
-  return read_file(nc, true);
+  std::vector<Snapshot> frames;
+  read_file(nc, &frames);
+  return frames;
 }
 
 std::size_t check_snapshot_file(const fs::path& nc) {
-  return read_file(nc, false).size();
+  return read_file(nc, nullptr);
 }
 
 }  // namespace asperity::app

@@ -216,6 +216,9 @@ int main(int argc, char** argv) {
       return r.failed ? 1 : 0;
     }
 
+    // From here on a signal only asks the slide to stop at its next step (with a checkpoint):
+    // installed before the checkpoint is read, so that no signal meets the default action.
+    app::install_stop_handlers();
     app::SlideScene s = app::read_slide_scene(scene_path);
     if (a) s.contact.a = *a;
     if (R) s.contact.R = *R;
@@ -300,7 +303,6 @@ int main(int argc, char** argv) {
         .checkpoint_every_s = checkpoint_every,
         .stop_requested = app::stop_requested,
         .start = start ? &start->state : nullptr};
-    app::install_stop_handlers();
     const slide::SlideResult r = slide::slide(s.contact, s.options, control);
     if (tty) std::fprintf(stderr, "\n");
     if (r.interrupted) {

@@ -260,30 +260,8 @@ int main(int argc, char** argv) {
     s.base.contact.validate();
     s.base.options.validate();
     const std::vector<app::SweepPoint> points = app::sweep_points(s);  // validates s
-    {
-      // The largest contacts, as many at once as run in parallel, must fit together.
-      std::vector<double> bytes;
-      for (const auto& p : points) {
-        interface::ContactScene c = s.base.contact;
-        c.a = p.a;
-        c.R = p.R;
-        bytes.push_back(slide::estimated_slide_bytes(c));
-      }
-      std::sort(bytes.rbegin(), bytes.rend());
-      const std::size_t at_once =
-          std::min(bytes.size(), static_cast<std::size_t>(s.effective_jobs()));
-      const double total = std::accumulate(bytes.begin(), bytes.begin() + at_once, 0.0);
-      double a_max = 0.0;
-      for (const auto& p : points)
-        a_max = std::max(a_max, p.a);
-      char what[160];
-      std::snprintf(
-          what, sizeof what,
-          "running the sweep's %zu largest contacts at once (a up to %g d; fewer with --jobs)",
-          at_once, a_max);
-      app::check_fits_in_memory(what, total,
-                                "estimate: 260 bytes per point of each block's padded FFT grid");
-    }
+    // A signal from here on stops the sweep cleanly (points in flight checkpoint, no new ones).
+    app::install_stop_handlers();
     const std::string settings = app::settings_fingerprint(s.base);
 
     const auto t0 = std::chrono::steady_clock::now();
@@ -303,6 +281,29 @@ int main(int argc, char** argv) {
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t i, std::size_t j) { return points[i].a < points[j].a; });
     const int n_jobs = std::min(s.effective_jobs(), static_cast<int>(order.size()));
+    {
+      // The largest contacts still to run, as many at once as run in parallel, must fit
+      // together.
+      std::vector<double> bytes;
+      double a_max = 0.0;
+      for (const std::size_t k : order) {
+        interface::ContactScene c = s.base.contact;
+        c.a = points[k].a;
+        c.R = points[k].R;
+        bytes.push_back(slide::estimated_slide_bytes(c));
+        a_max = std::max(a_max, c.a);
+      }
+      std::sort(bytes.rbegin(), bytes.rend());
+      const auto at_once = std::min(bytes.size(), static_cast<std::size_t>(std::max(n_jobs, 1)));
+      const double total = std::accumulate(bytes.begin(), bytes.begin() + at_once, 0.0);
+      char what[160];
+      std::snprintf(what, sizeof what,
+                    "running the sweep's %zu largest contacts at once (a up to %g d; fewer with "
+                    "--jobs)",
+                    at_once, a_max);
+      app::check_fits_in_memory(what, total,
+                                "estimate: 260 bytes per point of each block's padded FFT grid");
+    }
 
     std::fprintf(stderr,
                  "friction_sweep: %zu points: R = %s d; %s = %s; alpha = %g, nu = %g; %s "
@@ -340,7 +341,7 @@ int main(int argc, char** argv) {
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
-    std::size_t finished = 0, resumed_points = 0;
+    std::size_t finished = 0;
     std::atomic<std::size_t> interrupted{0};
     const auto run_point = [&](std::size_t k) {
       app::SlideScene ps = s.base;
@@ -354,12 +355,12 @@ int main(int argc, char** argv) {
       const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
       const std::string point_settings = app::slide_fingerprint(ps);
       std::optional<app::SlideCheckpoint> start;
-      if (fs::exists(checkpoint_file)) {
+      if (std::error_code ec; fs::exists(checkpoint_file, ec)) {
         try {
           app::SlideCheckpoint c = app::read_checkpoint(checkpoint_file);
           app::check_checkpoint_settings(c, ps, checkpoint_file);
           start = std::move(c);
-        } catch (const std::invalid_argument& e) {
+        } catch (const std::exception& e) {  // damaged, foreign or unreadable
           const std::lock_guard lock(table_mutex);
           std::fprintf(stderr, "friction_sweep: starting the point over: %s\n", e.what());
         }
@@ -368,7 +369,6 @@ int main(int argc, char** argv) {
       try {
         if (start) {
           const std::lock_guard lock(table_mutex);
-          ++resumed_points;
           std::fprintf(stderr,
                        "friction_sweep: resuming a = %.4g d, R = %g d from its checkpoint at Dx = "
                        "%.4f d\n",
@@ -420,7 +420,6 @@ int main(int argc, char** argv) {
         stop = true;
       }
     };
-    app::install_stop_handlers();
     {
       std::vector<std::jthread> pool;
       for (int j = 0; j < n_jobs; ++j) {
@@ -434,7 +433,8 @@ int main(int argc, char** argv) {
       }
     }  // joins
     if (fatal) std::rethrow_exception(fatal);
-    if (app::stop_requested()) {
+    if (app::stop_requested() &&
+        std::any_of(rows.begin(), rows.end(), [](const auto& r) { return !r.has_value(); })) {
       std::fprintf(stderr,
                    "friction_sweep: stopped; %zu point%s finished in this run (kept in %s), %zu "
                    "in flight saved to points/*/checkpoint.cbor\ncontinue with:\n  %s\n",

@@ -126,10 +126,7 @@ std::string fingerprint(const Scene& s) {
   add("maxdisp", exact(o.minimizer.max_displacement));
   if (o.cell.model == peierls::CellModel::full) add("push", exact(o.perturbation));
   // Another build may resolve a threshold differently: its rows are not reused.
-  std::string code = app::provenance_string();
-  for (char& ch : code)
-    if (ch == ' ') ch = '_';
-  add("code", code);
+  add("code", app::provenance_token());
   return f;
 }
 
@@ -140,8 +137,9 @@ struct Point {
 
 struct Row {
   Point point;
-  int L = 0;              // cell size of the result (sites per period)
-  double L_change = NAN;  // |tau_P(L)/tau_P(L/2) - 1|; NaN: one cell
+  int L = 0;                 // cell size of the result (sites per period)
+  double L_change = NAN;     // |tau_P(L)/tau_P(L/2) - 1|; NaN: one cell
+  bool L_converged = false;  // L_change <= cell.L_tolerance (or tolerance 0)
   bool resolved_pos = false, resolved_neg = false;
   double tau_pos = NAN, tau_neg = NAN;  // tau_P / tau_max
   double floor = NAN;                   // resolution floor / tau_max
@@ -162,6 +160,7 @@ const std::vector<std::string>& columns() {
                                              "m_y",
                                              "L",
                                              "L_change",
+                                             "L_converged",
                                              "model",
                                              "tau_P_over_tau_max_pos",
                                              "tau_P_over_tau_max_neg",
@@ -191,6 +190,7 @@ std::vector<app::CsvTable::Cell> cells(const Row& r, const Scene& s) {
           static_cast<long long>(r.point.orientation.my),
           static_cast<long long>(r.L),
           r.L_change,
+          static_cast<long long>(r.L_converged),
           peierls::to_string(s.options.cell.model),
           tau(r.resolved_pos, r.tau_pos),
           tau(r.resolved_neg, r.tau_neg),
@@ -221,6 +221,15 @@ std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
                    const std::string& settings, std::vector<std::optional<Row>>& rows) {
   if (!fs::exists(csv)) return 0;
   const app::CsvTable t = app::CsvTable::read(csv);
+  // A table of an older version of the tool (other columns) is started over.
+  for (const std::string& c : columns()) {
+    if (std::find(t.columns().begin(), t.columns().end(), c) == t.columns().end()) {
+      std::fprintf(stderr,
+                   "peierls_scan: %s has no column '%s' (an older version): starting over\n",
+                   csv.c_str(), c.c_str());
+      return 0;
+    }
+  }
   std::size_t reused = 0;
   const auto number_or_nan = [&t](std::size_t i, const char* c) {
     const std::string text = t.text(i, c);
@@ -238,6 +247,7 @@ std::size_t resume(const fs::path& csv, const std::vector<Point>& points,
       r.point = p;
       r.L = static_cast<int>(t.integer(i, "L"));
       r.L_change = number_or_nan(i, "L_change");
+      r.L_converged = t.integer(i, "L_converged") != 0;
       r.resolved_pos = t.integer(i, "resolved_pos") != 0;
       r.resolved_neg = t.integer(i, "resolved_neg") != 0;
       r.tau_pos = number_or_nan(i, "tau_P_over_tau_max_pos");
@@ -512,18 +522,6 @@ int main(int argc, char** argv) {
     if (snapshots) s.snapshots = true;
     s.options.validate();
     s.cell_size.validate();
-    if (s.options.cell.model == peierls::CellModel::full) {
-      // The full cell holds L^2 sites: fields, L-BFGS pairs and FFT buffers, about 512 bytes a
-      // site (the reduced chain holds L). The largest cell the doubling may reach counts.
-      const int largest = s.cell_size.tolerance > 0.0
-                              ? std::max(s.options.cell.L, s.cell_size.max_L)
-                              : s.options.cell.L;
-      const double sites = static_cast<double>(largest) * static_cast<double>(largest);
-      app::check_fits_in_memory("--L " + std::to_string(s.options.cell.L) + " (max_L " +
-                                    std::to_string(s.cell_size.max_L) + ", model full)",
-                                512.0 * sites * std::min(s.jobs > 0 ? s.jobs : 2, 2),
-                                "estimate: 512 bytes a site of an L x L cell per point at once");
-    }
     if (list_angles) {
       std::printf("theta_deg m_x m_y line_spacing_d (L = %d, images >= %g d apart)\n",
                   s.options.cell.L, s.min_line_spacing);
@@ -550,6 +548,9 @@ int main(int argc, char** argv) {
         points.push_back({b, o});
     }
     const std::string settings = fingerprint(s);
+    // SIGINT/SIGTERM from here on: no new point starts; the points in flight (seconds each)
+    // finish and are kept, and the same command continues with the rest.
+    app::install_stop_handlers();
     const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const int n_jobs_wanted = s.jobs > 0 ? s.jobs : hardware;
 
@@ -569,6 +570,18 @@ int main(int argc, char** argv) {
       return points[i].b_core < points[j].b_core;
     });
     const int n_jobs = std::max(1, std::min(n_jobs_wanted, static_cast<int>(order.size())));
+    if (s.options.cell.model == peierls::CellModel::full) {
+      // The full cell holds L^2 sites: fields, L-BFGS pairs and FFT buffers, about 512 bytes a
+      // site (the reduced chain holds L). The largest cell the doubling may reach counts.
+      const int largest = s.cell_size.tolerance > 0.0
+                              ? std::max(s.options.cell.L, s.cell_size.max_L)
+                              : s.options.cell.L;
+      const double sites = static_cast<double>(largest) * static_cast<double>(largest);
+      app::check_fits_in_memory("--L " + std::to_string(s.options.cell.L) + " (max_L " +
+                                    std::to_string(s.cell_size.max_L) + ", model full)",
+                                512.0 * sites * n_jobs,
+                                "estimate: 512 bytes a site of an L x L cell per point at once");
+    }
     std::fprintf(stderr,
                  "peierls_scan: %zu points (%zu reused from %s), L = %d (doubled up to %d until "
                  "tau_P changes by less than %g), %s cell, nu = %g, precision %g, tolerance %g x "
@@ -599,6 +612,7 @@ int main(int argc, char** argv) {
       row.point = p;
       row.L = r.L;
       row.L_change = converged.change;
+      row.L_converged = converged.converged;
       row.resolved_pos = r.positive.resolved;
       row.resolved_neg = r.negative.resolved;
       row.tau_pos = r.positive.tau_P / r.tau_max;
@@ -649,9 +663,6 @@ int main(int argc, char** argv) {
         stop = true;
       }
     };
-    // SIGINT/SIGTERM: no new point starts; the points in flight (seconds each) finish and are
-    // kept, and the same command continues with the rest.
-    app::install_stop_handlers();
     {
       std::vector<std::jthread> pool;
       for (int j = 0; j < n_jobs; ++j) {
@@ -773,6 +784,15 @@ int main(int argc, char** argv) {
     std::printf("table:   %s\n", fs::absolute(csv).c_str());
     for (const auto& f : figures)
       std::printf("figure:  %s\n", fs::absolute(f).c_str());
+    for (const Row& r : done) {
+      // Resolved, but its cell did not converge: at max_L, or resolved at one size only.
+      if (r.L_converged || !row_tau(r)) continue;
+      std::fprintf(stderr,
+                   "peierls_scan: warning: b_core = %g d, theta = %.1f deg: tau_P at L = %d is "
+                   "not converged in the cell size (last change %.3g; cell.max_L %d)\n",
+                   r.point.b_core, r.point.orientation.theta_deg, r.L, r.L_change,
+                   s.cell_size.max_L);
+    }
     std::size_t failed = 0;
     for (const Row& r : done) {
       if (r.failure.empty()) continue;

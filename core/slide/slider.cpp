@@ -18,6 +18,11 @@ namespace asperity::slide {
 
 namespace {
 
+// Half-width of the block of unknowns (sites): the contact radius plus two sites of margin.
+int block_half(const interface::ContactScene& scene) {
+  return static_cast<int>(std::ceil(scene.a / scene.d)) + 2;
+}
+
 // The state of the slide: full-block force and displacement fields (component-major) at a
 // tip position, with the block offset (in lattice steps) that follows the tip.
 using State = SlideFields;
@@ -27,7 +32,7 @@ class Slider {
   Slider(const interface::ContactScene& scene, const SlideOptions& options)
       : scene_(scene),
         options_(options),
-        half_(static_cast<int>(std::ceil(scene.a / scene.d)) + 2),
+        half_(block_half(scene)),
         block_shape_{2 * half_ + 1, 2 * half_ + 1},
         gf_(scene.material, elastic::Components::in_plane, block_shape_, scene.d, options.fft),
         lfm_(scene, block_at(0)),
@@ -315,8 +320,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 }
 
 double estimated_slide_bytes(const interface::ContactScene& scene) {
-  const double half = std::ceil(scene.a / scene.d) + 2.0;
-  const double n = 2.0 * half + 1.0;
+  const double n = 2.0 * block_half(scene) + 1.0;
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;

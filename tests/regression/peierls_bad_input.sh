@@ -57,5 +57,5 @@ b_min = 6
 b_max = 2')"
 check scene_L_tolerance "cell.L_tolerance" "$(scene L_tolerance '[cell]
 L_tolerance = 2')"
-check full_cell_memory "GiB of memory" --model full --L 65536 --L-tolerance 0
+ASPERITY_MEMORY_GIB=1 check full_cell_memory "GiB of memory" --model full --L 2048 --L-tolerance 0
 exit $fail

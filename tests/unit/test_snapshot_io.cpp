@@ -199,24 +199,46 @@ TEST_F(SnapshotIo, DamagedFilesThrowInvalidArgument) {
 
 // The sizes in a file's header decide the reader's allocations. A classic-format snapshot
 // (the fuzz seed tests/fuzz/corpus/snapshot/classic_3x2.nc, one frame) whose record count is
-// patched to 2^31 - 1 claims about 1 TiB: it is rejected with the estimate, before any
-// allocation (it once ended in std::bad_alloc); patched to 0 it has no frames.
+// patched to 2^31 - 1 claims far more data than its 1268 bytes: rejected before any allocation
+// (it once ended in std::bad_alloc); patched to 0 it has no frames. A netCDF-4 file (compressed
+// data may be smaller than its values) is checked against memory: with ASPERITY_MEMORY_GIB
+// set to 1 MiB a 2 x 2 x 300 x 300 file is refused with the estimate.
 TEST_F(SnapshotIo, HeaderSizesAreCheckedBeforeAllocation) {
   std::ifstream in(CLASSIC_SEED, std::ios::binary);
   ASSERT_TRUE(in.good()) << CLASSIC_SEED;
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(bytes.substr(0, 4), std::string("CDF\x01", 4));
   EXPECT_EQ(read_snapshots(CLASSIC_SEED).size(), 1u);
+  EXPECT_EQ(check_snapshot_file(CLASSIC_SEED), 1u);
   const auto patched = [&](const std::string& numrecs) {
     const fs::path nc = dir_ / "patched.nc";
     std::ofstream(nc, std::ios::binary) << bytes.substr(0, 4) + numrecs + bytes.substr(8);
     return invalid_argument_message([&] { read_snapshots(nc); });
   };
   const std::string huge = patched(std::string("\x7f\xff\xff\xff", 4));
-  EXPECT_NE(huge.find("GiB of memory (2147483647 frames of 3 x 2 sites"), std::string::npos)
+  EXPECT_NE(huge.find("2147483647 frames of 3 x 2 sites in a file of 1268 bytes"),
+            std::string::npos)
       << huge;
   const std::string none = patched(std::string(4, '\0'));
   EXPECT_NE(none.find("no frames"), std::string::npos) << none;
+
+  std::vector<Snapshot> big = frames();
+  big.resize(2);
+  for (auto& f : big) {
+    f.block.shape = {300, 300};
+    const std::size_t n = f.block.shape.count();
+    for (auto* v : {&f.ux, &f.uy, &f.sx, &f.sy, &f.tau_x, &f.tau_y, &f.tau_max, &f.pressure})
+      v->assign(n, 0.5);
+    f.in_contact.assign(n, 1);
+    f.uz.clear();
+  }
+  const fs::path nc = dir_ / "big.nc";
+  write_snapshots(nc, big, {});
+  ASSERT_EQ(::setenv("ASPERITY_MEMORY_GIB", "0.001", 1), 0);
+  const std::string memory = invalid_argument_message([&] { check_snapshot_file(nc); });
+  ::unsetenv("ASPERITY_MEMORY_GIB");
+  EXPECT_NE(memory.find("GiB of memory (2 frames of 300 x 300 sites"), std::string::npos) << memory;
+  EXPECT_EQ(read_snapshots(nc).size(), 2u);
 }
 
 TEST_F(SnapshotIo, NcdumpReadsTheHeader) {
