@@ -167,13 +167,14 @@ struct SlideControl {
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideProgress& progress = {});
 
+// Throws std::invalid_argument if control.start does not fit the scene (other block size).
+SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
+                  const SlideControl& control);
+
 // Estimated peak memory of slide() on this scene (bytes), so that callers can refuse a contact
 // that cannot fit before allocating: the padded FFT grid of the block (the smallest 7-smooth
 // size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260 bytes per grid point, the
 // measured peak (docs/benchmarks.md, scaling: 248-254 bytes for a = 256 and 512 d).
 double estimated_slide_bytes(const interface::ContactScene& scene);
-// Throws std::invalid_argument if control.start does not fit the scene (other block size).
-SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
-                  const SlideControl& control);
 
 }  // namespace asperity::slide
