@@ -21,7 +21,7 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kFormat = "asperity contact_slide checkpoint";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: h, dFz_dh and u_z of the explicit model
 const char* const kByteOrder = std::endian::native == std::endian::little ? "little" : "big";
 // Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
 constexpr long long kMaxSites = 1LL << 28;
@@ -115,8 +115,9 @@ json bytes_of(const std::vector<double>& v) {
 }
 
 json fields_json(const slide::SlideFields& s) {
-  return {{"Dx", s.Dx}, {"shift", s.shift}, {"f", bytes_of(s.f)}, {"u", bytes_of(s.u)},
-          {"Fx", s.Fx}, {"Fz", s.Fz},       {"energy", s.energy}};
+  return {{"Dx", s.Dx},         {"shift", s.shift}, {"f", bytes_of(s.f)},
+          {"u", bytes_of(s.u)}, {"Fx", s.Fx},       {"Fz", s.Fz},
+          {"energy", s.energy}, {"h", s.h},         {"dFz_dh", s.dFz_dh}};
 }
 
 json optional_fields(const std::optional<slide::SlideFields>& s) {
@@ -133,6 +134,7 @@ json snapshot_json(const slide::Snapshot& s) {
           {"block", {s.block.shape.n0, s.block.shape.n1, s.block.origin0, s.block.origin1}},
           {"ux", bytes_of(s.ux)},
           {"uy", bytes_of(s.uy)},
+          {"uz", bytes_of(s.uz)},
           {"sx", bytes_of(s.sx)},
           {"sy", bytes_of(s.sy)},
           {"tau_x", bytes_of(s.tau_x)},
@@ -273,6 +275,8 @@ slide::SlideFields fields_from(const json& j) {
   s.Fx = number(j, "Fx");
   s.Fz = number(j, "Fz");
   s.energy = number(j, "energy");
+  s.h = number(j, "h");
+  s.dFz_dh = number(j, "dFz_dh");
   return s;
 }
 
@@ -307,6 +311,8 @@ slide::Snapshot snapshot_from(const json& j) {
   };
   field("ux", s.ux);
   field("uy", s.uy);
+  s.uz = doubles(j, "uz");  // explicit model only
+  if (!s.uz.empty() && s.uz.size() != n) throw Bad("uz: size differs from the block's sites");
   field("sx", s.sx);
   field("sy", s.sy);
   field("tau_x", s.tau_x);
@@ -375,7 +381,10 @@ std::set<std::string> items(const std::string& s) {
 
 }  // namespace
 
-std::string slide_fingerprint(const SlideScene& scene) {
+namespace {
+
+// The items both models share: scene, slide, solver and FFT options, build.
+std::string common_fingerprint(const SlideScene& scene) {
   const auto& c = scene.contact;
   const auto& o = scene.options;
   const auto& m = o.minimizer;
@@ -416,6 +425,22 @@ std::string slide_fingerprint(const SlideScene& scene) {
   // Another build may round differently: its continuation would not be the same slide.
   add("code", provenance_token());
   return s;
+}
+
+}  // namespace
+
+std::string slide_fingerprint(const SlideScene& scene) {
+  return common_fingerprint(scene) + " model=lfm";
+}
+
+std::string explicit_slide_fingerprint(const ExplicitSlideScene& scene,
+                                       const ExplicitAlpha& alpha) {
+  const auto& m = scene.model;
+  // alpha enters through contact.alpha (mu/alpha, tau_max of the snapshots); the tip follows
+  // from R, the potential from G in eps/sigma^3 and sigma/d.
+  return common_fingerprint(explicit_as_slide_scene(scene, alpha)) +
+         " model=explicit G_eps_sigma3=" + exact(m.G_eps_sigma3) +
+         " sigma_over_d=" + exact(m.sigma_over_d) + " tip_R=" + exact(m.R);
 }
 
 std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {
@@ -498,7 +523,11 @@ SlideCheckpoint read_checkpoint(const std::filesystem::path& file) {
 
 void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const SlideScene& scene,
                                const std::filesystem::path& file) {
-  const std::string now = slide_fingerprint(scene);
+  check_checkpoint_settings(checkpoint, slide_fingerprint(scene), file);
+}
+
+void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const std::string& now,
+                               const std::filesystem::path& file) {
   if (checkpoint.settings == now) return;
   const auto saved = items(checkpoint.settings), wanted = items(now);
   std::string differ;

@@ -21,9 +21,11 @@ namespace asperity::app {
 // solver and FFT option (FFT threads change the round-off) and the build. A checkpoint resumes
 // only under the same fingerprint. Space-separated key=value items.
 std::string slide_fingerprint(const SlideScene& scene);
+// The same for a slide of the explicit model: its scene and the alpha of the potential it uses.
+std::string explicit_slide_fingerprint(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha);
 
 struct SlideCheckpoint {
-  std::string settings;  // slide_fingerprint() of the scene it was written for
+  std::string settings;  // (explicit_)slide_fingerprint() of the scene it was written for
   slide::SlideState state;
 };
 
@@ -40,6 +42,9 @@ SlideCheckpoint read_checkpoint(const std::filesystem::path& file);
 // Throws std::invalid_argument naming `file` and the differing settings if the checkpoint was
 // written for other settings than `scene`'s.
 void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const SlideScene& scene,
+                               const std::filesystem::path& file);
+// The same against a fingerprint (explicit_slide_fingerprint).
+void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const std::string& fingerprint,
                                const std::filesystem::path& file);
 
 }  // namespace asperity::app

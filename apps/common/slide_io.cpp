@@ -487,12 +487,11 @@ ExplicitAlpha explicit_alpha(const ExplicitSlideScene& scene) {
 }
 
 slide::SlideResult slide_explicit_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha,
-                                        const slide::SlideProgress& progress) {
+                                        const slide::SlideControl& control) {
   explicit_model::ExplicitSlideOptions eo;
   eo.load = scene.slide.contact.hertz().load;
   eo.alpha = alpha.alpha;
-  return explicit_model::slide_explicit(scene.model, eo, scene.slide.options,
-                                        slide::SlideControl{.progress = progress});
+  return explicit_model::slide_explicit(scene.model, eo, scene.slide.options, control);
 }
 
 SlideScene explicit_as_slide_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha) {

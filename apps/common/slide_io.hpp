@@ -73,9 +73,10 @@ struct ExplicitAlpha {
 ExplicitAlpha explicit_alpha(const ExplicitSlideScene& scene);
 
 // Sliding of the explicit model at the Hertz load of contact.a (explicit/explicit_slide.hpp),
-// with the scene's slide options; `alpha` from explicit_alpha().
+// with the scene's slide options; `alpha` from explicit_alpha(); `control` as in slide::slide
+// (progress, checkpoints, stop requests, resume).
 slide::SlideResult slide_explicit_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha,
-                                        const slide::SlideProgress& progress = {});
+                                        const slide::SlideControl& control = {});
 // The SlideScene and output options under which write_slide_outputs writes an explicit slide:
 // contact.alpha = alpha of the potential, summary_extra naming the model and its parameters.
 SlideScene explicit_as_slide_scene(const ExplicitSlideScene& scene, const ExplicitAlpha& alpha);

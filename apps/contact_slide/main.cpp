@@ -5,7 +5,7 @@
 // Checkpoints: the state of the slide goes to <out>/checkpoint.cbor every --checkpoint-every
 // seconds, on SIGINT or SIGTERM (then the run exits with status 3 and prints how to resume) and
 // on a numerical failure (the last good state). --resume continues from it to the same result,
-// bit for bit, as an uninterrupted run; a finished run removes it.
+// bit for bit, as an uninterrupted run; a finished run removes it. Both models.
 //
 // --model explicit: the explicit atomistic model (MODEL.md 4; core/explicit/; default scene
 // data/scenes/explicit_default.toml): normal loading to the Hertz load of contact.a (outputs of
@@ -16,7 +16,10 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <iostream>
+#include <optional>
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
@@ -26,6 +29,107 @@
 #include "common/slide_io.hpp"
 
 using namespace asperity;
+
+namespace {
+
+// What a checkpointed slide left: the result, and the checkpoints written.
+struct CheckpointedSlide {
+  slide::SlideResult result;
+  std::filesystem::path checkpoint_file;
+  int checkpoints = 0;
+  double checkpoint_s = 0.0;  // wall time spent writing them
+};
+
+// A slide of either model with checkpoints in <out>/checkpoint.cbor under `settings` (its
+// fingerprint), resumed from that file with `resume`. Stop handlers must be installed. An
+// interrupted slide prints how to continue; a finished one is the caller's to write out (it
+// removes the checkpoint after its outputs).
+CheckpointedSlide run_checkpointed(
+    const std::string& out, const std::string& settings, bool resume, double checkpoint_every,
+    const std::function<slide::SlideResult(const slide::SlideControl&)>& run, int argc,
+    char** argv) {
+  CheckpointedSlide c;
+  c.checkpoint_file = std::filesystem::path(out) / "checkpoint.cbor";
+  std::optional<app::SlideCheckpoint> start;
+  if (resume) {
+    if (!std::filesystem::exists(c.checkpoint_file)) {
+      throw std::invalid_argument("--resume: no checkpoint " + c.checkpoint_file.string() +
+                                  ": nothing to resume (run without --resume to start)");
+    }
+    start = app::read_checkpoint(c.checkpoint_file);
+    app::check_checkpoint_settings(*start, settings, c.checkpoint_file);
+  }
+  const bool tty = isatty(2) != 0;
+  // In a log (no terminal) a line at each slip event and otherwise every 10 s: the automatic
+  // distance is capped generously, so fractions of the cap say little.
+  const auto progress = [tty, last = std::chrono::steady_clock::now(), last_slips = 0](
+                            double Dx, double limit, int slips) mutable {
+    if (tty) {
+      std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx, limit,
+                   slips);
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (slips != last_slips || now - last > std::chrono::seconds(10)) {
+      std::fprintf(stderr, "  Dx = %.4f d of at most %.2f d, slip events: %d\n", Dx, limit, slips);
+      last = now;
+      last_slips = slips;
+    }
+  };
+  app::ensure_directory(out);
+  if (const std::size_t n = app::remove_stale_temporaries(out)) {
+    std::fprintf(stderr, "contact_slide: removed %zu temporary file%s left by a killed run\n", n,
+                 n > 1 ? "s" : "");
+  }
+  if (start) {
+    std::fprintf(stderr, "contact_slide: resuming from %s at Dx = %.4f d (%d steps done)\n",
+                 c.checkpoint_file.c_str(), start->state.current.Dx, start->state.partial.steps);
+  } else if (std::filesystem::exists(c.checkpoint_file)) {
+    std::fprintf(stderr,
+                 "contact_slide: starting over; the checkpoint %s of an earlier run will be "
+                 "replaced (--resume continues it)\n",
+                 c.checkpoint_file.c_str());
+  }
+  slide::SlideControl control{
+      .progress = progress,
+      .checkpoint =
+          [&](const slide::SlideState& state) {
+            const auto t = std::chrono::steady_clock::now();
+            app::write_checkpoint(c.checkpoint_file, {.settings = settings, .state = state});
+            c.checkpoint_s +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+            ++c.checkpoints;
+          },
+      .checkpoint_every_s = checkpoint_every,
+      .stop_requested = app::stop_requested,
+      .start = start ? &start->state : nullptr};
+  c.result = run(control);
+  if (tty) std::fprintf(stderr, "\n");
+  if (c.result.interrupted) {
+    std::fprintf(stderr,
+                 "contact_slide: %s; state saved in %s (%d checkpoint%s, %.2f s)\n"
+                 "continue with:\n  %s\n",
+                 c.result.stop_reason.c_str(), c.checkpoint_file.c_str(), c.checkpoints,
+                 c.checkpoints == 1 ? "" : "s", c.checkpoint_s,
+                 app::command_line(argc, argv, "--resume").c_str());
+  }
+  return c;
+}
+
+// After the outputs of a finished slide: nothing is left to resume (a failed one keeps its
+// last good state).
+void finish_checkpoints(const CheckpointedSlide& c) {
+  if (!c.result.failed) {
+    std::error_code ec;
+    std::filesystem::remove(c.checkpoint_file, ec);
+  }
+  if (c.checkpoints > 0) {
+    std::fprintf(stderr, "contact_slide: %d checkpoint%s written, %.3f s\n", c.checkpoints,
+                 c.checkpoints == 1 ? "" : "s", c.checkpoint_s);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
@@ -132,18 +236,18 @@ int main(int argc, char** argv) {
       return 0;
     }
 
+    // From here on a signal only asks the slide to stop at its next step (with a checkpoint):
+    // installed before a checkpoint is read, so that no signal meets the default action.
+    app::install_stop_handlers();
+
     if (model == "explicit") {
       // The explicit model: normal loading to the Hertz load of contact.a, then sliding at fixed
       // Fz with the LFM's protocols (explicit/explicit_slide.hpp). alpha is a property of the
-      // potential, and checkpoints are not implemented for this model: those flags are rejected.
-      for (const auto& [flag, given] :
-           {std::pair{"--alpha", alpha.has_value()}, std::pair{"--resume", resume}}) {
-        if (given) {
-          throw std::invalid_argument(
-              std::string(flag) +
-              ": not available with --model explicit (alpha follows from the potential; "
-              "checkpoints and --resume are implemented for the lateral force model only)");
-        }
+      // potential: --alpha is rejected.
+      if (alpha) {
+        throw std::invalid_argument(
+            "--alpha: not available with --model explicit (alpha follows from the potential, "
+            "alpha_path at the central load)");
       }
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
       app::ExplicitSlideScene e = app::read_explicit_scene(scene_path);
@@ -187,18 +291,18 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "contact_slide: loading FAILED: %s\n", lr.message.c_str());
         return 1;
       }
-      const bool tty_e = isatty(2) != 0;
-      const slide::SlideResult r =
-          app::slide_explicit_scene(e, alpha_p, [tty_e](double Dx, double limit, int slips) {
-            if (tty_e) {
-              std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx,
-                           limit, slips);
-            }
-          });
-      if (tty_e) std::fprintf(stderr, "\n");
+      const CheckpointedSlide run = run_checkpointed(
+          out, app::explicit_slide_fingerprint(e, alpha_p), resume, checkpoint_every,
+          [&](const slide::SlideControl& control) {
+            return app::slide_explicit_scene(e, alpha_p, control);
+          },
+          argc_, argv_);
+      const slide::SlideResult& r = run.result;
+      if (r.interrupted) return app::kInterrupted;
       const auto files =
           app::write_slide_outputs(out, app::explicit_as_slide_scene(e, alpha_p), r,
                                    {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
+      finish_checkpoints(run);
       std::printf(
           "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
           "%.4f d, precision %.1e), kinetic/static = %.3f, slip events %d\n",
@@ -212,13 +316,13 @@ int main(int argc, char** argv) {
         if (f.extension() == ".png") std::printf(" %s", f.c_str());
       }
       std::printf("\n");
-      if (r.failed) std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+      if (r.failed) {
+        std::fprintf(stderr, "contact_slide: FAILED: %s\n  the last good state is in %s\n",
+                     r.stop_reason.c_str(), run.checkpoint_file.c_str());
+      }
       return r.failed ? 1 : 0;
     }
 
-    // From here on a signal only asks the slide to stop at its next step (with a checkpoint):
-    // installed before the checkpoint is read, so that no signal meets the default action.
-    app::install_stop_handlers();
     app::SlideScene s = app::read_slide_scene(scene_path);
     if (a) s.contact.a = *a;
     if (R) s.contact.R = *R;
@@ -236,18 +340,6 @@ int main(int argc, char** argv) {
     app::check_fits_in_memory(a_text, slide::estimated_slide_bytes(s.contact),
                               "estimate: 260 bytes per point of the padded FFT grid of the block");
 
-    const std::filesystem::path checkpoint_file = std::filesystem::path(out) / "checkpoint.cbor";
-    const std::string settings = app::slide_fingerprint(s);
-    std::optional<app::SlideCheckpoint> start;
-    if (resume) {
-      if (!std::filesystem::exists(checkpoint_file)) {
-        throw std::invalid_argument("--resume: no checkpoint " + checkpoint_file.string() +
-                                    ": nothing to resume (run without --resume to start)");
-      }
-      start = app::read_checkpoint(checkpoint_file);
-      app::check_checkpoint_settings(*start, s, checkpoint_file);
-    }
-
     std::fprintf(stderr,
                  "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
                  "lambda = %.3g; %s protocol, %s, tolerance %g\n",
@@ -256,73 +348,16 @@ int main(int argc, char** argv) {
                  slide::to_string(s.options.protocol).c_str(),
                  minimize::to_string(s.options.minimizer.method).c_str(),
                  s.options.minimizer.force_tolerance);
-    const bool tty = isatty(2) != 0;
-    // In a log (no terminal) a line at each slip event and otherwise every 10 s: the automatic
-    // distance is capped generously, so fractions of the cap say little.
-    const auto progress = [tty, last = std::chrono::steady_clock::now(), last_slips = 0](
-                              double Dx, double limit, int slips) mutable {
-      if (tty) {
-        std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx, limit,
-                     slips);
-        return;
-      }
-      const auto now = std::chrono::steady_clock::now();
-      if (slips != last_slips || now - last > std::chrono::seconds(10)) {
-        std::fprintf(stderr, "  Dx = %.4f d of at most %.2f d, slip events: %d\n", Dx, limit,
-                     slips);
-        last = now;
-        last_slips = slips;
-      }
-    };
-    app::ensure_directory(out);
-    if (const std::size_t n = app::remove_stale_temporaries(out)) {
-      std::fprintf(stderr, "contact_slide: removed %zu temporary file%s left by a killed run\n", n,
-                   n > 1 ? "s" : "");
-    }
-    if (start) {
-      std::fprintf(stderr, "contact_slide: resuming from %s at Dx = %.4f d (%d steps done)\n",
-                   checkpoint_file.c_str(), start->state.current.Dx, start->state.partial.steps);
-    } else if (std::filesystem::exists(checkpoint_file)) {
-      std::fprintf(stderr,
-                   "contact_slide: starting over; the checkpoint %s of an earlier run will be "
-                   "replaced (--resume continues it)\n",
-                   checkpoint_file.c_str());
-    }
-    int checkpoints = 0;
-    double checkpoint_s = 0.0;
-    slide::SlideControl control{
-        .progress = progress,
-        .checkpoint =
-            [&](const slide::SlideState& state) {
-              const auto t = std::chrono::steady_clock::now();
-              app::write_checkpoint(checkpoint_file, {.settings = settings, .state = state});
-              checkpoint_s +=
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-              ++checkpoints;
-            },
-        .checkpoint_every_s = checkpoint_every,
-        .stop_requested = app::stop_requested,
-        .start = start ? &start->state : nullptr};
-    const slide::SlideResult r = slide::slide(s.contact, s.options, control);
-    if (tty) std::fprintf(stderr, "\n");
-    if (r.interrupted) {
-      std::fprintf(stderr,
-                   "contact_slide: %s; state saved in %s (%d checkpoint%s, %.2f s)\n"
-                   "continue with:\n  %s\n",
-                   r.stop_reason.c_str(), checkpoint_file.c_str(), checkpoints,
-                   checkpoints == 1 ? "" : "s", checkpoint_s,
-                   app::command_line(argc_, argv_, "--resume").c_str());
-      return app::kInterrupted;
-    }
+    const CheckpointedSlide run = run_checkpointed(
+        out, app::slide_fingerprint(s), resume, checkpoint_every,
+        [&](const slide::SlideControl& control) {
+          return slide::slide(s.contact, s.options, control);
+        },
+        argc_, argv_);
+    const slide::SlideResult& r = run.result;
+    if (r.interrupted) return app::kInterrupted;
     const auto files = app::write_slide_outputs(out, s, r);
-    if (!r.failed) {
-      std::error_code ec;
-      std::filesystem::remove(checkpoint_file, ec);  // done: nothing left to resume
-    }
-    if (checkpoints > 0) {
-      std::fprintf(stderr, "contact_slide: %d checkpoint%s written, %.3f s\n", checkpoints,
-                   checkpoints == 1 ? "" : "s", checkpoint_s);
-    }
+    finish_checkpoints(run);
 
     std::printf(
         "mu = %.6f, mu/alpha = %.5f%s (peak at Dx = %.4f d, precision %.1e), "
@@ -345,7 +380,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
       if (std::filesystem::exists(last_good)) {
         std::fprintf(stderr, "  the last good state is in %s and %s\n", last_good.c_str(),
-                     checkpoint_file.c_str());
+                     run.checkpoint_file.c_str());
       }
     }
     return r.failed ? 1 : 0;

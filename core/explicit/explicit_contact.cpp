@@ -205,18 +205,44 @@ void ExplicitContact::rebuild(int half) {
           f[k * n + ni] = f_[k * on + oi];
       }
     }
-    gf_apps_ += gf_->applications();
   }
   block_ = nb;
-  gf_ = std::make_unique<elastic::FreeSurfaceGF>(scene_.material, elastic::Components::full,
-                                                 nb.shape, d, fft_);
+  auto& cached = gf_cache_[half];
+  if (!cached) {
+    // A handful of sizes recur; a relaxation that grows far leaves larger ones behind, which
+    // are dropped (their applications still counted) beyond kMaxCachedGFs.
+    constexpr std::size_t kMaxCachedGFs = 6;
+    for (auto it = gf_cache_.begin(); gf_cache_.size() > kMaxCachedGFs && it != gf_cache_.end();) {
+      if (it->first == half || it->second.get() == gf_ || !it->second) {
+        ++it;
+        continue;
+      }
+      gf_apps_ += it->second->applications();
+      it = gf_cache_.erase(it);
+    }
+    cached = std::make_unique<elastic::FreeSurfaceGF>(scene_.material, elastic::Components::full,
+                                                      nb.shape, d, fft_);
+  }
+  gf_ = cached.get();
   f_ = std::move(f);
   u_.assign(3 * n, 0.0);
   refresh_u();
   select_active();
 }
 
+std::size_t ExplicitContact::gf_applications() const {
+  std::size_t n = gf_apps_;
+  for (const auto& [half, gf] : gf_cache_)
+    n += gf->applications();
+  return n;
+}
+
 void ExplicitContact::refresh_u() {
+  // No forces, no displacement: a block rebuilt after clear_forces() needs no GF application.
+  if (std::all_of(f_.begin(), f_.end(), [](double v) { return v == 0.0; })) {
+    std::fill(u_.begin(), u_.end(), 0.0);
+    return;
+  }
   gf_->apply(f_, u_);
 }
 
@@ -244,6 +270,21 @@ void ExplicitContact::set_active_radius(double radius) {
   const int half = (block_.shape.n0 - 1) / 2;
   if (need > half || block_.origin0 + half != c0) {
     rebuild(static_cast<int>(std::ceil(std::max(need * 1.1, need + 2.0))));
+  } else {
+    select_active();
+  }
+}
+
+void ExplicitContact::place(double Dx, double h, double radius) {
+  Dx_ = Dx;
+  h_ = h;
+  radius_ = radius;
+  const double d = scene_.d;
+  const int c0 = static_cast<int>(std::lround(Dx_ / d));
+  const double need = (radius + std::abs(Dx_ - c0 * d)) / d + 2.0;
+  const int half = static_cast<int>(std::ceil(std::max(need * 1.1, need + 2.0)));
+  if ((block_.shape.n0 - 1) / 2 != half || block_.origin0 + half != c0) {
+    rebuild(half);
   } else {
     select_active();
   }

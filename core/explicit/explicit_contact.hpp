@@ -34,6 +34,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -135,6 +136,12 @@ class ExplicitContact {
   // Zero forces and displacements (no GF application): before set_tip() and set_forces() load
   // another state, so that the block can move without carrying the old one's forces.
   void clear_forces();
+  // Tip at (Dx, 0, h) with an active disk of `radius` (d) on the block that set_active_radius
+  // would build from scratch for them, whatever block the contact had: the start of a
+  // relaxation then does not depend on the ones before it (a resumed slide repeats the
+  // uninterrupted one). Forces are kept by lattice index; call clear_forces() first to load
+  // another state.
+  void place(double Dx, double h, double radius);
   // Forces on the block sites (component-major x, y, z) as a start; u = G f is recomputed.
   void set_forces(const std::vector<double>& f);
   // The Hertz state at `load`: f_z = -p(r_i) d^2, the apex height of the Hertz approach; the
@@ -160,9 +167,7 @@ class ExplicitContact {
   [[nodiscard]] const std::vector<double>& displacements() const { return u_; }
   [[nodiscard]] const std::vector<std::size_t>& active_site_list() const { return sites_; }
   [[nodiscard]] Shape2 fft_grid() const;
-  [[nodiscard]] std::size_t gf_applications() const {
-    return gf_apps_ + (gf_ ? gf_->applications() : 0);
-  }
+  [[nodiscard]] std::size_t gf_applications() const;
   // Total normal load on the substrate at the current state (G d^2).
   [[nodiscard]] double load() const;
   // Active atoms above the tip's sphere: they went through its single layer of atoms (relax()
@@ -184,8 +189,11 @@ class ExplicitContact {
   fft::FFTOptions fft_;
   double Dx_ = 0.0, h_ = 0.0, radius_ = 0.0;
   LatticeBlock block_;
-  std::unique_ptr<elastic::FreeSurfaceGF> gf_;
-  std::size_t gf_apps_ = 0;         // applications of GFs already replaced
+  elastic::FreeSurfaceGF* gf_ = nullptr;  // the GF of block_, from gf_cache_
+  // GFs (and their FFT plans) by block half-width: a slide returns to the same few block
+  // sizes at every step, and a plan is made once per size.
+  std::map<int, std::unique_ptr<elastic::FreeSurfaceGF>> gf_cache_;
+  std::size_t gf_apps_ = 0;         // applications of GFs dropped from the cache
   std::vector<double> f_, u_;       // block, component-major
   std::vector<std::size_t> sites_;  // active block sites
 };

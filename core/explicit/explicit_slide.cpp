@@ -30,6 +30,10 @@ namespace {
 
 using State = slide::SlideFields;
 
+// Largest block side a state may have (a start state's check): 16384^2 sites are 800 M
+// unknowns, beyond any memory this runs on.
+constexpr std::size_t kMaxBlockSide = 1u << 14;
+
 // The block a state's fields live on: square, (2 half + 1)^2 sites (3 components), centred on
 // the lattice column `shift` along x and on y = 0 (ExplicitContact's blocks).
 LatticeBlock block_of(const State& s) {
@@ -67,8 +71,7 @@ class ExplicitSlider {
         options_(options),
         hertz_(contact::Hertz::from_load(scene.material, scene.R, eo.load)),
         contact_(scene, options.fft),
-        // dFz/dh, from the Hertz contact stiffness 2 a E* until secants replace it.
-        slope_(-2.0 * hertz_.a * hertz_.estar),
+        hertz_slope_(-2.0 * hertz_.a * hertz_.estar),
         snap_half_(static_cast<int>(std::ceil(hertz_.a / scene.d + eo.margin)) + 2) {}
 
   // The Hertz state at the target load: the first relax() (Dx = 0) brings it to the LJ contact.
@@ -87,8 +90,7 @@ class ExplicitSlider {
     // force stay active anyway): a disk grown by a transient of an earlier step would otherwise
     // stay, and cost, for the rest of the slide.
     contact_.clear_forces();
-    contact_.set_tip(Dx, s.h);
-    contact_.set_active_radius(hertz_.a + eo_.margin);
+    contact_.place(Dx, s.h, hertz_.a + eo_.margin);
     contact_.set_forces(map_field(block_of(s), s.f, contact_.block(), 3));
     // Slip watch: x displacement at the start, by lattice index.
     const LatticeBlock start_block = contact_.block();
@@ -123,6 +125,15 @@ class ExplicitSlider {
     double h_high = std::numeric_limits<double>::infinity(), g_high = 0.0;
     int last_side = 0;
     double lift_step = 0.01 * d;
+    // dFz/dh: the last secant of the state's branch, else the Hertz contact stiffness -2 a E*.
+    // It travels with the state (not the model), so that a slide resumed from a checkpoint
+    // takes the same load steps as the uninterrupted one.
+    double slope = s.dFz_dh < 0.0 ? s.dFz_dh : hertz_slope_;
+    // The branch of the previous load step (block and x displacements): a relaxation at a new
+    // h can end on another branch (an atom moved to the next hollow of the tip). Fz(h) then
+    // jumps, and heights and loads seen on the old branch bracket nothing on the new one.
+    LatticeBlock branch_block = contact_.block();
+    std::vector<double> branch_ux = x_displacements();
     total.termination = Termination::max_iterations;
     for (int step = 0; step < eo_.max_load_steps; ++step) {
       const auto r =
@@ -139,6 +150,14 @@ class ExplicitSlider {
       const double g = fz - eo_.load;  // > 0: the tip presses too hard
       if (std::abs(g) <= eo_.load_tolerance * eo_.load) break;
       total.termination = Termination::max_iterations;
+      if (left_branch(branch_block, branch_ux)) {
+        h_low = -std::numeric_limits<double>::infinity();
+        h_high = std::numeric_limits<double>::infinity();
+        last_side = 0;
+        have_prev = false;
+      }
+      branch_block = contact_.block();
+      branch_ux = x_displacements();
       const int side = g > 0.0 ? -1 : 1;
       if (side < 0) {
         h_low = h, g_low = g;
@@ -150,10 +169,10 @@ class ExplicitSlider {
       last_side = side;
       if (have_prev && fz != load_prev && h != h_prev) {
         const double secant = (fz - load_prev) / (h - h_prev);
-        if (secant < 0.0) slope_ = secant;
+        if (secant < 0.0) slope = secant;
       }
       h_prev = h, load_prev = fz, have_prev = true;
-      double next = h + std::clamp(-g / slope_, -0.25 * d, 0.25 * d);
+      double next = h + std::clamp(-g / slope, -0.25 * d, 0.25 * d);
       if (fz == 0.0) {
         // Lifted off: the slope says nothing; come down by doubling steps.
         next = h - lift_step;
@@ -166,7 +185,32 @@ class ExplicitSlider {
     }
     total.gf_applications = contact_.gf_applications() - gf0;
     capture(s);
+    s.dFz_dh = slope;
     return total;
+  }
+
+  // x displacements of the current block (the first component).
+  [[nodiscard]] std::vector<double> x_displacements() const {
+    const auto& u = contact_.displacements();
+    return {u.begin(), u.begin() + static_cast<std::ptrdiff_t>(contact_.block().shape.count())};
+  }
+
+  // Whether an atom of the current state has moved by more than d/2 in x against `ux` on
+  // `block` (by lattice index): the state left that branch.
+  [[nodiscard]] bool left_branch(const LatticeBlock& block, const std::vector<double>& ux) const {
+    const std::vector<double> now = map_field(contact_.block(), x_displacements(), block, 1);
+    const LatticeBlock& b = contact_.block();
+    for (int i0 = 0; i0 < block.shape.n0; ++i0) {
+      const int j0 = block.origin0 + i0 - b.origin0;
+      if (j0 < 0 || j0 >= b.shape.n0) continue;
+      for (int i1 = 0; i1 < block.shape.n1; ++i1) {
+        const int j1 = block.origin1 + i1 - b.origin1;
+        if (j1 < 0 || j1 >= b.shape.n1) continue;
+        const std::size_t i = block.shape.index(i0, i1);
+        if (std::abs(now[i] - ux[i]) > 0.5 * scene_.d) return true;
+      }
+    }
+    return false;
   }
 
   void align(State& s, const State& like) const {
@@ -225,6 +269,18 @@ class ExplicitSlider {
   }
 
   [[nodiscard]] std::size_t field_size() const { return contact_.forces().size(); }
+  // A state lives on a square block of odd side, 3 components per site, centred on y = 0;
+  // blocks grow and move with the tip, so the size is all there is to check.
+  [[nodiscard]] std::string check_fields(const State& s) const {
+    const std::size_t n = s.f.size() / 3;
+    const auto side = static_cast<std::size_t>(std::lround(std::sqrt(static_cast<double>(n))));
+    if (s.f.size() == 3 * n && side * side == n && side % 2 == 1 && s.u.size() == s.f.size() &&
+        side <= kMaxBlockSide) {
+      return {};
+    }
+    return "3 per site of a square block of odd side <= " + std::to_string(kMaxBlockSide) +
+           ", f and u alike";
+  }
   [[nodiscard]] std::size_t contact_sites() const { return contact_.active_sites(); }
   [[nodiscard]] std::size_t gf_applications() const { return contact_.gf_applications(); }
   [[nodiscard]] Shape2 block_shape() const { return contact_.block().shape; }
@@ -257,7 +313,7 @@ class ExplicitSlider {
   slide::SlideOptions options_;
   contact::Hertz hertz_;
   ExplicitContact contact_;
-  double slope_;
+  double hertz_slope_;  // dFz/dh of the Hertz contact, -2 a E* (G d)
   int snap_half_;
 };
 
@@ -270,10 +326,6 @@ slide::SlideResult slide_explicit(const ExplicitScene& scene, const ExplicitSlid
   eo.validate();
   options.validate();
   control.validate();
-  if (control.start || control.checkpoint) {
-    throw std::invalid_argument(
-        "slide_explicit: checkpoints and resume are not available for the explicit model");
-  }
   const auto t0 = std::chrono::steady_clock::now();
   ExplicitSlider model(scene, eo, options);
   require_small_slope(model.hertz().a, scene.R);

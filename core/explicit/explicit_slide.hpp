@@ -6,7 +6,9 @@
 // - a step to tip position Dx is a minimisation at fixed apex height h followed, until
 //   |Fz - target| <= load_tolerance * target, by secant steps on h (each a warm-started
 //   minimisation): the state of a step is (Dx, h(Dx)), and the warm start extrapolates both the
-//   force field and h along the branch;
+//   force field and h along the branch; a relaxation at a new h that lands on another branch
+//   (an atom moved on to the next hollow) restarts the search on h, since Fz(h) jumps there and
+//   heights seen on the old branch bracket nothing on the new one;
 // - the unknowns are the atoms of the active disk of ExplicitContact, which follows the tip and
 //   grows; states live on blocks of different size and origin, and are mapped onto each other
 //   by lattice index (warm starts, slip detection, snapshots);
@@ -15,8 +17,11 @@
 // - snapshots on a fixed square block around the tip (the same for every frame): displacement
 //   (with u_z), interface force as stress, pressure p = -f_z / d^2 per atom, and
 //   tau_max = alpha p with the alpha of the potential.
-// Not available for this model: checkpoints and resume (SlideControl::start, checkpoint), and
-// relaxation-path frames (SlideOptions::path_frame_every is ignored).
+// - checkpoints and resume (SlideControl) as in the LFM: a state carries its block (by its
+//   size and shift), h and the load loop's secant slope dFz/dh, so a resumed slide repeats
+//   the uninterrupted one.
+// Not available for this model: relaxation-path frames (SlideOptions::path_frame_every is
+// ignored).
 #pragma once
 
 #include "explicit/explicit_contact.hpp"
@@ -40,8 +45,9 @@ struct ExplicitSlideOptions {
 // Loads, then slides (options: protocol, steps, distance, minimiser, FFT threads). The automatic
 // distance cap is 3 d + 3 alpha Fz / k with k = 8 G a_H / (2 - nu), as in the LFM. Returns the
 // LFM's result type: trace, mu (max Fx/Fz of the states), mu/alpha, snapshots ("peak",
-// "slip_NNN_before/after", "last_good"), cost. Throws std::invalid_argument for bad options,
-// a/R >= 0.1, or a control with a start state or checkpoints.
+// "slip_NNN_before/after", "last_good"), cost. `control` as in slide::slide (progress,
+// checkpoints, stop requests, a start state from a checkpoint of the same scene and options).
+// Throws std::invalid_argument for bad options, a/R >= 0.1, or a start state that does not fit.
 slide::SlideResult slide_explicit(const ExplicitScene& scene, const ExplicitSlideOptions& eo,
                                   const slide::SlideOptions& options,
                                   const slide::SlideControl& control = {});

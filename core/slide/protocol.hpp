@@ -13,6 +13,8 @@
 //   void align(State& s, const State& like);   bring s's fields onto like's block (warm starts)
 //   int slipped_sites(const State& before, const State& after);  registry index changes
 //   Snapshot snapshot(const State& s, std::string label);
+//   std::string check_fields(const State& s);  why s cannot be a state of this scene (a start
+//                                              state's fields on a foreign block), or empty
 //   std::size_t field_size(), contact_sites(), gf_applications();  Shape2 block_shape(),
 //   fft_grid();
 // Include only from the .cpp files that instantiate it.
@@ -40,16 +42,21 @@ struct ProtocolParams {
   double default_cap = 0.0;   // automatic distance cap when SlideOptions.max_distance = 0 (d)
 };
 
-// A start state must come from a slide of the same scene: every field on the same block.
-inline void check_start(const SlideState& st, std::size_t field_size) {
+// A start state must come from a slide of the same scene: every field on a block of that
+// scene (the model says which blocks it accepts).
+template <class Model>
+void check_start(const SlideState& st, const Model& model) {
   const auto fields = [&](const SlideFields& f, const char* name) {
-    if (f.f.size() != field_size || f.u.size() != field_size) {
+    if (const std::string why = model.check_fields(f); !why.empty()) {
       reject(std::string("SlideState.") + name + " fields",
-             std::to_string(f.f.size()) + " and " + std::to_string(f.u.size()) + " values",
-             std::to_string(field_size) + " (2 per site of this scene's block)");
+             std::to_string(f.f.size()) + " and " + std::to_string(f.u.size()) + " values", why);
     }
     if (!std::isfinite(f.Dx) || !(f.Dx >= 0.0)) {
       reject(std::string("SlideState.") + name + ".Dx", std::to_string(f.Dx), "finite and >= 0");
+    }
+    if (!std::isfinite(f.h) || !std::isfinite(f.dFz_dh) || !(f.dFz_dh <= 0.0)) {
+      reject(std::string("SlideState.") + name + ".h and dFz_dh",
+             std::to_string(f.h) + " and " + std::to_string(f.dFz_dh), "finite, dFz_dh <= 0");
     }
   };
   fields(st.current, "current");
@@ -73,7 +80,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   std::size_t gf_before = 0;
   double wall_before = 0.0;
   if (control.start) {
-    check_start(*control.start, model.field_size());
+    check_start(*control.start, model);
     res = control.start->partial;
     gf_before = res.gf_applications;
     wall_before = res.wall_s;
@@ -88,6 +95,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                 : options.distance;
 
   State state = model.initial();
+  // The start state replaces the initial one: GF work the model spent building it (the
+  // explicit model's Hertz start) was counted by the session that did use it.
+  const std::size_t gf_unused = control.start ? model.gf_applications() : 0;
   const auto record = [&](const State& s, const minimize::MinimizeResult& r, bool slip, int sites) {
     res.trace.push_back(TraceRow{s.Dx, s.Fx, s.Fz, s.energy, r.iterations, r.gf_applications,
                                  r.max_force, slip, sites});
@@ -169,7 +179,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   .slip_at = slip_at,
                   .stepping_done = stepping_done,
                   .partial = res};
-    st.partial.gf_applications = gf_before + model.gf_applications();
+    st.partial.gf_applications = gf_before + model.gf_applications() - gf_unused;
     st.partial.wall_s = wall_before + elapsed();
     return st;
   };
@@ -452,7 +462,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     res.kinetic_over_static = res.kinetic / res.mu;
   }
   res.snapshots.insert(res.snapshots.begin(), model.snapshot(*peak, "peak"));
-  res.gf_applications = gf_before + model.gf_applications();
+  res.gf_applications = gf_before + model.gf_applications() - gf_unused;
   res.wall_s = wall_before + elapsed();
   return res;
 }

@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "common/validate.hpp"
 #include "elastic/surface_gf.hpp"
@@ -145,6 +146,10 @@ class Slider {
   }
   // The rest of the model interface of protocol.hpp.
   [[nodiscard]] std::size_t field_size() const { return gf_.size(); }
+  [[nodiscard]] std::string check_fields(const State& s) const {
+    if (s.f.size() == field_size() && s.u.size() == field_size()) return {};
+    return std::to_string(field_size()) + " (2 per site of this scene's block)";
+  }
   [[nodiscard]] std::size_t contact_sites() const { return lfm_.contact_sites().size(); }
   [[nodiscard]] std::size_t gf_applications() const { return gf_.applications(); }
   [[nodiscard]] Shape2 block_shape() const { return gf_.region(); }

@@ -125,7 +125,9 @@ struct SlideFields {
   int shift = 0;             // block offset along x (lattice steps)
   std::vector<double> f, u;  // force (G d^2) and displacement (d) per block site, x then y
   double Fx = 0.0, Fz = 0.0, energy = 0.0;
-  double h = 0.0;  // explicit model: apex height of the tip (d); unused (0) in the LFM
+  double h = 0.0;       // explicit model: apex height of the tip (d); unused (0) in the LFM
+  double dFz_dh = 0.0;  // explicit model: the load loop's last secant slope of Fz(h) (G d),
+                        // carried so that a resumed slide repeats it; 0: none yet (and LFM)
 };
 
 // Everything slide() needs to continue a slide exactly where it was (checkpoint and resume): a

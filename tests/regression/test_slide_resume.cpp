@@ -10,9 +10,10 @@
 //   checkpoint.cbor and written no results; its resumption (with a checkpoint after every step)
 //   gets SIGINT likewise; the next resumption runs to the end. Its trace.csv and snapshots must
 //   be byte-identical to the uninterrupted run's, its summary.json the same but for "run", and
-//   the checkpoint gone. ASPERITY_KILL_SEED=<n> repeats the moments of a run.
-// - Bad resumptions: --resume without a checkpoint, or with other settings, exit 2 naming the
-//   problem.
+//   the checkpoint gone. ASPERITY_KILL_SEED=<n> repeats the moments of a run. The same for the
+//   explicit model (--model explicit --slide, a Regime II contact with two slips).
+// - Bad resumptions: --resume without a checkpoint, with other settings, or of the other model,
+//   exit 2 naming the problem.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -80,10 +81,18 @@ TEST_F(SlideResume, SameInputsAndThreadsGiveIdenticalResults) {
   expect_same_results(kWork / "det1", kWork / "det2");
 }
 
-TEST_F(SlideResume, InterruptedRunsResumeToTheUninterruptedResult) {
-  const fs::path reference = kWork / "reference", resumed = kWork / "resumed";
+namespace {
+
+// The resume check of the header for the slide `extra` selects (a model and its scene), in
+// kWork/<name>_reference and kWork/<name>_resumed.
+void interrupted_runs_resume(const std::string& name, const std::vector<std::string>& extra) {
+  const fs::path reference = kWork / (name + "_reference"), resumed = kWork / (name + "_resumed");
+  const auto with = [&extra](std::vector<std::string> more) {
+    more.insert(more.begin(), extra.begin(), extra.end());
+    return more;
+  };
   const auto t0 = Clock::now();
-  ASSERT_EQ(describe_status(run_to_end(slide_command(reference))), "exit 0") << log_tail();
+  ASSERT_EQ(describe_status(run_to_end(slide_command(reference, extra))), "exit 0") << log_tail();
   const double T = std::chrono::duration<double>(Clock::now() - t0).count();
 
   unsigned seed = std::random_device{}();
@@ -99,8 +108,8 @@ TEST_F(SlideResume, InterruptedRunsResumeToTheUninterruptedResult) {
     // The first run starts afresh, the second resumes (and checkpoints after every step), so its
     // signal comes sooner.
     const bool first = interrupted == 0;
-    const auto args = first ? slide_command(resumed)
-                            : slide_command(resumed, {"--resume", "--checkpoint-every", "0"});
+    const auto args = first ? slide_command(resumed, extra)
+                            : slide_command(resumed, with({"--resume", "--checkpoint-every", "0"}));
     // A fresh run that ends before the signal is tried again with a shorter delay.
     for (double fraction = first ? 0.7 : 0.3; fraction > 0.01; fraction *= 0.5) {
       const double delay = std::uniform_real_distribution<double>(0.2, 1.0)(gen) * fraction * T;
@@ -133,13 +142,27 @@ TEST_F(SlideResume, InterruptedRunsResumeToTheUninterruptedResult) {
 
   if (!finished) {
     const auto t1 = Clock::now();
-    ASSERT_EQ(describe_status(run_to_end(slide_command(resumed, {"--resume"}))), "exit 0")
+    ASSERT_EQ(describe_status(run_to_end(slide_command(resumed, with({"--resume"})))), "exit 0")
         << log_tail();
     std::printf("last resumption: %.2f s\n",
                 std::chrono::duration<double>(Clock::now() - t1).count());
   }
   EXPECT_FALSE(fs::exists(checkpoint)) << "a finished run leaves its checkpoint";
   expect_same_results(reference, resumed);
+}
+
+}  // namespace
+
+TEST_F(SlideResume, InterruptedRunsResumeToTheUninterruptedResult) {
+  interrupted_runs_resume("lfm", {});
+}
+
+// The explicit model (a Regime II contact with two slips, a = 12 d, R = 125 d, 1 s): its states
+// live on blocks that follow the tip and grow, and carry the tip height and the load loop's
+// secant slope; the resumed slide must still repeat the uninterrupted one exactly.
+TEST_F(SlideResume, InterruptedExplicitRunsResumeToTheUninterruptedResult) {
+  interrupted_runs_resume(
+      "explicit", {"--model", "explicit", "--slide", "--a", "12", "--R", "125", "--threads", "1"});
 }
 
 TEST_F(SlideResume, BadResumptionsExitTwoNamingTheProblem) {
@@ -166,4 +189,24 @@ TEST_F(SlideResume, BadResumptionsExitTwoNamingTheProblem) {
       << bytes.substr(0, bytes.size() / 2);
   EXPECT_EQ(describe_status(run_to_end(slide_command(dir, {"--resume"}))), "exit 2");
   EXPECT_NE(log_tail().find("not a contact_slide checkpoint"), std::string::npos) << log_tail();
+}
+
+TEST_F(SlideResume, AnExplicitCheckpointDoesNotResumeTheLfm) {
+  const fs::path dir = kWork / "bad_model";
+  fs::remove_all(dir);
+  const std::vector<std::string> expl = {"--model", "explicit", "--slide",   "--a", "12",
+                                         "--R",     "125",      "--threads", "1"};
+  {
+    std::vector<std::string> args = expl;
+    args.insert(args.end(), {"--checkpoint-every", "0"});
+    Child run(slide_command(dir, args), kLog);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    run.signal(SIGTERM);
+    const std::string status = describe_status(run.wait());
+    if (status != "exit 3") GTEST_SKIP() << "the run ended before the signal: " << status;
+  }
+  EXPECT_EQ(describe_status(run_to_end(
+                slide_command(dir, {"--a", "12", "--R", "125", "--threads", "1", "--resume"}))),
+            "exit 2");
+  EXPECT_NE(log_tail().find("model=explicit"), std::string::npos) << log_tail();
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "contact/hertz.hpp"
 #include "explicit/alpha_path.hpp"
@@ -59,9 +60,72 @@ TEST(ExplicitSlide, RegimeOneMuEqualsAlphaOfThePotential) {
   EXPECT_NEAR(load / peak.Fz, 1.0, 1e-3);
 }
 
-TEST(ExplicitSlide, RejectsCheckpointsAndBadOptions) {
+// Regime II at fixed Fz (a = 15 d, R = 160 d, a/b_core^0 = 2.6): the contact sticks and slips.
+// The load must hold at every accepted state, across the slips too: a relaxation at a new tip
+// height that lands on the next branch makes Fz(h) jump, and the load loop must restart its
+// search on h there rather than fail (this contact failed so at Dx = 0.80 d before the fix).
+SlideSetup slipping_contact() {
+  SlideSetup s;
+  s.scene.R = 160.0;
+  const auto hz = contact::Hertz::from_radius(s.scene.material, s.scene.R, 15.0);
+  s.eo.load = hz.load;
+  s.eo.alpha = explicit_model::alpha_path({.normal_force = hz.p0 / s.scene.force_unit()}).alpha;
+  s.options.fft.threads = 1;
+  return s;
+}
+
+TEST(ExplicitSlide, RegimeTwoSlipsAtFixedLoad) {
+  const SlideSetup s = slipping_contact();
+  const auto r = explicit_model::slide_explicit(s.scene, s.eo, s.options);
+  ASSERT_FALSE(r.failed) << r.stop_reason;
+  EXPECT_EQ(r.slip_events, s.options.slips_to_stop);
+  // Slips lower friction below the rigid contact's alpha, and kinetic below static.
+  EXPECT_LT(r.mu_over_alpha, 0.9);
+  EXPECT_LT(r.kinetic_over_static, 1.0);
+  for (const auto& row : r.trace)
+    EXPECT_NEAR(row.Fz / s.eo.load, 1.0, 2.0 * s.eo.load_tolerance) << "Dx " << row.Dx;
+}
+
+// A slide resumed from any of its checkpoints repeats the uninterrupted one bit for bit: the
+// states carry their block, h and the load loop's slope (SlideControl, as for the LFM).
+TEST(ExplicitSlide, ResumedFromACheckpointRepeatsTheSlide) {
+  const SlideSetup s = slipping_contact();
+  std::vector<slide::SlideState> states;
+  const slide::SlideControl record{
+      .checkpoint = [&](const slide::SlideState& st) { states.push_back(st); },
+      .checkpoint_every_s = 0.0};
+  const auto full = explicit_model::slide_explicit(s.scene, s.eo, s.options, record);
+  ASSERT_FALSE(full.failed) << full.stop_reason;
+  ASSERT_GE(states.size(), 10u);
+  // One state before the first slip, one between the slips.
+  for (const std::size_t k : {states.size() / 4, 3 * states.size() / 4}) {
+    const slide::SlideControl from{.start = &states[k]};
+    const auto r = explicit_model::slide_explicit(s.scene, s.eo, s.options, from);
+    ASSERT_FALSE(r.failed) << r.stop_reason;
+    ASSERT_EQ(r.trace.size(), full.trace.size()) << "from checkpoint " << k;
+    for (std::size_t i = 0; i < r.trace.size(); ++i) {
+      EXPECT_EQ(r.trace[i].Dx, full.trace[i].Dx) << i;
+      EXPECT_EQ(r.trace[i].Fx, full.trace[i].Fx) << i;
+      EXPECT_EQ(r.trace[i].Fz, full.trace[i].Fz) << i;
+    }
+    EXPECT_EQ(r.mu, full.mu);
+    EXPECT_EQ(r.peak_Dx, full.peak_Dx);
+    EXPECT_EQ(r.slip_events, full.slip_events);
+  }
+}
+
+TEST(ExplicitSlide, RejectsForeignStartStatesAndBadOptions) {
   SlideSetup s = small_contact();
   slide::SlideState start;
+  start.partial.trace.push_back({});
+  start.current.f.assign(3 * 10, 0.0);  // 10 sites: no square block
+  start.current.u = start.current.f;
+  start.peak = start.current;
+  EXPECT_THROW(explicit_model::slide_explicit(s.scene, s.eo, s.options,
+                                              slide::SlideControl{.start = &start}),
+               std::invalid_argument);
+  start.current.f.assign(3 * 9, 0.0);  // a 3 x 3 block, but u of another size
+  start.peak = start.current;
   EXPECT_THROW(explicit_model::slide_explicit(s.scene, s.eo, s.options,
                                               slide::SlideControl{.start = &start}),
                std::invalid_argument);
