@@ -1,4 +1,5 @@
-// friction_sweep: static friction of the lateral force model (MODEL.md sections 3 and 5) over
+// friction_sweep: static friction of the lateral force model (MODEL.md sections 3 and 5), and
+// with sweep.model = "explicit" or "both" of the explicit atomistic model (MODEL.md 4), over
 // many (a, R) points, run in parallel. Reads a sweep scene (default:
 // data/scenes/sweep_default.toml), lets flags override it, and writes into the output directory
 // - sweep.csv: one row per point, sorted by R then a, rewritten after every finished point, so
@@ -8,7 +9,11 @@
 //   figures and snapshots of contact_slide);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
-// - mu_vs_a_over_bcore0.png and kinetic_over_static.png.
+// - mu_vs_a_over_bcore0.png and kinetic_over_static.png;
+// - with the explicit model: sweep_explicit.csv (same columns), points/explicit_a<a>_R<R>/,
+//   collapse.png (mu/alpha of both models against a/b_core^0) and, in summary.json,
+//   "explicit_vs_lfm" (the ratio at each explicit point, the largest deviation in
+//   a/b_core^0 in [0.1, 10]).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
@@ -23,6 +28,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "common/cli.hpp"
@@ -41,6 +47,63 @@ namespace {
 
 // Window of the Regime II slope fit (MODEL.md 8), and where the slope -2/3 guide starts.
 constexpr double kFitLo = 10.0, kFitHi = 60.0, kGuideFrom = 10.0;
+// Window of the model comparison (issue 4 acceptance 3).
+constexpr double kCompareLo = 0.1, kCompareHi = 10.0;
+
+// The collapse of the two models: mu/alpha of each against a/b_core^0, log-log, per R.
+fs::path write_collapse(const fs::path& dir, const std::vector<app::SweepRow>& lfm,
+                        const std::vector<app::SweepRow>& expl, const nlohmann::json& comparison) {
+  std::vector<app::Series> series;
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0, y_lo = 1.0;
+  const auto add = [&](const std::vector<app::SweepRow>& rows, const char* model,
+                       const char* style) {
+    std::map<double, app::Series> by_R;
+    for (const auto& r : rows) {
+      if (r.failed || !(r.mu_over_alpha > 0.0)) continue;
+      auto& s = by_R[r.point.R];
+      if (s.title.empty()) {
+        char title[64];
+        std::snprintf(title, sizeof title, "%s, R = %g d", model, r.point.R);
+        s.title = title;
+        s.style = style;
+      }
+      s.x.push_back(r.a_over_bcore0);
+      s.y.push_back(r.mu_over_alpha);
+      lo = std::min(lo, r.a_over_bcore0);
+      hi = std::max(hi, r.a_over_bcore0);
+      y_lo = std::min(y_lo, r.mu_over_alpha);
+    }
+    for (auto& [R, s] : by_R)
+      series.push_back(std::move(s));
+  };
+  add(lfm, "LFM", "linespoints pt 7 ps 1.3 lw 2");
+  add(expl, "explicit", "linespoints pt 5 ps 1.8 lw 2 dt 2");
+  if (series.empty()) return {};
+  lo /= 1.5;
+  hi *= 1.5;
+  series.push_back(app::Series{.x = {lo, hi},
+                               .y = {1.0, 1.0},
+                               .title = "mu/alpha = 1 (Regime I)",
+                               .style = "lines dt 3 lw 1 lc 'black'"});
+  char title[200], worst_text[32] = "-";
+  if (const auto& worst = comparison["max_deviation_in_window"]; !worst.is_null()) {
+    std::snprintf(worst_text, sizeof worst_text, "%.1f%%", 100.0 * worst.get<double>());
+  }
+  std::snprintf(title, sizeof title,
+                "Collapse: mu/alpha of both models; |explicit/LFM - 1| at most %s in "
+                "a/b_core^0 [%g, %g]",
+                worst_text, kCompareLo, kCompareHi);
+  const fs::path png = dir / "collapse.png";
+  app::plot_png(png, series,
+                {.title = title,
+                 .xlabel = "a / b_core^0 (alpha: LFM scene value; explicit: of the potential)",
+                 .ylabel = "mu / alpha",
+                 .logx = true,
+                 .logy = true,
+                 .xrange = std::pair{lo, hi},
+                 .yrange = std::pair{y_lo / 1.5, 1.3}});
+  return png;
+}
 
 std::string describe_list(const std::vector<double>& v) {
   std::string out;
@@ -91,6 +154,13 @@ nlohmann::json scene_json(const app::SweepScene& s, int jobs) {
   };
   if (s.a) j["a"] = s.a->values;
   if (s.a_over_bcore0) j["a_over_bcore0"] = s.a_over_bcore0->values;
+  j["model"] = s.model;
+  if (s.runs_explicit()) {
+    j["explicit"] = {{"G_eps_sigma3", s.potential.G_eps_sigma3},
+                     {"sigma_over_d", s.potential.sigma_over_d},
+                     {"alpha", "of the potential at each point's central load (alpha_path)"},
+                     {"settings", app::explicit_settings_fingerprint(s)}};
+  }
   return j;
 }
 
@@ -260,9 +330,11 @@ int main(int argc, char** argv) {
     s.base.contact.validate();
     s.base.options.validate();
     const std::vector<app::SweepPoint> points = app::sweep_points(s);  // validates s
+    const std::vector<app::SweepPoint> xpoints = app::explicit_sweep_points(s);
     // A signal from here on stops the sweep cleanly (points in flight checkpoint, no new ones).
     app::install_stop_handlers();
     const std::string settings = app::settings_fingerprint(s.base);
+    const std::string settings_x = app::explicit_settings_fingerprint(s);
 
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
@@ -270,23 +342,39 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n", n,
                    n > 1 ? "s" : "");
     }
-    const fs::path csv = dir / "sweep.csv";
+    const fs::path csv = dir / "sweep.csv", csv_x = dir / "sweep_explicit.csv";
     app::ResumedRows resumed = app::resume_rows(csv, points, settings);
+    app::ResumedRows resumed_x = app::resume_rows(csv_x, xpoints, settings_x);
     std::vector<std::optional<app::SweepRow>> rows = std::move(resumed.rows);
+    std::vector<std::optional<app::SweepRow>> rows_x = std::move(resumed_x.rows);
+    // A point to run: of the explicit model (xpoints, rows_x) or the LFM (points, rows).
+    struct Job {
+      bool x = false;
+      std::size_t k = 0;
+    };
+    const auto point_of = [&](const Job& j) -> const app::SweepPoint& {
+      return j.x ? xpoints[j.k] : points[j.k];
+    };
     // Cheapest first (cost grows as the a^2 contact sites): results start arriving at once.
-    std::vector<std::size_t> order;
+    std::vector<Job> order;
     for (std::size_t k = 0; k < points.size(); ++k) {
-      if (!rows[k]) order.push_back(k);
+      if (!rows[k]) order.push_back({false, k});
+    }
+    for (std::size_t k = 0; k < xpoints.size(); ++k) {
+      if (!rows_x[k]) order.push_back({true, k});
     }
     std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t i, std::size_t j) { return points[i].a < points[j].a; });
+                     [&](const Job& i, const Job& j) { return point_of(i).a < point_of(j).a; });
     const int n_jobs = std::min(s.effective_jobs(), static_cast<int>(order.size()));
     {
       // The largest contacts still to run, as many at once as run in parallel, must fit
-      // together.
+      // together. (Explicit points are left out: a/R < 0.1 keeps their blocks small, 43 d
+      // takes 60 MB.)
       std::vector<double> bytes;
       double a_max = 0.0;
-      for (const std::size_t k : order) {
+      for (const Job& job : order) {
+        if (job.x) continue;
+        const std::size_t k = job.k;
         interface::ContactScene c = s.base.contact;
         c.a = points[k].a;
         c.R = points[k].R;
@@ -306,29 +394,33 @@ int main(int argc, char** argv) {
     }
 
     std::fprintf(stderr,
-                 "friction_sweep: %zu points: R = %s d; %s = %s; alpha = %g, nu = %g; %s "
-                 "protocol, %s, tolerance %g\n",
-                 points.size(), describe_list(s.R.values).c_str(), s.a ? "a (d)" : "a/b_core^0",
+                 "friction_sweep: %zu points (model %s): R = %s d; %s = %s; alpha = %g, nu = %g; "
+                 "%s protocol, %s, tolerance %g\n",
+                 points.size() + xpoints.size(), s.model.c_str(), describe_list(s.R.values).c_str(),
+                 s.a ? "a (d)" : "a/b_core^0",
                  describe_list(s.a ? s.a->values : s.a_over_bcore0->values).c_str(),
                  s.base.contact.alpha, s.base.contact.material.nu,
                  slide::to_string(s.base.options.protocol).c_str(),
                  minimize::to_string(s.base.options.minimizer.method).c_str(),
                  s.base.options.minimizer.force_tolerance);
-    if (fs::exists(csv)) {
-      std::fprintf(stderr, "friction_sweep: reused %zu of %zu points from %s", resumed.reused,
-                   points.size(), csv.c_str());
+    for (const auto& [table, res, n] : {std::tuple{&csv, &resumed, points.size()},
+                                        std::tuple{&csv_x, &resumed_x, xpoints.size()}}) {
+      if (!fs::exists(*table)) continue;
+      std::fprintf(stderr, "friction_sweep: reused %zu of %zu points from %s", res->reused, n,
+                   table->c_str());
       // Dropped rows leave the table; their point folders stay until the points are run again.
       std::string why;
-      for (const auto& [count, reason] : {std::pair{resumed.other_settings, "with other settings"},
-                                          std::pair{resumed.not_requested, "not in this sweep"},
-                                          std::pair{resumed.failed, "failed, run again"}}) {
+      for (const auto& [count, reason] : {std::pair{res->other_settings, "with other settings"},
+                                          std::pair{res->not_requested, "not in this sweep"},
+                                          std::pair{res->failed, "failed, run again"}}) {
         if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
       }
       if (!why.empty()) std::fprintf(stderr, "; dropped rows: %s", why.c_str());
       std::fprintf(stderr, "\n");
     }
-    // The table now holds exactly the reused rows; points are added as they finish.
-    write_table(csv, rows);
+    // The tables now hold exactly the reused rows; points are added as they finish.
+    if (s.runs_lfm()) write_table(csv, rows);
+    if (s.runs_explicit()) write_table(csv_x, rows_x);
     if (!order.empty()) {
       std::fprintf(stderr,
                    "friction_sweep: running %zu point%s, %d at once, %d FFT thread%s each\n",
@@ -343,22 +435,32 @@ int main(int argc, char** argv) {
     std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
     std::size_t finished = 0;
     std::atomic<std::size_t> interrupted{0};
-    const auto run_point = [&](std::size_t k) {
+    const auto run_point = [&](const Job& job) {
+      const app::SweepPoint& point = point_of(job);
       app::SlideScene ps = s.base;
-      ps.contact.a = points[k].a;
-      ps.contact.R = points[k].R;
+      ps.contact.a = point.a;
+      ps.contact.R = point.R;
+      // The explicit model: its scene, and alpha of the potential at the point's central load.
+      const app::ExplicitSlideScene es = app::explicit_point_scene(s, point);
+      app::ExplicitAlpha alpha_x;
+      if (job.x) {
+        alpha_x = app::explicit_alpha(es);
+        ps = app::explicit_as_slide_scene(es, alpha_x);  // contact.alpha: of the potential
+      }
       const auto started = std::chrono::steady_clock::now();
       // A point in flight saves its slide in its folder every checkpoint_every seconds and when
       // the sweep is stopped (SIGINT, SIGTERM); the next run continues it from there, to the same
       // result bit for bit. A checkpoint of other settings is replaced.
-      const fs::path point_dir = dir / "points" / app::point_folder(points[k]);
+      const fs::path point_dir = dir / "points" / app::point_folder(point, job.x);
       const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
-      const std::string point_settings = app::slide_fingerprint(ps);
+      const std::string point_settings =
+          job.x ? app::explicit_slide_fingerprint(es, alpha_x) : app::slide_fingerprint(ps);
+      const std::string& row_settings = job.x ? settings_x : settings;
       std::optional<app::SlideCheckpoint> start;
       if (std::error_code ec; fs::exists(checkpoint_file, ec)) {
         try {
           app::SlideCheckpoint c = app::read_checkpoint(checkpoint_file);
-          app::check_checkpoint_settings(c, ps, checkpoint_file);
+          app::check_checkpoint_settings(c, point_settings, checkpoint_file);
           start = std::move(c);
         } catch (const std::exception& e) {  // damaged, foreign or unreadable
           const std::lock_guard lock(table_mutex);
@@ -370,9 +472,9 @@ int main(int argc, char** argv) {
         if (start) {
           const std::lock_guard lock(table_mutex);
           std::fprintf(stderr,
-                       "friction_sweep: resuming a = %.4g d, R = %g d from its checkpoint at Dx = "
-                       "%.4f d\n",
-                       points[k].a, points[k].R, start->state.current.Dx);
+                       "friction_sweep: resuming %sa = %.4g d, R = %g d from its checkpoint at "
+                       "Dx = %.4f d\n",
+                       job.x ? "explicit " : "", point.a, point.R, start->state.current.Dx);
         }
         const slide::SlideControl control{.checkpoint =
                                               [&](const slide::SlideState& state) {
@@ -384,7 +486,8 @@ int main(int argc, char** argv) {
                                           .checkpoint_every_s = checkpoint_every,
                                           .stop_requested = app::stop_requested,
                                           .start = start ? &start->state : nullptr};
-        const slide::SlideResult result = slide::slide(ps.contact, ps.options, control);
+        const slide::SlideResult result = job.x ? app::slide_explicit_scene(es, alpha_x, control)
+                                                : slide::slide(ps.contact, ps.options, control);
         if (result.interrupted) {
           ++interrupted;  // no row: the next run continues from the checkpoint
           return;
@@ -392,29 +495,31 @@ int main(int argc, char** argv) {
         {
           std::unique_lock lock(output_mutex, std::defer_lock);
           if (figures) lock.lock();
-          app::write_slide_outputs(point_dir, ps, result,
-                                   {.figures = figures, .snapshots = figures});
+          app::SlideOutputOptions oo{.figures = figures, .snapshots = figures};
+          if (job.x) oo.summary_extra = app::explicit_summary_extra(es, alpha_x);
+          app::write_slide_outputs(point_dir, ps, result, oo);
         }
         std::error_code ec;
         fs::remove(checkpoint_file, ec);  // the row below is final
-        row = app::sweep_row(ps, result, settings);
+        row = app::sweep_row(ps, result, row_settings);
       } catch (const std::exception& e) {
         // Recorded as a failed point; the other points go on.
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        row = app::error_row(ps, e.what(), seconds, settings);
+        row = app::error_row(ps, e.what(), seconds, row_settings);
       }
       const std::lock_guard lock(table_mutex);
       ++finished;
       std::fprintf(stderr,
-                   "friction_sweep: [%zu/%zu] a = %.4g d, R = %g d, a/b_core^0 = %.4g: "
+                   "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
                    "mu/alpha = %.5f%s, %.1f s%s%s\n",
-                   finished, order.size(), row.point.a, row.point.R, row.a_over_bcore0,
-                   row.mu_over_alpha, row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                   finished, order.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
+                   row.a_over_bcore0, row.mu_over_alpha,
+                   row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
                    row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
-      rows[k] = std::move(row);
+      (job.x ? rows_x : rows)[job.k] = std::move(row);
       try {
-        write_table(csv, rows);
+        write_table(job.x ? csv_x : csv, job.x ? rows_x : rows);
       } catch (...) {
         if (!fatal) fatal = std::current_exception();
         stop = true;
@@ -433,8 +538,9 @@ int main(int argc, char** argv) {
       }
     }  // joins
     if (fatal) std::rethrow_exception(fatal);
-    if (app::stop_requested() &&
-        std::any_of(rows.begin(), rows.end(), [](const auto& r) { return !r.has_value(); })) {
+    const auto missing = [](const auto& r) { return !r.has_value(); };
+    if (app::stop_requested() && (std::any_of(rows.begin(), rows.end(), missing) ||
+                                  std::any_of(rows_x.begin(), rows_x.end(), missing))) {
       std::fprintf(stderr,
                    "friction_sweep: stopped; %zu point%s finished in this run (kept in %s), %zu "
                    "in flight saved to points/*/checkpoint.cbor\ncontinue with:\n  %s\n",
@@ -443,26 +549,43 @@ int main(int argc, char** argv) {
       return app::kInterrupted;
     }
 
-    std::vector<app::SweepRow> done;
+    std::vector<app::SweepRow> done, done_x;
     for (auto& row : rows)
       done.push_back(std::move(*row));
-    const auto figure_files = write_figures(dir, s, done);
+    for (auto& row : rows_x)
+      done_x.push_back(std::move(*row));
+    auto figure_files = done.empty() ? std::vector<fs::path>{} : write_figures(dir, s, done);
     const nlohmann::json fit = app::fit_slope(done, kFitLo, kFitHi);
-    std::vector<const app::SweepRow*> failed;
+    nlohmann::json comparison;
+    if (s.runs_explicit()) {
+      comparison = app::compare_models(done, done_x, kCompareLo, kCompareHi);
+      if (const fs::path png = write_collapse(dir, done, done_x, comparison); !png.empty()) {
+        figure_files.insert(figure_files.begin(), png);
+      }
+    }
+    std::vector<std::pair<const app::SweepRow*, bool>> failed;  // row, explicit
     double points_wall = 0.0;
     nlohmann::json point_times = nlohmann::json::array();
-    for (const auto& r : done) {
-      if (r.failed) failed.push_back(&r);
-      // Reused rows carry no time: they were computed by an earlier run.
-      if (std::isfinite(r.wall_s)) {
-        points_wall += r.wall_s;
-        point_times.push_back({{"a", r.point.a}, {"R", r.point.R}, {"wall_s", r.wall_s}});
+    for (const auto* list : {&done, &done_x}) {
+      const bool x = list == &done_x;
+      for (const auto& r : *list) {
+        if (r.failed) failed.emplace_back(&r, x);
+        // Reused rows carry no time: they were computed by an earlier run.
+        if (std::isfinite(r.wall_s)) {
+          points_wall += r.wall_s;
+          point_times.push_back({{"model", x ? "explicit" : "lfm"},
+                                 {"a", r.point.a},
+                                 {"R", r.point.R},
+                                 {"wall_s", r.wall_s}});
+        }
       }
     }
     nlohmann::json failed_json = nlohmann::json::array();
-    for (const auto* r : failed)
-      failed_json.push_back(
-          {{"a", r->point.a}, {"R", r->point.R}, {"stop_reason", r->stop_reason}});
+    for (const auto& [r, x] : failed)
+      failed_json.push_back({{"model", x ? "explicit" : "lfm"},
+                             {"a", r->point.a},
+                             {"R", r->point.R},
+                             {"stop_reason", r->stop_reason}});
     nlohmann::json figure_names = nlohmann::json::array();
     for (const auto& f : figure_files)
       figure_names.push_back(f.filename().string());
@@ -470,24 +593,47 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // "run" holds what differs between runs of the same sweep (times, host, date); the rest is
     // a function of the inputs, the build and what was reused.
-    app::write_json(dir / "summary.json", {{"tool", "friction_sweep"},
-                                           {"scene", scene_json(s, s.effective_jobs())},
-                                           {"points", points.size()},
-                                           {"computed", order.size()},
-                                           {"reused", resumed.reused},
-                                           {"failed", failed.size()},
-                                           {"failed_points", failed_json},
-                                           {"fit", fit},
-                                           {"table", "sweep.csv"},
-                                           {"figures", figure_names},
-                                           {"run",
-                                            {{"provenance", app::provenance_json()},
-                                             {"wall_s", wall},
-                                             {"points_wall_s", points_wall},
-                                             {"point_wall_s", point_times}}}});
+    nlohmann::json tables = nlohmann::json::array();
+    if (s.runs_lfm()) tables.push_back("sweep.csv");
+    if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
+    nlohmann::json summary = {{"tool", "friction_sweep"},
+                              {"scene", scene_json(s, s.effective_jobs())},
+                              {"points", points.size() + xpoints.size()},
+                              {"explicit_points", xpoints.size()},
+                              {"computed", order.size()},
+                              {"reused", resumed.reused + resumed_x.reused},
+                              {"failed", failed.size()},
+                              {"failed_points", failed_json},
+                              {"fit", fit},
+                              {"table", s.runs_lfm() ? "sweep.csv" : "sweep_explicit.csv"},
+                              {"tables", tables},
+                              {"figures", figure_names},
+                              {"run",
+                               {{"provenance", app::provenance_json()},
+                                {"wall_s", wall},
+                                {"points_wall_s", points_wall},
+                                {"point_wall_s", point_times}}}};
+    if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;
+    app::write_json(dir / "summary.json", summary);
 
-    std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n", points.size(),
-                order.size(), resumed.reused, failed.size(), wall);
+    std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n",
+                points.size() + xpoints.size(), order.size(), resumed.reused + resumed_x.reused,
+                failed.size(), wall);
+    if (s.runs_explicit()) {
+      const auto& worst = comparison["max_deviation_in_window"];
+      if (worst.is_null()) {
+        std::printf(
+            "explicit against LFM: no explicit point with LFM rows around it in "
+            "a/b_core^0 [%g, %g]\n",
+            kCompareLo, kCompareHi);
+      } else {
+        std::printf(
+            "explicit against LFM: mu/alpha within %.1f%% over %zu points in a/b_core^0 "
+            "[%g, %g]\n",
+            100.0 * worst.get<double>(), comparison["compared_in_window"].get<std::size_t>(),
+            kCompareLo, kCompareHi);
+      }
+    }
     if (fit["slope"].is_null()) {
       std::printf("fit over a/b_core^0 in [%g, %g]: none (%zu points; %s)\n", kFitLo, kFitHi,
                   fit["points"].get<std::size_t>(), fit["note"].get<std::string>().c_str());
@@ -495,7 +641,9 @@ int main(int argc, char** argv) {
       std::printf("fit over a/b_core^0 in [%g, %g]: slope %.4f (%zu points; Regime II: -2/3)\n",
                   kFitLo, kFitHi, fit["slope"].get<double>(), fit["points"].get<std::size_t>());
     }
-    std::printf("results: %s %s\n", csv.c_str(), (dir / "summary.json").c_str());
+    std::printf("results:%s%s %s\n", s.runs_lfm() ? (" " + csv.string()).c_str() : "",
+                s.runs_explicit() ? (" " + csv_x.string()).c_str() : "",
+                (dir / "summary.json").c_str());
     std::printf("figures:%s", figure_files.empty() ? " none" : "");
     for (const auto& f : figure_files)
       std::printf(" %s", f.c_str());
@@ -503,9 +651,9 @@ int main(int argc, char** argv) {
     if (!failed.empty()) {
       std::fprintf(stderr, "friction_sweep: %zu point%s failed:\n", failed.size(),
                    failed.size() > 1 ? "s" : "");
-      for (const auto* r : failed)
-        std::fprintf(stderr, "  a = %g d, R = %g d: %s\n", r->point.a, r->point.R,
-                     r->stop_reason.c_str());
+      for (const auto& [r, x] : failed)
+        std::fprintf(stderr, "  %sa = %g d, R = %g d: %s\n", x ? "explicit " : "", r->point.a,
+                     r->point.R, r->stop_reason.c_str());
       return 1;
     }
     return 0;

@@ -109,6 +109,10 @@ SweepScene read_sweep_scene(const std::string& path) {
     s.a_over_bcore0 = ValueList{std::move(*x), prefix + "sweep.a_over_bcore0"};
   }
   s.jobs = r.integer("sweep.jobs", 0, Range::closed(1, 1024));
+  s.model = r.string("sweep.model", "lfm", {"lfm", "explicit", "both"});
+  auto& m = s.potential;
+  m.G_eps_sigma3 = r.number("explicit.G", m.G_eps_sigma3, Range::positive());
+  m.sigma_over_d = r.number("explicit.sigma_over_d", m.sigma_over_d, Range::closed(0.75, 1.0));
   r.reject_unknown();
   s.validate();
   return s;
@@ -121,6 +125,7 @@ double contact_radius_for(const interface::ContactScene& c, double target) {
 std::vector<SweepPoint> sweep_points(const SweepScene& s) {
   s.validate();
   std::vector<SweepPoint> points;
+  if (!s.runs_lfm()) return points;
   for (std::size_t j = 0; j < s.R.values.size(); ++j) {
     interface::ContactScene c = s.base.contact;
     c.R = s.R.values[j];
@@ -170,10 +175,76 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
   return points;
 }
 
-std::string point_folder(const SweepPoint& p) {
+std::string point_folder(const SweepPoint& p, bool explicit_model) {
   char name[96];
-  std::snprintf(name, sizeof name, "a%.6g_R%.6g", p.a, p.R);
+  std::snprintf(name, sizeof name, "%sa%.6g_R%.6g", explicit_model ? "explicit_" : "", p.a, p.R);
   return name;
+}
+
+ExplicitSlideScene explicit_point_scene(const SweepScene& s, const SweepPoint& p) {
+  ExplicitSlideScene e;
+  e.slide = s.base;
+  e.slide.contact.a = p.a;
+  e.slide.contact.R = p.R;
+  e.model = s.potential;
+  e.model.R = p.R;
+  e.model.material = s.base.contact.material;
+  e.model.d = s.base.contact.d;
+  return e;
+}
+
+std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
+  s.validate();
+  std::vector<SweepPoint> points;
+  if (!s.runs_explicit()) return points;
+  for (std::size_t j = 0; j < s.R.values.size(); ++j) {
+    const double R = s.R.values[j];
+    const auto& list = s.a ? *s.a : *s.a_over_bcore0;
+    for (std::size_t i = 0; i < list.values.size(); ++i) {
+      const double v = list.values[i];
+      double a = v;
+      if (!s.a) {
+        // a = sqrt(x R d / (c alpha(a))): alpha of the potential at the central load of a.
+        interface::ContactScene c = s.base.contact;
+        c.R = R;
+        c.alpha = 0.7;  // first guess; alpha_path gives 0.71-0.72 at sigma/d = 2^(-1/6)
+        for (int round = 0; round < 3; ++round) {
+          a = contact_radius_for(c, v);
+          if (!(a >= kMinA && a < 0.1 * R)) break;
+          const double alpha = explicit_alpha(explicit_point_scene(s, {a, R})).alpha;
+          if (!std::isfinite(alpha)) break;
+          c.alpha = alpha;
+        }
+        a = contact_radius_for(c, v);
+      }
+      if (a >= kMinA && a <= kMaxA && a < 0.1 * R) {
+        try {
+          explicit_point_scene(s, {a, R}).slide.contact.validate();
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument(element(s.R, j) + ": " + e.what());
+        }
+        points.push_back({a, R});
+        continue;
+      }
+      const std::string with_R = " with R = " + exact(R) + " d (" + element(s.R, j) + ")";
+      throw std::invalid_argument(
+          element(list, i) + " = " + exact(v) + with_R +
+          (s.a ? std::string() : " needs a = " + exact(a) + " d, which") +
+          " is outside the explicit model's range: a in [1, 4096] d and a/R < 0.1 (small "
+          "slopes, MODEL.md 4): raise R");
+    }
+  }
+  std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
+    return p.R != q.R ? p.R < q.R : p.a < q.a;
+  });
+  std::set<std::string> folders;
+  for (const auto& p : points) {
+    if (!folders.insert(point_folder(p, true)).second) {
+      throw std::invalid_argument("two explicit points of the sweep share the folder points/" +
+                                  point_folder(p, true) + " (equal to 6 significant digits)");
+    }
+  }
+  return points;
 }
 
 std::string settings_fingerprint(const SlideScene& scene) {
@@ -211,6 +282,12 @@ std::string settings_fingerprint(const SlideScene& scene) {
   // another build are recomputed rather than trusted.
   add("code", app::provenance_string());
   return s;
+}
+
+std::string explicit_settings_fingerprint(const SweepScene& s) {
+  return settings_fingerprint(s.base) +
+         " model=explicit G_eps_sigma3=" + exact(s.potential.G_eps_sigma3) +
+         " sigma_over_d=" + exact(s.potential.sigma_over_d);
 }
 
 const std::vector<std::string>& sweep_columns() {
@@ -385,6 +462,65 @@ nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi
     fit["slope_stderr"] = nullptr;  // two points: the line passes through both
   }
   return fit;
+}
+
+nlohmann::json compare_models(const std::vector<SweepRow>& lfm, const std::vector<SweepRow>& expl,
+                              double lo, double hi) {
+  const auto usable = [](const SweepRow& r) {
+    return !r.failed && !r.mu_is_lower_bound && r.mu_over_alpha > 0.0 && r.a_over_bcore0 > 0.0;
+  };
+  // Equal targets meet to round-off only (the explicit a solves for alpha(a)).
+  constexpr double kSame = 1e-6;
+  nlohmann::json points = nlohmann::json::array();
+  double worst = 0.0;
+  std::size_t compared = 0;
+  for (const auto& e : expl) {
+    if (!usable(e)) continue;
+    // The LFM rows of this R nearest below and above in a/b_core^0.
+    const SweepRow* below = nullptr;
+    const SweepRow* above = nullptr;
+    for (const auto& l : lfm) {
+      if (!usable(l) || !close(l.point.R, e.point.R)) continue;
+      if (l.a_over_bcore0 <= e.a_over_bcore0 * (1.0 + kSame) &&
+          (!below || l.a_over_bcore0 > below->a_over_bcore0)) {
+        below = &l;
+      }
+      if (l.a_over_bcore0 >= e.a_over_bcore0 * (1.0 - kSame) &&
+          (!above || l.a_over_bcore0 < above->a_over_bcore0)) {
+        above = &l;
+      }
+    }
+    nlohmann::json p = {{"a", e.point.a},
+                        {"R", e.point.R},
+                        {"a_over_bcore0", e.a_over_bcore0},
+                        {"explicit", e.mu_over_alpha}};
+    if (!below || !above) {
+      p["lfm"] = p["ratio"] = nullptr;
+    } else {
+      double lfm_mu = below->mu_over_alpha;
+      if (above->a_over_bcore0 > below->a_over_bcore0 * (1.0 + kSame)) {
+        const double t = std::log(e.a_over_bcore0 / below->a_over_bcore0) /
+                         std::log(above->a_over_bcore0 / below->a_over_bcore0);
+        lfm_mu = std::exp((1.0 - t) * std::log(below->mu_over_alpha) +
+                          t * std::log(above->mu_over_alpha));
+      }
+      const double ratio = e.mu_over_alpha / lfm_mu;
+      p["lfm"] = lfm_mu;
+      p["ratio"] = ratio;
+      if (e.a_over_bcore0 >= lo * (1.0 - kSame) && e.a_over_bcore0 <= hi * (1.0 + kSame)) {
+        worst = std::max(worst, std::abs(ratio - 1.0));
+        ++compared;
+      }
+    }
+    points.push_back(std::move(p));
+  }
+  return {{"quantity",
+           "explicit mu/alpha over the LFM's at the same R and a/b_core^0 (log-log "
+           "interpolation between LFM rows)"},
+          {"window", {lo, hi}},
+          {"points", points},
+          {"compared_in_window", compared},
+          {"max_deviation_in_window", compared > 0 ? nlohmann::json(worst) : nlohmann::json()}};
 }
 
 }  // namespace asperity::app

@@ -2,8 +2,14 @@
 // the record a later run resumes from.
 //
 // A sweep scene is a slide scene (data/scenes/default.toml documents its keys) plus a [sweep]
-// table (data/scenes/sweep_default.toml documents it). contact.a and contact.R are not allowed:
-// the points take them from the [sweep] lists.
+// table (data/scenes/sweep_default.toml documents it) and, for the explicit model, an [explicit]
+// table (data/scenes/sweep_collapse.toml). contact.a and contact.R are not allowed: the points
+// take them from the [sweep] lists.
+//
+// sweep.model = "lfm" (default) | "explicit" | "both": which models run the points. The
+// lateral force model's rows go to sweep.csv, the explicit model's (MODEL.md 4; alpha of the
+// potential at each point's central load, contact.alpha unused) to sweep_explicit.csv, in the
+// same columns.
 #pragma once
 
 #include <cstddef>
@@ -31,7 +37,11 @@ struct SweepScene {
   ValueList R;                             // sphere radii (d)
   std::optional<ValueList> a;              // contact radii (d); exactly one of a, a_over_bcore0
   std::optional<ValueList> a_over_bcore0;  // targets of the control parameter a / b_core^0
-  int jobs = 0;  // points run at once; 0: max(1, hardware threads / fft.threads)
+  int jobs = 0;               // points run at once; 0: max(1, hardware threads / fft.threads)
+  std::string model = "lfm";  // lfm | explicit | both
+  // The explicit model's potential and substrate: G in eps/sigma^3 and sigma/d ([explicit]);
+  // R, material and d are set per point.
+  explicit_model::ExplicitScene potential;
 
   // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty,
   // values positive and finite, exactly one of a and a_over_bcore0. The a < R check needs the
@@ -39,6 +49,8 @@ struct SweepScene {
   void validate() const;
   // jobs, or its default on this machine.
   [[nodiscard]] int effective_jobs() const;
+  [[nodiscard]] bool runs_lfm() const { return model != "explicit"; }
+  [[nodiscard]] bool runs_explicit() const { return model != "lfm"; }
 };
 
 // Reads a sweep scene; unknown keys, wrong types and out-of-range values throw
@@ -56,16 +68,29 @@ double contact_radius_for(const interface::ContactScene& contact, double target)
 
 // Every R with every a (or target), sorted by R then a: the order of sweep.csv. Throws
 // std::invalid_argument naming the key if a point has a outside [1, 4096] d or a >= R (the
-// limits of contact.a), or if two points coincide.
+// limits of contact.a), or if two points coincide. Empty if the sweep runs the explicit model
+// only.
 std::vector<SweepPoint> sweep_points(const SweepScene& scene);
 
-// Point folder below DIR/points: "a<a>_R<R>" with 6 significant digits.
-std::string point_folder(const SweepPoint& p);
+// The explicit model's points (sweep_explicit.csv), empty unless it runs. A target of
+// a/b_core^0 is met with the alpha of the potential at the point's own central load (a fixed
+// point: alpha varies by 2% over 100x in load, 3 rounds). Throws std::invalid_argument naming
+// the key as sweep_points() does, and for a/R >= 0.1 (small slopes, MODEL.md 4).
+std::vector<SweepPoint> explicit_sweep_points(const SweepScene& scene);
+
+// The contact and potential of an explicit point.
+ExplicitSlideScene explicit_point_scene(const SweepScene& scene, const SweepPoint& p);
+
+// Point folder below DIR/points: "a<a>_R<R>" with 6 significant digits; explicit points
+// "explicit_a<a>_R<R>".
+std::string point_folder(const SweepPoint& p, bool explicit_model = false);
 
 // A short string of everything besides a and R that changes a point's result (protocol, steps,
 // distance, solver, tolerance, alpha, G, nu); rows are reused only under the same fingerprint.
 // FFT threads and planning change only round-off and are left out.
 std::string settings_fingerprint(const SlideScene& scene);
+// The same for the explicit rows: also G in eps/sigma^3 and sigma/d (alpha is per point).
+std::string explicit_settings_fingerprint(const SweepScene& scene);
 
 // Columns of sweep.csv. Every column is a function of the inputs (and the build): the same sweep
 // gives a byte-identical table, whether run at once or killed and resumed. Timings go to
@@ -111,5 +136,13 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
 // with a/b_core^0 in [lo, hi] that neither failed nor are lower bounds. Needs 2 distinct
 // a/b_core^0 values; otherwise the json says why there is no fit.
 nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi);
+
+// The collapse of the two models (issue 4 acceptance 3): each explicit row against the LFM's
+// mu/alpha at the same R and a/b_core^0, interpolated linearly in log-log between the LFM rows
+// around it (failed rows and lower bounds left out). Per explicit row: a, R, a_over_bcore0,
+// explicit and lfm mu/alpha, ratio (null where the LFM rows do not bracket it); and the
+// largest |ratio - 1| over a/b_core^0 in [lo, hi].
+nlohmann::json compare_models(const std::vector<SweepRow>& lfm, const std::vector<SweepRow>& expl,
+                              double lo, double hi);
 
 }  // namespace asperity::app

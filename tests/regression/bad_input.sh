@@ -84,6 +84,10 @@ check $fs "--R" --R 535,nan
 check $fs "--jobs" --jobs 0
 check $fs "ContactScene.R" --R 1e308 --a 5
 ASPERITY_MEMORY_GIB=1 check $fs "GiB of memory" --R 1e6 --a 600,700 --jobs 2
+check $fs "sweep.model" "$(scene w6 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "atoms"')"
+check $fs "a/R < 0.1" "$(scene w7 <<<$'[sweep]\nR = [100]\na = [5, 12]\nmodel = "both"')"
+check $fs "raise R" "$(scene w8 <<<$'[sweep]\nR = [100]\na_over_bcore0 = [10]\nmodel = "explicit"')"
+check $fs "explicit.sigma_over_d" "$(scene w9 <<<$'[sweep]\nR = [535]\na = [5]\n[explicit]\nsigma_over_d = 2')"
 
 gv=gf_validate
 check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"
