@@ -206,6 +206,8 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
       }
     }
   }
+  // In the explicit model the envelope is the Hertz pressure the atoms are compared with.
+  if (explicit_model) envelope.title = "tau_max = alpha p_H(r); Hertz p_H / p0";
   for (int k = -200; k <= 200; ++k) {
     const double rho = k / 200.0;
     envelope.x.push_back(rho);
