@@ -275,6 +275,16 @@ int main(int argc, char** argv) {
                    app::explicit_as_slide_scene(e, alpha_p).contact.a_over_bcore0(),
                    slide::to_string(e.slide.options.protocol).c_str(),
                    e.slide.options.minimizer.force_tolerance);
+      const std::string settings = app::explicit_slide_fingerprint(e, alpha_p);
+      if (resume) {
+        // A missing or foreign checkpoint is reported before the loading, not after it.
+        const auto file = std::filesystem::path(out) / "checkpoint.cbor";
+        if (!std::filesystem::exists(file)) {
+          throw std::invalid_argument("--resume: no checkpoint " + file.string() +
+                                      ": nothing to resume (run without --resume to start)");
+        }
+        app::check_checkpoint_settings(app::read_checkpoint(file), settings, file);
+      }
       // Normal loading alone, with its comparison to Hertz, in <out>/loading.
       explicit_model::LoadOptions lo{.load = load};
       lo.minimizer = e.slide.options.minimizer;
@@ -291,8 +301,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "contact_slide: loading FAILED: %s\n", lr.message.c_str());
         return 1;
       }
+      // A stop asked during the loading (which does not poll) is honoured at the slide's
+      // first step, which checkpoints the loaded state: the run resumes from there.
       const CheckpointedSlide run = run_checkpointed(
-          out, app::explicit_slide_fingerprint(e, alpha_p), resume, checkpoint_every,
+          out, settings, resume, checkpoint_every,
           [&](const slide::SlideControl& control) {
             return app::slide_explicit_scene(e, alpha_p, control);
           },
@@ -317,8 +329,11 @@ int main(int argc, char** argv) {
       }
       std::printf("\n");
       if (r.failed) {
-        std::fprintf(stderr, "contact_slide: FAILED: %s\n  the last good state is in %s\n",
-                     r.stop_reason.c_str(), run.checkpoint_file.c_str());
+        // A failure in the first step leaves no good state to keep.
+        std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+        if (run.checkpoints > 0) {
+          std::fprintf(stderr, "  the last good state is in %s\n", run.checkpoint_file.c_str());
+        }
       }
       return r.failed ? 1 : 0;
     }

@@ -368,8 +368,8 @@ int main(int argc, char** argv) {
     const int n_jobs = std::min(s.effective_jobs(), static_cast<int>(order.size()));
     {
       // The largest contacts still to run, as many at once as run in parallel, must fit
-      // together. (Explicit points are left out: a/R < 0.1 keeps their blocks small, 43 d
-      // takes 60 MB.)
+      // together. (Explicit points are not estimated: a = 43 d takes 50 MiB, docs/benchmarks.md;
+      // a/R < 0.1 does not bound a, so a large explicit sweep is the user's to size.)
       std::vector<double> bytes;
       double a_max = 0.0;
       for (const Job& job : order) {
@@ -435,7 +435,26 @@ int main(int argc, char** argv) {
     std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
     std::size_t finished = 0;
     std::atomic<std::size_t> interrupted{0};
-    const auto run_point = [&](const Job& job) {
+    // A finished point's row: into the table of its model, which is rewritten.
+    const auto record = [&](const Job& job, app::SweepRow row) {
+      const std::lock_guard lock(table_mutex);
+      ++finished;
+      std::fprintf(stderr,
+                   "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
+                   "mu/alpha = %.5f%s, %.1f s%s%s\n",
+                   finished, order.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
+                   row.a_over_bcore0, row.mu_over_alpha,
+                   row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                   row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
+      (job.x ? rows_x : rows)[job.k] = std::move(row);
+      try {
+        write_table(job.x ? csv_x : csv, job.x ? rows_x : rows);
+      } catch (...) {
+        if (!fatal) fatal = std::current_exception();
+        stop = true;
+      }
+    };
+    const auto run_point_inner = [&](const Job& job) {
       const app::SweepPoint& point = point_of(job);
       app::SlideScene ps = s.base;
       ps.contact.a = point.a;
@@ -508,21 +527,21 @@ int main(int argc, char** argv) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         row = app::error_row(ps, e.what(), seconds, row_settings);
       }
-      const std::lock_guard lock(table_mutex);
-      ++finished;
-      std::fprintf(stderr,
-                   "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
-                   "mu/alpha = %.5f%s, %.1f s%s%s\n",
-                   finished, order.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
-                   row.a_over_bcore0, row.mu_over_alpha,
-                   row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
-                   row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
-      (job.x ? rows_x : rows)[job.k] = std::move(row);
+      record(job, std::move(row));
+    };
+    // Anything a point throws before its slide (alpha of the potential, its files) fails that
+    // point only, as a failure of its slide does: it must not end the sweep from a worker.
+    const auto run_point = [&](const Job& job) {
+      const auto started = std::chrono::steady_clock::now();
       try {
-        write_table(job.x ? csv_x : csv, job.x ? rows_x : rows);
-      } catch (...) {
-        if (!fatal) fatal = std::current_exception();
-        stop = true;
+        run_point_inner(job);
+      } catch (const std::exception& e) {
+        app::SlideScene ps = s.base;
+        ps.contact.a = point_of(job).a;
+        ps.contact.R = point_of(job).R;
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        record(job, app::error_row(ps, e.what(), seconds, job.x ? settings_x : settings));
       }
     };
     {

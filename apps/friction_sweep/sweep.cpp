@@ -285,7 +285,10 @@ std::string settings_fingerprint(const SlideScene& scene) {
 }
 
 std::string explicit_settings_fingerprint(const SweepScene& s) {
-  return settings_fingerprint(s.base) +
+  // contact.alpha is the LFM's: the explicit points take alpha from the potential.
+  SlideScene base = s.base;
+  base.contact.alpha = 0.0;
+  return settings_fingerprint(base) +
          " model=explicit G_eps_sigma3=" + exact(s.potential.G_eps_sigma3) +
          " sigma_over_d=" + exact(s.potential.sigma_over_d);
 }

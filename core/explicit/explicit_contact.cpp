@@ -207,23 +207,26 @@ void ExplicitContact::rebuild(int half) {
     }
   }
   block_ = nb;
-  auto& cached = gf_cache_[half];
-  if (!cached) {
-    // A handful of sizes recur; a relaxation that grows far leaves larger ones behind, which
-    // are dropped (their applications still counted) beyond kMaxCachedGFs.
+  auto it = gf_cache_.find(half);
+  if (it == gf_cache_.end()) {
+    // A handful of sizes recur: the base block of every step and the few a relaxation grows
+    // through. Beyond kMaxCachedGFs the largest ones are dropped first (their applications
+    // still counted): they cost the most memory and recur the least.
     constexpr std::size_t kMaxCachedGFs = 6;
-    for (auto it = gf_cache_.begin(); gf_cache_.size() > kMaxCachedGFs && it != gf_cache_.end();) {
-      if (it->first == half || it->second.get() == gf_ || !it->second) {
-        ++it;
-        continue;
+    while (gf_cache_.size() >= kMaxCachedGFs) {
+      auto victim = std::prev(gf_cache_.end());
+      if (victim->second.get() == gf_) {
+        if (victim == gf_cache_.begin()) break;
+        victim = std::prev(victim);
       }
-      gf_apps_ += it->second->applications();
-      it = gf_cache_.erase(it);
+      gf_apps_ += victim->second->applications();
+      gf_cache_.erase(victim);
     }
-    cached = std::make_unique<elastic::FreeSurfaceGF>(scene_.material, elastic::Components::full,
-                                                      nb.shape, d, fft_);
+    auto gf = std::make_unique<elastic::FreeSurfaceGF>(scene_.material, elastic::Components::full,
+                                                       nb.shape, d, fft_);
+    it = gf_cache_.emplace(half, std::move(gf)).first;
   }
-  gf_ = cached.get();
+  gf_ = it->second.get();
   f_ = std::move(f);
   u_.assign(3 * n, 0.0);
   refresh_u();
@@ -233,7 +236,7 @@ void ExplicitContact::rebuild(int half) {
 std::size_t ExplicitContact::gf_applications() const {
   std::size_t n = gf_apps_;
   for (const auto& [half, gf] : gf_cache_)
-    n += gf->applications();
+    n += gf ? gf->applications() : 0;
   return n;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,9 @@ using State = slide::SlideFields;
 // Largest block side a state may have (a start state's check): 16384^2 sites are 800 M
 // unknowns, beyond any memory this runs on.
 constexpr std::size_t kMaxBlockSide = 1u << 14;
+// Largest block shift (lattice steps along x) a start state may have: 1e6 d of sliding, far
+// beyond any slide, and far from overflowing the block index arithmetic.
+constexpr int kMaxShift = 1 << 20;
 
 // The block a state's fields live on: square, (2 half + 1)^2 sites (3 components), centred on
 // the lattice column `shift` along x and on y = 0 (ExplicitContact's blocks).
@@ -90,7 +94,7 @@ class ExplicitSlider {
     // force stay active anyway): a disk grown by a transient of an earlier step would otherwise
     // stay, and cost, for the rest of the slide.
     contact_.clear_forces();
-    contact_.place(Dx, s.h, hertz_.a + eo_.margin);
+    contact_.place(Dx, s.h, start_radius(s, Dx));
     contact_.set_forces(map_field(block_of(s), s.f, contact_.block(), 3));
     // Slip watch: x displacement at the start, by lattice index.
     const LatticeBlock start_block = contact_.block();
@@ -189,6 +193,24 @@ class ExplicitSlider {
     return total;
   }
 
+  // Active radius a relaxation from `s` to Dx starts with: the Hertz radius + margin, or, if
+  // larger, the farthest atom that carries a force in `s` + d, so that the warm start keeps
+  // every force of the state (a function of the state alone: a resumed slide builds the same
+  // block). The growth check of relax() adds the margin where it is needed.
+  [[nodiscard]] double start_radius(const State& s, double Dx) const {
+    double farthest = 0.0;
+    const LatticeBlock b = block_of(s);
+    const std::size_t n = b.shape.count();
+    for (int i0 = 0; i0 < b.shape.n0; ++i0) {
+      for (int i1 = 0; i1 < b.shape.n1; ++i1) {
+        const std::size_t i = b.shape.index(i0, i1);
+        if (s.f[i] == 0.0 && s.f[n + i] == 0.0 && s.f[2 * n + i] == 0.0) continue;
+        farthest = std::max(farthest, std::hypot(b.x(i0, scene_.d) - Dx, b.y(i1, scene_.d)));
+      }
+    }
+    return std::max(hertz_.a + eo_.margin, farthest + scene_.d);
+  }
+
   // x displacements of the current block (the first component).
   [[nodiscard]] std::vector<double> x_displacements() const {
     const auto& u = contact_.displacements();
@@ -275,11 +297,11 @@ class ExplicitSlider {
     const std::size_t n = s.f.size() / 3;
     const auto side = static_cast<std::size_t>(std::lround(std::sqrt(static_cast<double>(n))));
     if (s.f.size() == 3 * n && side * side == n && side % 2 == 1 && s.u.size() == s.f.size() &&
-        side <= kMaxBlockSide) {
+        side <= kMaxBlockSide && std::abs(s.shift) <= kMaxShift) {
       return {};
     }
     return "3 per site of a square block of odd side <= " + std::to_string(kMaxBlockSide) +
-           ", f and u alike";
+           ", f and u alike, |shift| <= " + std::to_string(kMaxShift);
   }
   [[nodiscard]] std::size_t contact_sites() const { return contact_.active_sites(); }
   [[nodiscard]] std::size_t gf_applications() const { return contact_.gf_applications(); }

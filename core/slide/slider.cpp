@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -147,8 +148,12 @@ class Slider {
   // The rest of the model interface of protocol.hpp.
   [[nodiscard]] std::size_t field_size() const { return gf_.size(); }
   [[nodiscard]] std::string check_fields(const State& s) const {
-    if (s.f.size() == field_size() && s.u.size() == field_size()) return {};
-    return std::to_string(field_size()) + " (2 per site of this scene's block)";
+    // |shift| bounded so that rolling a start state cannot overflow the index arithmetic.
+    constexpr int kMaxShift = 1 << 20;
+    if (s.f.size() == field_size() && s.u.size() == field_size() && std::abs(s.shift) <= kMaxShift)
+      return {};
+    return std::to_string(field_size()) +
+           " (2 per site of this scene's block), |shift| <= " + std::to_string(kMaxShift);
   }
   [[nodiscard]] std::size_t contact_sites() const { return lfm_.contact_sites().size(); }
   [[nodiscard]] std::size_t gf_applications() const { return gf_.applications(); }
