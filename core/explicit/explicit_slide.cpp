@@ -220,16 +220,16 @@ class ExplicitSlider {
   // Whether an atom of the current state has moved by more than d/2 in x against `ux` on
   // `block` (by lattice index): the state left that branch.
   [[nodiscard]] bool left_branch(const LatticeBlock& block, const std::vector<double>& ux) const {
-    const std::vector<double> now = map_field(contact_.block(), x_displacements(), block, 1);
     const LatticeBlock& b = contact_.block();
+    const auto& now = contact_.displacements();  // x components first, on block b
     for (int i0 = 0; i0 < block.shape.n0; ++i0) {
       const int j0 = block.origin0 + i0 - b.origin0;
       if (j0 < 0 || j0 >= b.shape.n0) continue;
       for (int i1 = 0; i1 < block.shape.n1; ++i1) {
         const int j1 = block.origin1 + i1 - b.origin1;
         if (j1 < 0 || j1 >= b.shape.n1) continue;
-        const std::size_t i = block.shape.index(i0, i1);
-        if (std::abs(now[i] - ux[i]) > 0.5 * scene_.d) return true;
+        if (std::abs(now[b.shape.index(j0, j1)] - ux[block.shape.index(i0, i1)]) > 0.5 * scene_.d)
+          return true;
       }
     }
     return false;

@@ -22,18 +22,24 @@ struct SlideSetup {
   slide::SlideOptions options;
 };
 
-SlideSetup small_contact() {
+// The Hertz load of contact radius a on a tip of radius R, with the alpha of the potential at
+// the central atom's load (eps/sigma), on 1 FFT thread.
+SlideSetup contact_at(double R, double a) {
   SlideSetup s;
-  s.scene.R = 5000.0;
-  const auto hz = contact::Hertz::from_radius(s.scene.material, s.scene.R, 5.0);
+  s.scene.R = R;
+  const auto hz = contact::Hertz::from_radius(s.scene.material, s.scene.R, a);
   s.eo.load = hz.load;
-  const double centre = hz.p0 / s.scene.force_unit();  // eps/sigma on the central atom
-  s.eo.alpha = explicit_model::alpha_path({.normal_force = centre}).alpha;
+  s.eo.alpha = explicit_model::alpha_path({.normal_force = hz.p0 / s.scene.force_unit()}).alpha;
+  s.options.fft.threads = 1;
+  return s;
+}
+
+SlideSetup small_contact() {
+  SlideSetup s = contact_at(5000.0, 5.0);
   s.options.protocol = slide::Protocol::reference;
   s.options.step = 0.001;
   s.options.distance = 0.012;
   s.options.minimizer.force_tolerance = 1e-6;
-  s.options.fft.threads = 1;
   return s;
 }
 
@@ -66,12 +72,7 @@ TEST(ExplicitSlide, RegimeOneMuEqualsAlphaOfThePotential) {
 // (0.002 d) times the slope after the kink (about 2/d). Parabolic steps alone crawled on the
 // kink and stopped at 0.027 d, 3.5% low.
 TEST(ExplicitSlide, AdaptiveProtocolFindsTheRegimeOneKink) {
-  SlideSetup s;
-  s.scene.R = 600.0;
-  const auto hz = contact::Hertz::from_radius(s.scene.material, s.scene.R, 3.14);
-  s.eo.load = hz.load;
-  s.eo.alpha = explicit_model::alpha_path({.normal_force = hz.p0 / s.scene.force_unit()}).alpha;
-  s.options.fft.threads = 1;
+  SlideSetup s = contact_at(600.0, 3.14);
   s.options.max_step = 0.1;
   s.options.min_step = 0.002;  // data/scenes/explicit_default.toml
   const auto adaptive = explicit_model::slide_explicit(s.scene, s.eo, s.options);
@@ -90,13 +91,7 @@ TEST(ExplicitSlide, AdaptiveProtocolFindsTheRegimeOneKink) {
 // height that lands on the next branch makes Fz(h) jump, and the load loop must restart its
 // search on h there rather than fail (this contact failed so at Dx = 0.80 d before the fix).
 SlideSetup slipping_contact() {
-  SlideSetup s;
-  s.scene.R = 160.0;
-  const auto hz = contact::Hertz::from_radius(s.scene.material, s.scene.R, 15.0);
-  s.eo.load = hz.load;
-  s.eo.alpha = explicit_model::alpha_path({.normal_force = hz.p0 / s.scene.force_unit()}).alpha;
-  s.options.fft.threads = 1;
-  return s;
+  return contact_at(160.0, 15.0);
 }
 
 TEST(ExplicitSlide, RegimeTwoSlipsAtFixedLoad) {
