@@ -5,7 +5,9 @@
 // own error, from halving both, is printed). Writes CSV rows to stdout.
 //
 //   bench_work_precision a R threads [small]
-// "small" (large contacts): the default, tolerance 1e-4 and the classic protocol only.
+// "small" (large contacts): the default, tolerance 1e-4, the preconditioner the automatic
+// choice did not take, and the classic protocol only. The preconditioner rows force G or the
+// interface filter (docs/solvers.md); the default is automatic.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -48,6 +50,15 @@ int main(int argc, char** argv) {
       std::snprintf(label, sizeof label, "tol %g", tol);
       cases.push_back({"adaptive lbfgs", label, o});
     }
+    {  // the preconditioner the automatic choice did not take
+      auto o = base();
+      o.minimizer.preconditioner = scene.a_over_bcore0() >= 10.0
+                                       ? minimize::Preconditioner::elastic
+                                       : minimize::Preconditioner::interface;
+      cases.push_back({"adaptive lbfgs (" + minimize::to_string(o.minimizer.preconditioner) +
+                           " preconditioner)",
+                       "tol 1e-05", o});
+    }
     auto o = base();
     o.protocol = slide::Protocol::reference;
     o.minimizer.method = minimize::Method::cg;
@@ -64,6 +75,17 @@ int main(int argc, char** argv) {
         char label[64];
         std::snprintf(label, sizeof label, "tol %g", tol);
         cases.push_back({"adaptive " + minimize::to_string(m), label, o});
+      }
+    }
+    for (auto p : {minimize::Preconditioner::elastic, minimize::Preconditioner::interface}) {
+      for (double tol : {1e-4, 1e-5}) {
+        auto o = base();
+        o.minimizer.preconditioner = p;
+        o.minimizer.force_tolerance = tol;
+        char label[64];
+        std::snprintf(label, sizeof label, "tol %g", tol);
+        cases.push_back(
+            {"adaptive lbfgs (" + minimize::to_string(p) + " preconditioner)", label, o});
       }
     }
     for (double min_step : {1e-3, 3e-3, 3e-2}) {
@@ -116,7 +138,7 @@ int main(int argc, char** argv) {
       converged.minimizer.force_tolerance, converged.min_step, ref.wall_s, self_error);
   std::printf(
       "family,setting,default,mu_over_alpha,error,wall_s,gf_applications,"
-      "gradient_evaluations,steps,slips,failed\n");
+      "gradient_evaluations,steps,slips,failed,filter_applications\n");
   const slide::SlideOptions defaults{};
   for (const auto& c : cases) {
     const auto r = slide::slide(scene, c.options);
@@ -124,11 +146,12 @@ int main(int argc, char** argv) {
         c.options.protocol == defaults.protocol &&
         c.options.minimizer.method == defaults.minimizer.method &&
         c.options.minimizer.force_tolerance == defaults.minimizer.force_tolerance &&
-        c.options.min_step == defaults.min_step;
-    std::printf("%s,%s,%d,%.8f,%.3e,%.4f,%zu,%zu,%d,%d,%d\n", c.family.c_str(), c.label.c_str(),
+        c.options.min_step == defaults.min_step &&
+        c.options.minimizer.preconditioner == defaults.minimizer.preconditioner;
+    std::printf("%s,%s,%d,%.8f,%.3e,%.4f,%zu,%zu,%d,%d,%d,%zu\n", c.family.c_str(), c.label.c_str(),
                 is_default ? 1 : 0, r.mu_over_alpha, std::abs(r.mu / ref.mu - 1.0), r.wall_s,
-                r.gf_applications, r.gradient_evaluations, r.steps, r.slip_events,
-                r.failed ? 1 : 0);
+                r.gf_applications, r.gradient_evaluations, r.steps, r.slip_events, r.failed ? 1 : 0,
+                r.filter_applications);
     std::fflush(stdout);
   }
   return 0;

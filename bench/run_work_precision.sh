@@ -61,14 +61,15 @@ if d:
 classic = [r for r in rows if r["family"].startswith("classic")]
 ratio = ""
 if d and classic:
-    ratio = f"; classic / default wall time: {float(classic[0]['wall_s']) / float(d[0]['wall_s']):.1f}x, GF applications {int(classic[0]['gf_applications']) / int(d[0]['gf_applications']):.1f}x"
+    fft = lambda r: int(r['gf_applications']) + int(r.get('filter_applications') or 0)
+    ratio = f"; classic / default wall time: {float(classic[0]['wall_s']) / float(d[0]['wall_s']):.1f}x, FFT pairs (GF applications + filter passes) {fft(classic[0]) / fft(d[0]):.1f}x"
 out = [f"### a = {a} d", "", head[0].lstrip("# ") if head else "", "",
-       "| family | setting | mu/alpha | error | wall (s) | GF applications | gradient evaluations | steps | slips |",
-       "|---|---|---|---|---|---|---|---|---|"]
+       "| family | setting | mu/alpha | error | wall (s) | GF applications | filter passes | gradient evaluations | steps | slips |",
+       "|---|---|---|---|---|---|---|---|---|---|"]
 for r in rows:
     mark = " **(default)**" if r["default"] == "1" else ""
     fail = " (failed)" if r["failed"] == "1" else ""
-    out.append(f"| {r['family']} | {r['setting']}{mark} | {float(r['mu_over_alpha']):.6f} | {float(r['error']):.1e} | {float(r['wall_s']):.2f} | {r['gf_applications']} | {r['gradient_evaluations']} | {r['steps']} | {r['slips']}{fail} |")
+    out.append(f"| {r['family']} | {r['setting']}{mark} | {float(r['mu_over_alpha']):.6f} | {float(r['error']):.1e} | {float(r['wall_s']):.2f} | {r['gf_applications']} | {r.get('filter_applications') or 0} | {r['gradient_evaluations']} | {r['steps']} | {r['slips']}{fail} |")
 out += ["", f"![work-precision a = {a}](figures/work_precision_a{a}.png)", "", f"Reading: {note}{ratio}.", ""]
 print("\n".join(out))
 PY

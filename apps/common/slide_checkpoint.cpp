@@ -170,6 +170,8 @@ json result_json(const slide::SlideResult& r) {
           {"minimizations", r.minimizations},
           {"gf_applications", r.gf_applications},
           {"gradient_evaluations", r.gradient_evaluations},
+          {"filter_applications", r.filter_applications},
+          {"filtered", r.filtered},
           {"iterations", r.iterations},
           {"wall_s", r.wall_s},
           {"failed", r.failed},
@@ -358,6 +360,11 @@ slide::SlideResult result_from(const json& j) {
   r.minimizations = int_value(j, "minimizations");
   r.gf_applications = count_value(j, "gf_applications");
   r.gradient_evaluations = count_value(j, "gradient_evaluations");
+  // Absent in checkpoints written before the interface filter existed.
+  if (j.contains("filter_applications")) {
+    r.filter_applications = count_value(j, "filter_applications");
+    r.filtered = boolean(j, "filtered");
+  }
   r.iterations = integer(j, "iterations", 0, std::numeric_limits<long long>::max());
   r.wall_s = number(j, "wall_s");
   r.failed = boolean(j, "failed");
@@ -415,6 +422,7 @@ std::string common_fingerprint(const SlideScene& scene) {
   add("memory", std::to_string(m.memory));
   add("newton_start", exact(m.newton_start));
   add("max_displacement", exact(m.max_displacement));
+  add("preconditioner", minimize::to_string(m.preconditioner));
   add("refresh_interval", std::to_string(m.refresh_interval));
   add("stability", minimize::to_string(m.stability));
   add("max_escapes", std::to_string(m.max_escapes));

@@ -45,6 +45,9 @@ SlideScene read_slide_keys(SceneReader& r) {
       r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
   m.stability = minimize::stability_from_string(r.string(
       "solver.stability", minimize::to_string(m.stability), {"perturb", "lanczos", "none"}));
+  m.preconditioner = minimize::preconditioner_from_string(
+      r.string("solver.preconditioner", minimize::to_string(m.preconditioner),
+               {"auto", "elastic", "interface"}));
   o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
   o.fft.planner = fft::planner_from_string(
       r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
@@ -113,9 +116,12 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"minimizations", r.minimizations},
       {"iterations", r.iterations},
       {"gf_applications", r.gf_applications},
+      {"filter_applications", r.filter_applications},
       {"gradient_evaluations", r.gradient_evaluations},
       {"tolerance", o.minimizer.force_tolerance},
       {"solver", minimize::to_string(o.minimizer.method)},
+      {"preconditioner", minimize::to_string(o.minimizer.preconditioner)},
+      {"interface_filter_used", r.filtered},
       {"stability_check", minimize::to_string(o.minimizer.stability)},
       {"protocol", slide::to_string(o.protocol)},
       {"step", o.protocol == slide::Protocol::reference ? o.step : o.max_step},

@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/contact_slide";
     std::optional<double> a, R, alpha, nu, distance, tolerance;
-    std::optional<std::string> protocol, solver;
+    std::optional<std::string> protocol, solver, preconditioner;
     std::optional<int> threads;
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
@@ -153,6 +153,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"adaptive", "reference"}));
     cli.add_option("--solver", solver, "lbfgs | cg | fire | newton")
         ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton"}));
+    cli.add_option("--preconditioner", preconditioner,
+                   "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
+        ->check(CLI::IsMember({"auto", "elastic", "interface"}));
     cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
         ->check(app::finite_number(0.0, 1.0, true));
     cli.add_option("--threads", threads, "FFT threads")->check(CLI::Range(1, 1024));
@@ -200,6 +203,10 @@ int main(int argc, char** argv) {
       if (R) c.R = e.model.R = *R;
       if (nu) c.material.nu = e.model.material.nu = *nu;
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
+      if (preconditioner) {
+        e.slide.options.minimizer.preconditioner =
+            minimize::preconditioner_from_string(*preconditioner);
+      }
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
       c.validate();
@@ -258,6 +265,10 @@ int main(int argc, char** argv) {
       if (distance) e.slide.options.distance = *distance;
       if (protocol) e.slide.options.protocol = slide::protocol_from_string(*protocol);
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
+      if (preconditioner) {
+        e.slide.options.minimizer.preconditioner =
+            minimize::preconditioner_from_string(*preconditioner);
+      }
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
       c.validate();
@@ -346,6 +357,9 @@ int main(int argc, char** argv) {
     if (distance) s.options.distance = *distance;
     if (protocol) s.options.protocol = slide::protocol_from_string(*protocol);
     if (solver) s.options.minimizer.method = minimize::method_from_string(*solver);
+    if (preconditioner) {
+      s.options.minimizer.preconditioner = minimize::preconditioner_from_string(*preconditioner);
+    }
     if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
     if (threads) s.options.fft.threads = *threads;
     s.contact.validate();
@@ -357,11 +371,12 @@ int main(int argc, char** argv) {
 
     std::fprintf(stderr,
                  "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
-                 "lambda = %.3g; %s protocol, %s, tolerance %g\n",
+                 "lambda = %.3g; %s protocol, %s (preconditioner %s), tolerance %g\n",
                  s.contact.a, s.contact.R, s.contact.alpha, s.contact.material.nu,
                  s.contact.a_over_bcore0(), s.contact.lambda(),
                  slide::to_string(s.options.protocol).c_str(),
                  minimize::to_string(s.options.minimizer.method).c_str(),
+                 minimize::to_string(s.options.minimizer.preconditioner).c_str(),
                  s.options.minimizer.force_tolerance);
     const CheckpointedSlide run = run_checkpointed(
         out, app::slide_fingerprint(s), resume, checkpoint_every,
@@ -380,9 +395,10 @@ int main(int argc, char** argv) {
         r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", r.peak_Dx,
         r.peak_precision, r.kinetic_over_static, r.slip_events);
     std::printf(
-        "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications, "
-        "%.2f s\n",
-        r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications, r.wall_s);
+        "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications + %zu "
+        "interface filter passes, %.2f s\n",
+        r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications,
+        r.filter_applications, r.wall_s);
     std::printf("results: %s\n", (std::filesystem::path(out) / "summary.json").c_str());
     std::printf("figures:");
     for (const auto& f : files) {

@@ -274,6 +274,7 @@ std::string settings_fingerprint(const SlideScene& scene) {
   add("iter", std::to_string(m.max_iterations));
   add("mem", std::to_string(m.memory));
   add("dmax", exact(m.max_displacement));
+  add("precond", minimize::to_string(m.preconditioner));
   add("stability", minimize::to_string(m.stability));
   add("alpha", exact(c.alpha));
   add("G", exact(c.material.G));

@@ -143,6 +143,73 @@ void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
   ++applications_;
 }
 
+void FreeSurfaceGF::apply_filter(std::span<const double> f, std::span<double> w, double c) {
+  check_size(f, size(), "FreeSurfaceGF::apply_filter (forces)");
+  check_size(w, size(), "FreeSurfaceGF::apply_filter (output)");
+  if (components_ != Components::in_plane) {
+    throw std::invalid_argument("FreeSurfaceGF::apply_filter: in-plane components only");
+  }
+  if (!(c >= 0.0) || !std::isfinite(c)) {
+    throw std::invalid_argument("FreeSurfaceGF::apply_filter: stiffness c = " + std::to_string(c) +
+                                ", must be finite and >= 0");
+  }
+  if (c != filter_c_) {
+    // The kernels carry the FFT normalisation s: G(q) = k(q) / s, and the multiplier is
+    // s (I + c G(q))^-1 (2 x 2, real symmetric per q). G(q) of the padded grid is the DFT of
+    // the truncated real-space kernel; its eigenvalues are positive (tested), so the
+    // determinant stays positive; a wave vector where the truncation made I + c G indefinite
+    // would be passed through unfiltered, which keeps the filter positive definite.
+    const double s = engine_->normalisation();
+    const std::size_t nq = kxx_.size();
+    mxx_.resize(nq), mxy_.resize(nq), myy_.resize(nq);
+    for (std::size_t q = 0; q < nq; ++q) {
+      const double axx = 1.0 + c * kxx_[q] / s, axy = c * kxy_[q] / s, ayy = 1.0 + c * kyy_[q] / s;
+      const double det = axx * ayy - axy * axy;
+      if (!(axx > 0.0 && det > 0.0)) {
+        mxx_[q] = myy_[q] = s;
+        mxy_[q] = 0.0;
+        continue;
+      }
+      const double scale = s / det;
+      mxx_[q] = scale * ayy;
+      mxy_[q] = -scale * axy;
+      myy_[q] = scale * axx;
+    }
+    filter_c_ = c;
+  }
+  const Shape2 padded = engine_->real_shape();
+  const std::size_t n = region_.count();
+  for (std::size_t k = 0; k < ncomp_; ++k) {
+    auto in = engine_->input(static_cast<int>(k));
+    for (int i0 = 0; i0 < region_.n0; ++i0) {
+      std::copy_n(f.data() + k * n + region_.index(i0, 0), region_.n1,
+                  in.data() + padded.index(i0, 0));
+    }
+  }
+  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
+  engine_->convolve([this, nf1](const fft::FourierBlock& b) {
+    for (int k0 = 0; k0 < b.rows; ++k0) {
+      const std::size_t q0 =
+          static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin);
+      const std::size_t at0 = static_cast<std::size_t>(k0) * static_cast<std::size_t>(b.width);
+      for (std::size_t j = 0; j < static_cast<std::size_t>(b.width); ++j) {
+        const std::size_t q = q0 + j, at = at0 + j;
+        const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
+        b.field[0][at] = mxx_[q] * fx + mxy_[q] * fy;
+        b.field[1][at] = mxy_[q] * fx + myy_[q] * fy;
+      }
+    }
+  });
+  for (std::size_t k = 0; k < ncomp_; ++k) {
+    const auto out = engine_->output(static_cast<int>(k));
+    for (int i0 = 0; i0 < region_.n0; ++i0) {
+      std::copy_n(out.data() + padded.index(i0, 0), region_.n1,
+                  w.data() + k * n + region_.index(i0, 0));
+    }
+  }
+  ++filter_applications_;
+}
+
 void FreeSurfaceGF::multiply(const fft::FourierBlock& b, std::size_t q, std::size_t at) const {
   if (components_ == Components::normal) {
     b.field[0][at] *= kzz_[q];

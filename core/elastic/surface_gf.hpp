@@ -40,6 +40,17 @@ class FreeSurfaceGF {
   // u = G * f over the region; f and u have size() elements and may not alias.
   void apply(std::span<const double> f, std::span<double> u);
 
+  // w = R (I + c G~)^-1 R^T f: the in-plane force field f on the region, zero-padded, filtered
+  // by the Fourier multiplier (I + c G(q))^-1 of the padded grid and restricted to the region
+  // again. It approximates (I + c G)^-1 on the region, where c is a uniform interface stiffness
+  // (force per length per site): G (I + c G)^-1 = (K + c)^-1 is the compliance of the surface
+  // with springs of stiffness c on every site, the preconditioner that SOLVERS.md recommends
+  // for the periodic cell, here for the free boundary. Symmetric positive definite for c >= 0
+  // (a restriction of an SPD multiplier). One FFT pair, counted by filter_applications(); the
+  // kernel is rebuilt only when c changes. In-plane components only.
+  void apply_filter(std::span<const double> f, std::span<double> w, double c);
+  [[nodiscard]] std::size_t filter_applications() const { return filter_applications_; }
+
   // Real-space coefficient: displacement of slot k at offset (o0, o1) sites per unit force of
   // slot l; what apply() convolves with.
   [[nodiscard]] double coefficient(int k, int l, int o0, int o1) const;
@@ -68,6 +79,10 @@ class FreeSurfaceGF {
   // parts s_x, s_y of G_xz = i s_x, G_yz = i s_y (G_zx = -i s_x). Empty where not needed.
   std::vector<double> kxx_, kxy_, kyy_, kzz_, sx_, sy_;
   std::size_t applications_ = 0;
+  // The filter's multiplier (I + c G)^-1 times the FFT normalisation, for filter_c_.
+  std::vector<double> mxx_, mxy_, myy_;
+  double filter_c_ = -1.0;
+  std::size_t filter_applications_ = 0;
 };
 
 // The periodic cell's compliance block at one wave vector (q0, q1) (1/length), the lattice sum

@@ -251,6 +251,26 @@ StabilityCheck stability_from_string(const std::string& name) {
                               "', allowed: none, perturb, lanczos");
 }
 
+std::string to_string(Preconditioner p) {
+  switch (p) {
+    case Preconditioner::elastic:
+      return "elastic";
+    case Preconditioner::interface:
+      return "interface";
+    case Preconditioner::automatic:
+      return "auto";
+  }
+  return "auto";
+}
+
+Preconditioner preconditioner_from_string(const std::string& name) {
+  if (name == "elastic") return Preconditioner::elastic;
+  if (name == "interface") return Preconditioner::interface;
+  if (name == "auto") return Preconditioner::automatic;
+  throw std::invalid_argument("preconditioner: got '" + name +
+                              "', allowed: auto, elastic, interface");
+}
+
 Method method_from_string(const std::string& name) {
   if (name == "lbfgs") return Method::lbfgs;
   if (name == "cg") return Method::cg;
@@ -340,6 +360,26 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   };
   std::deque<Pair> memory;
   std::vector<double> du(n), df(n), q(n), z(n), alpha_coef;
+  // H0 = G M with the interface filter M (quasi-Newton methods only: CG is the classic
+  // reference, and FIRE's dynamics are defined by G).
+  const bool quasi_newton = options.method == Method::lbfgs || options.method == Method::newton;
+  const bool use_filter = quasi_newton && options.preconditioner != Preconditioner::elastic &&
+                          problem.wants_filter(options.preconditioner == Preconditioner::automatic);
+  res.filtered = use_filter;
+  std::vector<double> w_filter(use_filter ? n : 0);
+  // z = H0 v (one GF application) and zf = its K-image; zf may alias v.
+  const auto apply_h0 = [&](std::span<const double> v, std::vector<double>& zout,
+                            std::vector<double>& zf) {
+    if (use_filter) {
+      problem.filter(v, w_filter);
+      ++res.filter_applications;
+      problem.compliance(w_filter, zout);
+      zf = w_filter;
+    } else {
+      problem.compliance(v, zout);
+      if (zf.data() != v.data()) zf.assign(v.begin(), v.end());
+    }
+  };
   std::vector<double> du_prev(n, 0.0), df_prev(n, 0.0), z_prev(n, 0.0), r_prev(n, 0.0);
   double rz_prev = 0.0;
   bool restart = true;
@@ -433,12 +473,12 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         const MinimizeResult again = minimize(problem, pu, pf, inner);
         it += again.iterations;
         eval.evaluations += again.interface_evaluations;
+        res.filter_applications += again.filter_applications;
         double moved = 0.0;
         for (std::size_t i = 0; i < n; ++i)
           moved = std::max(moved, std::abs(pu[i] - x.u[i]));
         const bool lower = std::isfinite(again.energy) && again.energy < x.e - energy_slack(x.e);
-        unstable = lower && (moved > 10.0 * pushed ||
-                             again.termination != Termination::converged);
+        unstable = lower && (moved > 10.0 * pushed || again.termination != Termination::converged);
         if (unstable) {
           x.u = std::move(pu);
           x.f = std::move(pf);
@@ -532,7 +572,6 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     }
 
     // Search direction (du, df) with df = K du.
-    const bool quasi_newton = options.method == Method::lbfgs || options.method == Method::newton;
     if (quasi_newton && !memory.empty()) {
       q = x.r;
       alpha_coef.assign(memory.size(), 0.0);
@@ -540,8 +579,8 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         alpha_coef[k] = memory[k].rho * dot(memory[k].s, q);
         axpy(q, -alpha_coef[k], memory[k].y);
       }
-      problem.compliance(q, z);
       std::vector<double>& zf = q;  // K-image of z, built in place
+      apply_h0(q, z, zf);
       // H0 = gamma G with gamma = s.K s / s.y of the newest pair: the elastic curvature along
       // the last step over the total one (free: K s is the stored force change). The interface
       // softens the problem as a state nears an instability, and unscaled G steps fell short.
@@ -557,6 +596,12 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       for (std::size_t i = 0; i < n; ++i) {
         du[i] = -z[i];
         df[i] = -zf[i];
+      }
+    } else if (use_filter) {  // first step: filtered steepest descent
+      apply_h0(x.r, z, q);
+      for (std::size_t i = 0; i < n; ++i) {
+        du[i] = -z[i];
+        df[i] = -q[i];
       }
     } else {
       problem.compliance(x.r, z);
@@ -578,7 +623,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     double d0 = dot(x.r, du);
     if (!(d0 < 0.0)) {  // not a descent direction: fall back to preconditioned steepest descent
       memory.clear();
-      problem.compliance(x.r, z);
+      problem.compliance(x.r, z);  // G alone: G r . r > 0 whatever the filter does
       for (std::size_t i = 0; i < n; ++i) {
         du[i] = -z[i];
         df[i] = -x.r[i];

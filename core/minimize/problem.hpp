@@ -28,6 +28,21 @@ class Problem {
   // Diagonal of the interface Hessian d2V/du2 (the interface couples no two unknowns).
   virtual void curvature(std::span<const double> u, std::span<double> h) const = 0;
 
+  // Optional interface filter M, an approximation of (I + D G)^-1 with D the interface
+  // stiffness: preconditioned directions become du = G M r, whose K-image is M r, so the pair
+  // stays exact at one extra filter pass per direction. Where the interface is much stiffer
+  // than the elastic half-space over the contact (long wavelengths of a pinned contact), the
+  // G-preconditioned operator I + G H has a condition number of order a / b_core and the
+  // filter removes most of it (docs/solvers.md).
+  // wants_filter(automatic): whether filter() should be used; automatic = true asks for the
+  // problem's own judgement of whether it pays, false for whether it has one at all.
+  [[nodiscard]] virtual bool wants_filter(bool automatic) const {
+    (void)automatic;
+    return false;
+  }
+  // w = M r; called only if wants_filter() said yes.
+  virtual void filter(std::span<const double> r, std::span<double> w) { (void)r, (void)w; }
+
   // Green's function applications so far (the unit of cost).
   [[nodiscard]] virtual std::size_t gf_applications() const = 0;
 };

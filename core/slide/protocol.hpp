@@ -106,6 +106,8 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   const auto count = [&](const minimize::MinimizeResult& r) {
     ++res.minimizations;
     res.gradient_evaluations += r.interface_evaluations;
+    res.filter_applications += r.filter_applications;
+    res.filtered = res.filtered || r.filtered;
   };
   // Why a relaxation to Dx (from the state at `from`) cannot be accepted: the minimiser did not
   // converge, or the relaxed state has non-finite forces or energy. Empty if it can. The message

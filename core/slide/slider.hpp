@@ -104,6 +104,9 @@ struct SlideResult {
   int minimizations = 0;  // including undone trial steps
   std::size_t gf_applications = 0;
   std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
+  std::size_t filter_applications = 0;   // interface filter passes (an FFT pair each, like a GF
+                                         // application; see MinimizerOptions::preconditioner)
+  bool filtered = false;                 // some minimisation used the interface filter
   long long iterations = 0;
   double wall_s = 0.0;  // summed over the sessions of a resumed slide
   bool failed = false;  // a minimisation did not converge or gave non-finite values; see

@@ -51,6 +51,7 @@ check $cs "solver.tolerance" "$(scene s19 <<<$'[solver]\ntolerance = 0')"
 check $cs "solver.max_iterations" "$(scene s20 <<<$'[solver]\nmax_iterations = 0')"
 check $cs "solver.memory" "$(scene s21 <<<$'[solver]\nmemory = 0')"
 check $cs "solver.max_displacement" "$(scene s22 <<<$'[solver]\nmax_displacement = 1')"
+check $cs "solver.preconditioner" "$(scene s22b <<<$'[solver]\npreconditioner = "jacobi"')"
 check $cs "fft.threads" "$(scene s23 <<<$'[fft]\nthreads = 0')"
 check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
 check $cs "s25.toml:2" "$(scene s25 <<<$'[contact]\na = = 3')"
@@ -63,6 +64,7 @@ check $cs "--alpha" --alpha 0
 check $cs "--nu" --nu 0.7
 check $cs "--protocol" --protocol fast
 check $cs "--solver" --solver steepest
+check $cs "--preconditioner" --preconditioner jacobi
 check $cs "--tolerance" --tolerance 0
 check $cs "--threads" --threads 0
 check $cs "--distance" --distance -1

@@ -76,13 +76,22 @@ TEST(Minimizer, AllMethodsReachTheSameMinimum) {
   // A stuck state of a Regime II contact: tip at Dx = 0.3 d, starting from registry.
   const interface::ContactScene scene { .a = 10.0, .R = 100.0 };
   double reference_fx = 0.0, reference_e = 0.0;
-  for (auto method : {minimize::Method::lbfgs, minimize::Method::cg, minimize::Method::fire,
-                      minimize::Method::newton}) {
+  // The quasi-Newton methods also with the interface filter (forced: this contact is below the
+  // automatic threshold, a / b_core^0 = 1.8).
+  using P = minimize::Preconditioner;
+  const std::pair<minimize::Method, P> cases[] = {
+      {minimize::Method::lbfgs, P::automatic}, {minimize::Method::cg, P::automatic},
+      {minimize::Method::fire, P::automatic},  {minimize::Method::newton, P::automatic},
+      {minimize::Method::lbfgs, P::interface}, {minimize::Method::newton, P::interface}};
+  for (auto [method, precond] : cases) {
     Contact c(scene, 0.3);
     std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
     minimize::MinimizerOptions o{.method = method, .force_tolerance = 1e-9};
+    o.preconditioner = precond;
     const auto r = minimize::minimize(c.problem, u, f, o);
     ASSERT_EQ(r.termination, Termination::converged) << to_string(method);
+    EXPECT_EQ(r.filtered, precond == P::interface);
+    EXPECT_EQ(r.filter_applications > 0, precond == P::interface);
     EXPECT_LE(r.max_force, 1e-9);
     // The pair stays consistent: u = G f.
     std::vector<double> g(u.size());
@@ -90,15 +99,16 @@ TEST(Minimizer, AllMethodsReachTheSameMinimum) {
     for (std::size_t i = 0; i < u.size(); ++i)
       ASSERT_NEAR(g[i], u[i], 1e-9);
     const double fx = friction(c, u);
-    if (method == minimize::Method::lbfgs) {
+    if (method == minimize::Method::lbfgs && precond == P::automatic) {
       reference_fx = fx;
       reference_e = r.energy;
     } else {
       EXPECT_NEAR(fx, reference_fx, 1e-7 * std::abs(reference_fx)) << to_string(method);
       EXPECT_NEAR(r.energy, reference_e, 1e-9 * std::abs(reference_e)) << to_string(method);
     }
-    std::printf("%s: %d iterations, %zu GF applications\n", to_string(method).c_str(), r.iterations,
-                r.gf_applications);
+    std::printf("%s (%s): %d iterations, %zu GF applications, %zu filter passes\n",
+                to_string(method).c_str(), to_string(precond).c_str(), r.iterations,
+                r.gf_applications, r.filter_applications);
   }
 }
 
@@ -108,11 +118,16 @@ TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
   // is a saddle; a minimiser must not return it as converged.
   const interface::ContactScene scene { .a = 10.0, .R = 100.0 };
   ASSERT_GT(scene.lambda(), 1.0);
-  for (auto check : {minimize::StabilityCheck::perturb, minimize::StabilityCheck::lanczos}) {
+  for (auto [check, precond] :
+       {std::pair{minimize::StabilityCheck::perturb, minimize::Preconditioner::elastic},
+        std::pair{minimize::StabilityCheck::lanczos, minimize::Preconditioner::elastic},
+        std::pair{minimize::StabilityCheck::perturb, minimize::Preconditioner::interface}}) {
     Contact c(scene, 0.5);
     std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0), fint(c.problem.size());
     const double e0 = c.problem.interface(u, fint);
-    const auto r = minimize::minimize(c.problem, u, f, {.stability = check});
+    minimize::MinimizerOptions o{.stability = check};
+    o.preconditioner = precond;
+    const auto r = minimize::minimize(c.problem, u, f, o);
     EXPECT_EQ(r.termination, Termination::converged);
     EXPECT_GE(r.escapes, 1);
     EXPECT_LT(r.energy, e0 - 1e-3 * std::abs(e0));
@@ -134,6 +149,11 @@ TEST(Minimizer, RejectsBadOptions) {
   EXPECT_THROW(minimize::MinimizerOptions{.max_displacement = -1.0}.validate(),
                std::invalid_argument);
   EXPECT_THROW(minimize::method_from_string("steepest"), std::invalid_argument);
+  EXPECT_THROW(minimize::preconditioner_from_string("jacobi"), std::invalid_argument);
+  for (auto p : {minimize::Preconditioner::elastic, minimize::Preconditioner::interface,
+                 minimize::Preconditioner::automatic}) {
+    EXPECT_EQ(minimize::preconditioner_from_string(minimize::to_string(p)), p);
+  }
 }
 
 TEST(LateralForceModel, FastSincosMatchesLibm) {

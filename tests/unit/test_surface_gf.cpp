@@ -129,6 +129,58 @@ TEST(FreeSurfaceGF, SymmetricAndPositiveDefinite) {
   EXPECT_EQ(gf.applications(), 2u);
 }
 
+// The interface filter M = R (I + c G~)^-1 R^T (apply_filter): identity at c = 0; first-order
+// consistency, (M f - f) / c -> -G f as c -> 0 (which checks the kernel's FFT normalisation
+// and the 2 x 2 inverse); symmetric; eigenvalues in (0, 1] (G positive semi-definite), seen
+// through Rayleigh quotients of random fields, also at c large enough that the high-q part
+// of G~ decides; kernels rebuilt when c changes; bad c and components rejected.
+TEST(FreeSurfaceGF, InterfaceFilter) {
+  const Material m{.G = 1.0, .nu = 0.5};
+  elastic::FreeSurfaceGF gf(m, Components::in_plane, {21, 17}, 1.0, {.threads = 2});
+  const auto f = random_field(gf.size(), 4), g = random_field(gf.size(), 5);
+  std::vector<double> w(gf.size()), v(gf.size()), u(gf.size());
+  gf.apply_filter(f, w, 0.0);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    EXPECT_NEAR(w[i], f[i], 1e-14);
+
+  const double eps = 1e-7;  // (M f - f)/eps = -G f + O(eps |G|^2): 1e-6 relative is ample
+  gf.apply_filter(f, w, eps);
+  gf.apply(f, u);
+  double worst = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    worst = std::max(worst, std::abs((w[i] - f[i]) / eps + u[i]));
+    scale = std::max(scale, std::abs(u[i]));
+  }
+  EXPECT_LT(worst, 1e-5 * scale);
+
+  for (double c : {0.3, 3.0, 300.0}) {
+    gf.apply_filter(f, w, c);
+    gf.apply_filter(g, v, c);
+    EXPECT_NEAR(dot(f, v), dot(g, w), 1e-12 * dot(f, f));
+    for (unsigned seed = 10; seed < 20; ++seed) {
+      const auto x = random_field(gf.size(), seed);
+      std::vector<double> mx(gf.size());
+      gf.apply_filter(x, mx, c);
+      const double q = dot(x, mx) / dot(x, x);
+      EXPECT_GT(q, 0.0) << "c = " << c;
+      EXPECT_LE(q, 1.0 + 1e-12) << "c = " << c;
+    }
+  }
+  // A stiffer interface filters more: the Rayleigh quotient falls with c.
+  gf.apply_filter(f, w, 0.3);
+  const double q_soft = dot(f, w);
+  gf.apply_filter(f, w, 3.0);
+  EXPECT_LT(dot(f, w), q_soft);
+  EXPECT_EQ(gf.applications(), 1u);          // the filter is not a GF application
+  EXPECT_EQ(gf.filter_applications(), 40u);  // 1 + 1 + 3 x (2 + 10) + 2
+
+  EXPECT_THROW(gf.apply_filter(f, w, -1.0), std::invalid_argument);
+  EXPECT_THROW(gf.apply_filter(f, w, std::nan("")), std::invalid_argument);
+  elastic::FreeSurfaceGF full(m, Components::full, {4, 4});
+  std::vector<double> ff(full.size()), fw(full.size());
+  EXPECT_THROW(full.apply_filter(ff, fw, 1.0), std::invalid_argument);
+}
+
 TEST(FreeSurfaceGF, RejectsBadInput) {
   EXPECT_THROW(elastic::FreeSurfaceGF(Material{.G = -1.0}, Components::normal, {4, 4}),
                std::invalid_argument);
