@@ -85,6 +85,10 @@ adaptive protocol at tolerance 1e-8 with instabilities bracketed to 1e-4 d (its 
 when both are refined is given per scene). All settings of a scene run in one process, one
 after the other; wall times on this shared 2-core machine vary by +-20% between runs (GF
 applications and gradient evaluations do not). Raw rows: docs/figures/work_precision_a*.csv.
+The default preconditioner is automatic (docs/solvers.md): G alone below a/b_core^0 = 10, the
+interface filter above; the "(elastic preconditioner)" and "(interface preconditioner)" rows
+force one of them. A filter pass is an FFT pair like a GF application, so the cost ratios count
+both.
 
 $body
 EOT
