@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "slide/lfm_problem.hpp"
 #include "slide/slider.hpp"
 
 using namespace asperity;
@@ -52,9 +53,10 @@ int main(int argc, char** argv) {
     }
     {  // the preconditioner the automatic choice did not take
       auto o = base();
-      o.minimizer.preconditioner = scene.a_over_bcore0() >= 10.0
-                                       ? minimize::Preconditioner::elastic
-                                       : minimize::Preconditioner::interface;
+      o.minimizer.preconditioner =
+          scene.a_over_bcore0() >= slide::LfmProblem::filter_from_a_over_bcore0
+              ? minimize::Preconditioner::elastic
+              : minimize::Preconditioner::interface;
       cases.push_back({"adaptive lbfgs (" + minimize::to_string(o.minimizer.preconditioner) +
                            " preconditioner)",
                        "tol 1e-05", o});

@@ -183,6 +183,11 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
     }
 
+    if (model == "explicit" && preconditioner) {
+      throw std::invalid_argument(
+          "--preconditioner: not available with --model explicit (the interface filter belongs "
+          "to the lateral force model; the explicit model preconditions with G)");
+    }
     if (model == "explicit" && !explicit_slide) {
       // Normal loading of the explicit model alone (--slide adds the sliding): the flags that
       // only make sense for a slide are rejected rather than ignored.
@@ -362,6 +367,14 @@ int main(int argc, char** argv) {
     }
     if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
     if (threads) s.options.fft.threads = *threads;
+    const auto method = s.options.minimizer.method;
+    if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
+        (method == minimize::Method::cg || method == minimize::Method::fire)) {
+      std::fprintf(stderr,
+                   "contact_slide: note: the interface filter is used by lbfgs and newton only; "
+                   "%s preconditions with G\n",
+                   minimize::to_string(method).c_str());
+    }
     s.contact.validate();
     s.options.validate();
     char a_text[64];

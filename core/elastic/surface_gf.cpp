@@ -156,9 +156,10 @@ void FreeSurfaceGF::apply_filter(std::span<const double> f, std::span<double> w,
   if (c != filter_c_) {
     // The kernels carry the FFT normalisation s: G(q) = k(q) / s, and the multiplier is
     // s (I + c G(q))^-1 (2 x 2, real symmetric per q). G(q) of the padded grid is the DFT of
-    // the truncated real-space kernel; its eigenvalues are positive (tested), so the
-    // determinant stays positive; a wave vector where the truncation made I + c G indefinite
-    // would be passed through unfiltered, which keeps the filter positive definite.
+    // the truncated real-space kernel. Its eigenvalues are expected to be positive (the unit
+    // test sees M's Rayleigh quotients in (0, 1], up to c = 300); a wave vector where the
+    // truncation made I + c G indefinite would be passed through unfiltered, which keeps the
+    // filter positive definite whatever happens.
     const double s = engine_->normalisation();
     const std::size_t nq = kxx_.size();
     mxx_.resize(nq), mxy_.resize(nq), myy_.resize(nq);

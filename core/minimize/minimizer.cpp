@@ -366,11 +366,14 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   const bool use_filter = quasi_newton && options.preconditioner != Preconditioner::elastic &&
                           problem.wants_filter(options.preconditioner == Preconditioner::automatic);
   res.filtered = use_filter;
+  // After a failed line search the retry is plain G steepest descent, as without the filter:
+  // G r . r > 0 always, whereas G M, not symmetric on the contact sites, only nearly so.
+  bool plain_next = false;
   std::vector<double> w_filter(use_filter ? n : 0);
   // z = H0 v (one GF application) and zf = its K-image; zf may alias v.
   const auto apply_h0 = [&](std::span<const double> v, std::vector<double>& zout,
                             std::vector<double>& zf) {
-    if (use_filter) {
+    if (use_filter && !plain_next) {
       problem.filter(v, w_filter);
       ++res.filter_applications;
       problem.compliance(w_filter, zout);
@@ -600,7 +603,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         du[i] = -z[i];
         df[i] = -zf[i];
       }
-    } else if (use_filter) {  // first step: filtered steepest descent
+    } else if (use_filter && !plain_next) {  // first step: filtered steepest descent
       apply_h0(x.r, z, q);
       for (std::size_t i = 0; i < n; ++i) {
         du[i] = -z[i];
@@ -644,15 +647,18 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     const bool ls_ok =
         line_search(eval, x, du, df, d0, 1.0, t_max, c2, options.method == Method::cg, trial);
     if (!ls_ok) {
-      if (!memory.empty() || !restart) {  // retry once from preconditioned steepest descent
+      // Retry once from G-preconditioned steepest descent.
+      if (!memory.empty() || !restart || (use_filter && !plain_next)) {
         memory.clear();
         restart = true;
+        plain_next = use_filter;
         continue;
       }
       res.termination = Termination::diverged;  // no descent left at this precision
       break;
     }
     restart = false;
+    plain_next = false;
     // Store the step for L-BFGS (s = du t, its K-image, y = dr) and CG.
     Pair p{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
     for (std::size_t i = 0; i < n; ++i) {

@@ -9,7 +9,8 @@
 //   MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames, bool stop_on_slip);
 //                                              move s to tip position Dx and minimise; with
 //                                              stop_on_slip, return Termination::interrupted as
-//                                              soon as a site has moved by d/2
+//                                              soon as a slip is certain (LFM: a site moved by
+//                                              3/4 d; explicit model: d/2)
 //   void align(State& s, const State& like);   bring s's fields onto like's block (warm starts)
 //   int slipped_sites(const State& before, const State& after);  registry index changes
 //   Snapshot snapshot(const State& s, std::string label);

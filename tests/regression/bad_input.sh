@@ -65,6 +65,7 @@ check $cs "--nu" --nu 0.7
 check $cs "--protocol" --protocol fast
 check $cs "--solver" --solver steepest
 check $cs "--preconditioner" --preconditioner jacobi
+check $cs "--preconditioner" --model explicit --slide --preconditioner interface
 check $cs "--tolerance" --tolerance 0
 check $cs "--threads" --threads 0
 check $cs "--distance" --distance -1

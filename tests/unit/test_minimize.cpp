@@ -129,6 +129,7 @@ TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
     o.preconditioner = precond;
     const auto r = minimize::minimize(c.problem, u, f, o);
     EXPECT_EQ(r.termination, Termination::converged);
+    EXPECT_EQ(r.filter_applications > 0, precond == minimize::Preconditioner::interface);
     EXPECT_GE(r.escapes, 1);
     EXPECT_LT(r.energy, e0 - 1e-3 * std::abs(e0));
     // The final state's lowest eigenvalue, where it had to be computed, is not negative.

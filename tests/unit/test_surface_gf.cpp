@@ -143,7 +143,9 @@ TEST(FreeSurfaceGF, InterfaceFilter) {
   for (std::size_t i = 0; i < f.size(); ++i)
     EXPECT_NEAR(w[i], f[i], 1e-14);
 
-  const double eps = 1e-7;  // (M f - f)/eps = -G f + O(eps |G|^2): 1e-6 relative is ample
+  // (M f - f)/eps = -G f + O(eps |G|^2), about 1e-7 relative here; a wrong normalisation or
+  // inverse would be off by O(1).
+  const double eps = 1e-7;
   gf.apply_filter(f, w, eps);
   gf.apply(f, u);
   double worst = 0.0, scale = 0.0;
