@@ -110,36 +110,45 @@ double FreeSurfaceGF::coefficient(int k, int l, int o0, int o1) const {
                   o0 * d_, o1 * d_, d_);
 }
 
-void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
-  check_size(f, size(), "FreeSurfaceGF::apply (forces)");
-  check_size(u, size(), "FreeSurfaceGF::apply (displacements)");
+// Zero-padded convolution of a region field: copy in, per_q(block, q, at) on every wave vector
+// of the fused transform, copy the region out. Shared by apply() and apply_filter().
+template <class PerQ>
+void FreeSurfaceGF::convolve_region(std::span<const double> in, std::span<double> out, PerQ per_q) {
   const Shape2 padded = engine_->real_shape();
   const std::size_t n = region_.count();
   for (std::size_t c = 0; c < ncomp_; ++c) {
-    auto in = engine_->input(static_cast<int>(c));
+    auto grid = engine_->input(static_cast<int>(c));
     for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(f.data() + c * n + region_.index(i0, 0), region_.n1,
-                  in.data() + padded.index(i0, 0));
+      std::copy_n(in.data() + c * n + region_.index(i0, 0), region_.n1,
+                  grid.data() + padded.index(i0, 0));
     }
   }
   const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
-  engine_->convolve([this, nf1](const fft::FourierBlock& b) {
+  engine_->convolve([nf1, &per_q](const fft::FourierBlock& b) {
     for (int k0 = 0; k0 < b.rows; ++k0) {
       const std::size_t q0 =
           static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin);
       const std::size_t at = static_cast<std::size_t>(k0) * static_cast<std::size_t>(b.width);
       for (std::size_t j = 0; j < static_cast<std::size_t>(b.width); ++j) {
-        multiply(b, q0 + j, at + j);
+        per_q(b, q0 + j, at + j);
       }
     }
   });
   for (std::size_t c = 0; c < ncomp_; ++c) {
-    const auto out = engine_->output(static_cast<int>(c));
+    const auto grid = engine_->output(static_cast<int>(c));
     for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(out.data() + padded.index(i0, 0), region_.n1,
-                  u.data() + c * n + region_.index(i0, 0));
+      std::copy_n(grid.data() + padded.index(i0, 0), region_.n1,
+                  out.data() + c * n + region_.index(i0, 0));
     }
   }
+}
+
+void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
+  check_size(f, size(), "FreeSurfaceGF::apply (forces)");
+  check_size(u, size(), "FreeSurfaceGF::apply (displacements)");
+  convolve_region(f, u, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
+    multiply(b, q, at);
+  });
   ++applications_;
 }
 
@@ -178,36 +187,11 @@ void FreeSurfaceGF::apply_filter(std::span<const double> f, std::span<double> w,
     }
     filter_c_ = c;
   }
-  const Shape2 padded = engine_->real_shape();
-  const std::size_t n = region_.count();
-  for (std::size_t k = 0; k < ncomp_; ++k) {
-    auto in = engine_->input(static_cast<int>(k));
-    for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(f.data() + k * n + region_.index(i0, 0), region_.n1,
-                  in.data() + padded.index(i0, 0));
-    }
-  }
-  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
-  engine_->convolve([this, nf1](const fft::FourierBlock& b) {
-    for (int k0 = 0; k0 < b.rows; ++k0) {
-      const std::size_t q0 =
-          static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin);
-      const std::size_t at0 = static_cast<std::size_t>(k0) * static_cast<std::size_t>(b.width);
-      for (std::size_t j = 0; j < static_cast<std::size_t>(b.width); ++j) {
-        const std::size_t q = q0 + j, at = at0 + j;
-        const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
-        b.field[0][at] = mxx_[q] * fx + mxy_[q] * fy;
-        b.field[1][at] = mxy_[q] * fx + myy_[q] * fy;
-      }
-    }
+  convolve_region(f, w, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
+    const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
+    b.field[0][at] = mxx_[q] * fx + mxy_[q] * fy;
+    b.field[1][at] = mxy_[q] * fx + myy_[q] * fy;
   });
-  for (std::size_t k = 0; k < ncomp_; ++k) {
-    const auto out = engine_->output(static_cast<int>(k));
-    for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(out.data() + padded.index(i0, 0), region_.n1,
-                  w.data() + k * n + region_.index(i0, 0));
-    }
-  }
   ++filter_applications_;
 }
 

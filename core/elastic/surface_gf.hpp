@@ -68,6 +68,8 @@ class FreeSurfaceGF {
  private:
   // The Fourier-space product at wave vector q, on entry `at` of a block.
   void multiply(const fft::FourierBlock& b, std::size_t q, std::size_t at) const;
+  template <class PerQ>
+  void convolve_region(std::span<const double> in, std::span<double> out, PerQ per_q);
 
   Material material_;
   Components components_;
