@@ -55,10 +55,9 @@ int main(int argc, char** argv) {
     }
     {  // the preconditioner the automatic choice did not take
       auto o = base();
-      o.minimizer.preconditioner =
-          scene.a_over_bcore0() >= slide::LfmProblem::filter_from_a_over_bcore0
-              ? minimize::Preconditioner::elastic
-              : minimize::Preconditioner::interface;
+      o.minimizer.preconditioner = slide::LfmProblem::filter_pays(scene)
+                                       ? minimize::Preconditioner::elastic
+                                       : minimize::Preconditioner::interface;
       cases.push_back({"adaptive lbfgs (" + minimize::to_string(o.minimizer.preconditioner) +
                            " preconditioner)",
                        "tol 1e-05", o});

@@ -208,10 +208,6 @@ int main(int argc, char** argv) {
       if (R) c.R = e.model.R = *R;
       if (nu) c.material.nu = e.model.material.nu = *nu;
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
-      if (preconditioner) {
-        e.slide.options.minimizer.preconditioner =
-            minimize::preconditioner_from_string(*preconditioner);
-      }
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
       c.validate();
@@ -270,10 +266,6 @@ int main(int argc, char** argv) {
       if (distance) e.slide.options.distance = *distance;
       if (protocol) e.slide.options.protocol = slide::protocol_from_string(*protocol);
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
-      if (preconditioner) {
-        e.slide.options.minimizer.preconditioner =
-            minimize::preconditioner_from_string(*preconditioner);
-      }
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
       c.validate();

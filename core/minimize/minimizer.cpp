@@ -370,17 +370,15 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   // G r . r > 0 always, whereas G M, not symmetric on the contact sites, only nearly so.
   bool plain_next = false;
   std::vector<double> w_filter(use_filter ? n : 0);
-  // z = H0 v (one GF application) and zf = its K-image; zf may alias v.
-  const auto apply_h0 = [&](std::span<const double> v, std::vector<double>& zout,
-                            std::vector<double>& zf) {
+  // z = H0 v (one GF application); v becomes the K-image of z (v itself without the filter).
+  const auto apply_h0 = [&](std::vector<double>& v, std::vector<double>& zout) {
     if (use_filter && !plain_next) {
       problem.filter(v, w_filter);
       ++res.filter_applications;
       problem.compliance(w_filter, zout);
-      zf = w_filter;
+      std::swap(v, w_filter);
     } else {
       problem.compliance(v, zout);
-      if (zf.data() != v.data()) zf.assign(v.begin(), v.end());
     }
   };
   std::vector<double> du_prev(n, 0.0), df_prev(n, 0.0), z_prev(n, 0.0), r_prev(n, 0.0);
@@ -582,8 +580,8 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         alpha_coef[k] = memory[k].rho * dot(memory[k].s, q);
         axpy(q, -alpha_coef[k], memory[k].y);
       }
+      apply_h0(q, z);
       std::vector<double>& zf = q;  // K-image of z, built in place
-      apply_h0(q, z, zf);
       // H0 = gamma G with gamma = s.K s / s.y of the newest pair: the elastic curvature along
       // the last step over the total one (free: K s is the stored force change). The interface
       // softens the problem as a state nears an instability, and unscaled G steps fell short.
@@ -604,7 +602,8 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         df[i] = -zf[i];
       }
     } else if (use_filter && !plain_next) {  // first step: filtered steepest descent
-      apply_h0(x.r, z, q);
+      q = x.r;
+      apply_h0(q, z);
       for (std::size_t i = 0; i < n; ++i) {
         du[i] = -z[i];
         df[i] = -q[i];
