@@ -13,8 +13,11 @@
 //   peak (the last stable state before the slip) is located to min_step in Dx.
 // Slip event: a step after which some contact site has moved by more than d/2 in x (its
 // registry index relative to the substrate changed): the state jumped to another minimum.
-// Automatic distance: slide until `slips_to_stop` slip events (the static peak precedes the
-// first), or, without slips (Regime I), one period d past the first maximum of Fx; capped.
+// Automatic distance: slide until the static peak is established, i.e. until it has held (not
+// been exceeded) over one period d with `slips_to_stop` slip events after it (Regime II: the
+// slips_to_stop-th slip, the cycle repeats with period d; Regime III: Fx rises through many
+// small slips as arrested loops pile up, and the peak moves on with it), or, without slips
+// (Regime I), one period d past the first maximum of Fx; capped (mu is then a lower bound).
 #pragma once
 
 #include <cstddef>
@@ -46,7 +49,8 @@ struct SlideOptions {
   double min_step = 1e-2;                  // adaptive protocol: instabilities bracketed to this (d)
   double distance = 0.0;                   // sliding distance (d); 0 = automatic
   double max_distance = 0.0;  // cap of the automatic distance (d); 0 = 3 d + 3 alpha Fz / k
-  int slips_to_stop = 2;      // automatic distance: stop after this many slip events
+  int slips_to_stop = 2;      // automatic distance: slip events after the peak (which must
+                              // also have held over d) before the slide stops
   bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
   int path_frame_every = 0;   // relaxation-path frames through slip events every N iterations
                               // (0: none)
@@ -91,7 +95,8 @@ struct SlideResult {
   double mu_over_alpha = 0.0;
   double peak_Dx = 0.0;
   double peak_precision = 0.0;     // uncertainty of mu from the step resolution at the peak
-  bool mu_is_lower_bound = false;  // the maximum is the last sample: the slide ended on the ramp
+  bool mu_is_lower_bound = false;  // the maximum is the last sample (the slide ended on the
+                                   // ramp), or the automatic cap came before it had held
   double Fz = 0.0;                 // discrete Hertz load at the peak
   double Fz_continuum = 0.0;       // 4 E* a^3 / (3 R)
   double kinetic = 0.0;            // mean Fx / Fz after the first slip; without slips over the last
