@@ -236,6 +236,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
       }
       if (i < t.size()) top = i;
     }
+    // Nor while the trace is still at the peak: after a small slip in Regime III Fx may lie
+    // just below it and rise past it in the next steps.
+    if (state.Fx / state.Fz >= best - tie) return false;
     const auto held = std::find_if(
         t.begin(), t.end(), [&](const TraceRow& row) { return row.Fx / row.Fz >= best - tie; });
     if (held == t.end() || state.Dx < held->Dx + d - 1e-9 * d) return false;
