@@ -215,9 +215,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // A repeated cycle reaches its maximum again only to within the sampling of the trace (a
   // bracket of min_step before a slip; a smooth maximum between coarse steps, 2% in the
   // explicit model), which must not count as a new peak: the peak held from the first sample
-  // within the tie of the maximum, the tie being the largest step in Fx/Fz from the highest
-  // sample of each stick segment to its stable neighbours, and at least kPeakTie (a fifth of
-  // the 0.5% to which mu is converged, docs/benchmarks.md).
+  // within the tie of the maximum. The tie is the largest uncertainty of a stick segment's
+  // maximum (before a slip: the slope into it times the bracket; a smooth maximum: the steps
+  // to its neighbours), and at least kPeakTie (a fifth of the 0.5% to which mu is converged,
+  // docs/benchmarks.md).
   constexpr double kPeakTie = 1e-3;
   const auto peak_held = [&] {
     const auto& t = res.trace;
@@ -229,10 +230,15 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
         if (t[top].slip || y(i) > y(top)) top = i;
         continue;
       }
-      if (!t[top].slip) {  // the segment ends: its maximum's resolution
-        if (top > 0 && !t[top - 1].slip) tie = std::max(tie, std::abs(y(top) - y(top - 1)));
-        if (top + 1 < t.size() && !t[top + 1].slip)
-          tie = std::max(tie, std::abs(y(top) - y(top + 1)));
+      if (!t[top].slip && top > 0 && !t[top - 1].slip) {  // the segment's maximum: resolution
+        const double rise = std::abs(y(top) - y(top - 1));
+        if (top + 1 < t.size() && t[top + 1].slip) {
+          // Cut short by a slip: the true maximum lies between the sample and the slip, on the
+          // slope that led to it.
+          tie = std::max(tie, rise / (t[top].Dx - t[top - 1].Dx) * (t[top + 1].Dx - t[top].Dx));
+        } else if (top + 1 < t.size()) {  // a smooth maximum: within its neighbours
+          tie = std::max(tie, std::max(rise, std::abs(y(top) - y(top + 1))));
+        }
       }
       if (i < t.size()) top = i;
     }
