@@ -14,10 +14,11 @@
 // Slip event: a step after which some contact site has moved by more than d/2 in x (its
 // registry index relative to the substrate changed): the state jumped to another minimum.
 // Automatic distance: slide until the static peak is established, i.e. until it has held (not
-// been exceeded) over one period d with `slips_to_stop` slip events after it (Regime II: the
-// slips_to_stop-th slip, the cycle repeats with period d; Regime III: Fx rises through many
-// small slips as arrested loops pile up, and the peak moves on with it), or, without slips
-// (Regime I), one period d past the first maximum of Fx; capped (mu is then a lower bound).
+// been exceeded beyond the trace's resolution) over one period d with `slips_to_stop` slip
+// events after it, stopping at a slip (Regime II: the slips_to_stop-th slip, the cycle repeats
+// with period d; Regime III: Fx rises through many small slips as arrested loops pile up, and
+// the peak moves on with it), or, without slips (Regime I), one period d past the first
+// maximum of Fx; capped (mu is then a lower bound unless the peak had held).
 #pragma once
 
 #include <cstddef>
