@@ -420,10 +420,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   }
   // Still rising at the last sample (cap or a fixed distance hit on the loading ramp): the
   // static peak lies further on, mu is only a lower bound.
-  // So is a peak that had not held when the automatic cap stopped the slide (Regime III).
-  res.mu_is_lower_bound = peak->Dx == res.trace.back().Dx ||
-                          (automatic && res.slip_events > 0 && !res.failed &&
-                           res.stop_reason == "distance cap reached" && !peak_held());
+  // So is any peak when the automatic cap stopped a slide with slips: had the peak held, the
+  // slide would have stopped at a slip before the cap (Regime III still hardening).
+  res.mu_is_lower_bound =
+      peak->Dx == res.trace.back().Dx ||
+      (automatic && res.slip_events > 0 && res.stop_reason == "distance cap reached");
   res.mu = best;
   res.peak_Dx = peak->Dx;
   res.Fz = peak->Fz;
