@@ -3,6 +3,7 @@
 #include "nucleation/regime_three.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -83,11 +84,24 @@ double bcore0(double a, double R, double alpha, double nu) {
   return R / (c * alpha * a);
 }
 
+// The law is capped at tau_P = tau_max: the interface cannot hold more than its ideal strength
+// (a fitted k1 > 1 exceeds it below b_core = ln(k1) / k2, 0.47 d for k1 = 2.3, k2 = 1.8).
 double regime_three_central(double beta, const PeierlsLaw& law) {
-  return law.k1 * std::exp(-law.k2 * beta);
+  return std::min(1.0, law.k1 * std::exp(-law.k2 * beta));
 }
 
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {
+  // Capped: tau_P = tau_max where w > w* = beta k2 / ln(k1) (b_core(r) = beta / w below the
+  // cap's core width), and with w = w* s on [0, w*]
+  //   int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw = k1 w*^3 E_4(ln k1) + (1 - w*^3) / 3.
+  if (law.k1 > 1.0) {
+    const double w_star = law.k2 * beta / std::log(law.k1);
+    if (w_star < 1.0) {
+      const double w3 = w_star * w_star * w_star;
+      return 3.0 * f_P *
+             (law.k1 * w3 * exponential_integral_en(4, std::log(law.k1)) + (1.0 - w3) / 3.0);
+    }
+  }
   return 3.0 * f_P * law.k1 * exponential_integral_en(4, law.k2 * beta);
 }
 

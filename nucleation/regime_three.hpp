@@ -7,6 +7,10 @@
 //   mu / alpha = 3 f_P k1 int_0^1 w^2 exp(-k2 beta / w) dw = 3 f_P k1 E_4(k2 beta),
 // beta = b_core^0 / d = R / (c alpha a), E_n the exponential integral int_1^inf t^-n e^(-x t) dt.
 // Central estimate (the centre's core width everywhere): mu / alpha = k1 exp(-k2 beta).
+// Both cap tau_P at tau_max (the interface's ideal strength), which a fitted k1 > 1 exceeds at
+// core widths below ln(k1) / k2 (about 0.5 d): the integral is then split where the cap starts
+// (regime_three.cpp), and the central estimate is min(1, ...). The log errors and the
+// derivatives below use the uncapped law (no data lie in the capped range).
 // Both depend on a and R separately, not on a / b_core^0 alone (beta = a / (a / b_core^0)).
 //
 // fit_regime_three() fits k1, k2 of either form to friction data with Eigen's

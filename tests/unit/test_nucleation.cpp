@@ -3,6 +3,7 @@
 // the options' validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -142,8 +143,22 @@ TEST(RegimeThree, FormsAndBcore0) {
   // b_core^0 = R / (c alpha a), c = 8 / pi at nu = 0.5.
   EXPECT_NEAR(bcore0(250, 1700, 0.7, 0.5), 1700.0 / (8.0 / std::numbers::pi * 0.7 * 250.0), 1e-12);
   EXPECT_NEAR(regime_three_central(2.0, law), 2.3 * std::exp(-3.6), 1e-15);
-  // beta -> 0: E_4(0) = 1/3, so the integrated form tends to f_P k1.
-  EXPECT_NEAR(regime_three_integrated(1e-9, law, 0.5), 0.5 * 2.3, 1e-6);
+  // beta -> 0: tau_P is capped at tau_max over the whole contact, so the integrated form tends
+  // to 3 f_P int_0^1 w^2 dw = f_P, and the central one to 1 (k1 = 2.3 would give 2.3 f_P).
+  EXPECT_NEAR(regime_three_integrated(1e-9, law, 0.5), 0.5, 1e-6);
+  EXPECT_EQ(regime_three_central(0.1, law), 1.0);
+  // Partly capped (the cap's core width ln(k1)/k2 = 0.463 d, so w* = 0.65 at beta = 0.3): the
+  // split closed form against a midpoint rule of 3 f_P int_0^1 w^2 min(1, k1 e^(-k2 beta/w)) dw
+  // (2e5 panels: its error, about 1e-10 with the kink at w*, is far below the 1e-8 asked).
+  for (double beta : {0.1, 0.3, 0.45, 0.5, 1.0}) {
+    const int n = 200000;
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double w = (k + 0.5) / n;
+      sum += w * w * std::min(1.0, 2.3 * std::exp(-1.8 * beta / w));
+    }
+    EXPECT_NEAR(regime_three_integrated(beta, law, 0.5), 1.5 * sum / n, 1e-8) << beta;
+  }
   // Integrated below central (the edge has wider cores).
   EXPECT_LT(regime_three_integrated(2.0, law, 1.0), regime_three_central(2.0, law));
   EXPECT_NE(message_of([] { PeierlsLaw{.k1 = 0, .k2 = 1}.validate(); }).find("PeierlsLaw.k1"),
