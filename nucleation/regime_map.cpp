@@ -55,10 +55,10 @@ Prediction predict(double a_over_bcore0, double beta, const Model& model) {
 std::vector<Regime> simulated_regimes(std::span<const ScalingPoint> points, double c0,
                                       double rise_tolerance) {
   std::vector<Regime> out(points.size(), Regime::one);
-  std::map<double, std::vector<std::size_t>> groups;
+  std::map<std::pair<int, double>, std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < points.size(); ++i)
-    groups[points[i].R].push_back(i);
-  for (auto& [R, idx] : groups) {
+    groups[{points[i].series, points[i].R}].push_back(i);
+  for (auto& [key, idx] : groups) {
     std::stable_sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
       return points[i].a_over_bcore0 < points[j].a_over_bcore0;
     });

@@ -7,8 +7,8 @@
 // Regime of a point, the same rule for a prediction and for a simulated mu / alpha:
 // - III: on the rising branch. A prediction is in III where the Regime III law exceeds the
 //   nucleation condition; a simulated point where its mu / alpha exceeds, by more than
-//   rise_tolerance, the lowest mu / alpha of a smaller contact at the same R (friction rising
-//   with load).
+//   rise_tolerance, the lowest mu / alpha of a smaller contact of the same series and R (friction
+//   rising with load).
 // - otherwise I or II, whichever law is nearer in ln(mu / alpha): Regime I's mu / alpha = 1 or the
 //   Regime II law 3 (2 c0)^(2/3) (a / b_core^0)^(-2/3). The crossover is gradual; this puts the
 //   boundary where a point is as far from one asymptote as from the other, without a threshold.
@@ -51,7 +51,8 @@ Prediction predict(double a_over_bcore0, double beta, const Model& model);
 // I or II by the nearer asymptote (see above).
 Regime nearer_of_one_two(double a_over_bcore0, double mu_over_alpha, double c0);
 
-// Simulated regime of each point (same order); points are grouped by R for the rising branch.
+// Simulated regime of each point (same order); points are grouped by series and R for the
+// rising branch.
 std::vector<Regime> simulated_regimes(std::span<const ScalingPoint> points, double c0,
                                       double rise_tolerance = 0.02);
 

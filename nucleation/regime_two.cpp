@@ -83,15 +83,15 @@ double c0_of_point(double a_over_bcore0, double mu_over_alpha) {
 }
 
 std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
-                                          const WindowOptions& options) {
+                                          const WindowOptions& options, std::size_t* trimmed) {
   options.validate();
   check_points(points);
-  // Per R: the descending branch between the crossover and the upturn.
-  std::map<double, std::vector<std::size_t>> groups;
+  // Per series and R: the descending branch between the crossover and the upturn.
+  std::map<std::pair<int, double>, std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < points.size(); ++i)
-    groups[points[i].R].push_back(i);
+    groups[{points[i].series, points[i].R}].push_back(i);
   std::vector<std::vector<std::size_t>> branches;
-  for (auto& [R, idx] : groups) {
+  for (auto& [key, idx] : groups) {
     std::stable_sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
       return points[i].a_over_bcore0 < points[j].a_over_bcore0;
     });
@@ -117,6 +117,7 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
     return all;
   };
   std::vector<std::size_t> used = flatten();
+  const std::size_t candidates = used.size();
   // Trim the branch ends while the fixed-slope law misses a point by more than max_deviation.
   while (used.size() > options.min_points) {
     const Estimate e = estimate(points, used);
@@ -144,6 +145,7 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
     }
     used = flatten();
   }
+  if (trimmed != nullptr) *trimmed = candidates - used.size();
   if (used.size() < options.min_points) used.clear();
   return used;
 }
@@ -160,7 +162,7 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
       if (x >= options.window->first && x <= options.window->second) fit.used.push_back(i);
     }
   } else {
-    fit.used = automatic_window(points, options.automatic);
+    fit.used = automatic_window(points, options.automatic, &fit.trimmed);
   }
   fit.points = fit.used.size();
   if (fit.used.size() < 2) {
@@ -193,6 +195,40 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
   fit.prefactor_error = fit.prefactor * err_mean;
   fit.max_relative_deviation = e.max_relative_deviation;
   fit.rms_log_residual = e.rms_log_residual;
+  // Checks of the fixed slope over the window. Free slope: ln(mu/alpha) = A + s ln(a/b_core^0)
+  // by least squares, s with its reported error (t_factor(n - 2)); a fixed-slope fit is only
+  // as good as s is near -2/3. Halves: c0 of the lower and the upper half in a / b_core^0 (the
+  // middle point in both when n is odd); their half difference is the spread of c0 over the
+  // window, which the bootstrap, resampling points as if the scatter were random, leaves out.
+  if (fit.used.size() >= 3) {
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    for (std::size_t i : fit.used) {
+      const double x = std::log(points[i].a_over_bcore0), y = std::log(points[i].mu_over_alpha);
+      sx += x, sy += y, sxx += x * x, sxy += x * y;
+    }
+    const double sxx_c = sxx - sx * sx / n;
+    if (sxx_c > 0.0) {
+      fit.free_slope = (sxy - sx * sy / n) / sxx_c;
+      const double intercept = (sy - fit.free_slope * sx) / n;
+      double ss = 0.0;
+      for (std::size_t i : fit.used) {
+        const double r = std::log(points[i].mu_over_alpha) - intercept -
+                         fit.free_slope * std::log(points[i].a_over_bcore0);
+        ss += r * r;
+      }
+      fit.free_slope_error = std::sqrt(ss / (n - 2.0) / sxx_c) * t_factor(n - 2.0);
+    }
+    std::vector<std::size_t> sorted = fit.used;
+    std::sort(sorted.begin(), sorted.end(), [&](std::size_t i, std::size_t j) {
+      return points[i].a_over_bcore0 < points[j].a_over_bcore0;
+    });
+    const std::size_t half = (sorted.size() + 1) / 2;
+    const std::vector<std::size_t> lower(sorted.begin(), sorted.begin() + half),
+        upper(sorted.end() - half, sorted.end());
+    fit.c0_lower_half = 0.5 * std::exp(1.5 * estimate(points, lower).mean);
+    fit.c0_upper_half = 0.5 * std::exp(1.5 * estimate(points, upper).mean);
+    fit.c0_window_spread = 0.5 * std::abs(fit.c0_upper_half - fit.c0_lower_half);
+  }
   fit.valid = true;
   return fit;
 }

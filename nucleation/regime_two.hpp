@@ -31,12 +31,14 @@
 namespace asperity::nucleation {
 
 // One friction measurement. a and R are needed by the Regime III prediction (which depends on
-// b_core^0 = a / (a / b_core^0), not on a / b_core^0 alone) and to group points by R.
+// b_core^0 = a / (a / b_core^0), not on a / b_core^0 alone) and to group points into branches:
+// the points of one series (one model) at one R, along which friction falls and then rises.
 struct ScalingPoint {
   double a_over_bcore0 = 0.0;  // control parameter a / b_core^0 (MODEL.md 3)
   double mu_over_alpha = 0.0;  // static friction / alpha
   double a = 0.0;              // contact radius (d); 0: unknown
   double R = 0.0;              // sphere radius (d); 0: unknown (all such points are one group)
+  int series = 0;              // model of the point (e.g. 0 LFM, 1 explicit): branches per series
 };
 
 // Mu / alpha of the leading-order Regime II law.
@@ -44,7 +46,7 @@ double regime_two_law(double a_over_bcore0, double c0);
 // c0 of a point that lies exactly on the law.
 double c0_of_point(double a_over_bcore0, double mu_over_alpha);
 
-// Automatic Regime II window, per R (points sorted by a / b_core^0):
+// Automatic Regime II window, per branch (series and R; points sorted by a / b_core^0):
 // - starts at the first point with mu / alpha <= crossover_max (past the crossover from
 //   Regime I, where mu / alpha leaves 1);
 // - ends at the last point before mu / alpha rises again by more than rise_tolerance (relative)
@@ -87,9 +89,17 @@ struct RegimeTwoFit {
   bool window_automatic = true;
   std::vector<std::size_t> used;  // indices of the points in the window
   std::size_t points = 0;
+  // Automatic window: branch points dropped to bring the fit within max_deviation. The window's
+  // max_relative_deviation is then within it by construction; what trimming removed is here.
+  std::size_t trimmed = 0;
   double dof = 0.0, t_factor = 0.0;
   double max_relative_deviation = 0.0;  // max |data - fit| / fit over the window
   double rms_log_residual = 0.0;
+  // Checks of the fixed slope -2/3 over the window (3 points at least; else 0): the free
+  // log-log slope with its reported error, and c0 of the lower and upper halves of the window
+  // with half their difference, a systematic spread not in c0_error (regime_two.cpp).
+  double free_slope = 0.0, free_slope_error = 0.0;
+  double c0_lower_half = 0.0, c0_upper_half = 0.0, c0_window_spread = 0.0;
 };
 
 // Throws std::invalid_argument if options are invalid or a point is not finite and positive
@@ -97,9 +107,11 @@ struct RegimeTwoFit {
 RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
                             const RegimeTwoFitOptions& options = {});
 
-// Indices of the automatic window (empty if fewer than min_points qualify).
+// Indices of the automatic window (empty if fewer than min_points qualify); trimmed, if given,
+// receives the number of branch points dropped by the max_deviation rule.
 std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
-                                          const WindowOptions& options);
+                                          const WindowOptions& options,
+                                          std::size_t* trimmed = nullptr);
 
 // The nucleation condition without the small-b_core expansion.
 struct NucleationSolution {

@@ -20,7 +20,7 @@ namespace asperity::nucleation {
 double student_t_quantile(double probability, double dof);
 
 // t_dof(Phi(2)) / 2: the factor that turns a standard error into the reported error. 1 in the
-// limit dof -> infinity; 6.98 at dof = 1, 1.59 at 3, 1.14 at 10.
+// limit dof -> infinity; 6.98 at dof = 1, 1.65 at 3, 1.14 at 10.
 double t_factor(double dof);
 
 // Bootstrap over points of the mean of `values`: `samples` resamples with replacement drawn from

@@ -32,6 +32,7 @@
 #include "nucleation/regime_map.hpp"
 #include "nucleation/regime_three.hpp"
 #include "nucleation/regime_two.hpp"
+#include "nucleation/statistics.hpp"
 
 using namespace asperity;
 namespace fs = std::filesystem;
@@ -99,6 +100,8 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
     }
     const bool has_model =
         std::find(t.columns().begin(), t.columns().end(), "model") != t.columns().end();
+    const bool has_settings =
+        std::find(t.columns().begin(), t.columns().end(), "settings") != t.columns().end();
     const bool has_slips =
         std::find(t.columns().begin(), t.columns().end(), "slip_events") != t.columns().end();
     std::size_t used = 0, failed = 0, lower = 0;
@@ -115,7 +118,12 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
       }
       DataPoint p;
       p.source = csv.string();
-      p.model = has_model ? t.text(i, "model") : "LFM";
+      // friction_sweep tables name the model in their settings ("model=explicit"); older
+      // tables and LFM rows do not.
+      p.model = has_model ? t.text(i, "model")
+                : has_settings && t.text(i, "settings").find("model=explicit") != std::string::npos
+                    ? "explicit"
+                    : "LFM";
       p.a = t.number(i, "a");
       p.R = t.number(i, "R");
       p.alpha = t.number(i, "alpha");
@@ -141,6 +149,7 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
 
 struct LawSource {
   nuc::PeierlsLaw law;
+  double dof = 0.0;  // degrees of freedom of the k1, k2 fit (points - 2); 0: given or unknown
   nlohmann::json json;
 };
 
@@ -193,12 +202,14 @@ LawSource read_law(const Options& o) {
       throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
                                   ": b_min must be below b_max");
     }
+    s.dof = std::max(0.0, e.value("points", 0) - 2.0);
     j = {{"source", p.string()},
          {"fit", "edge (theta = 90 deg), tau_P = k1 tau_max exp(-k2 b_core/d)"},
          {"window_b_core", {s.law.b_min, s.law.b_max}},
          {"points", e.value("points", 0)},
          {"L", summary.contains("scene") ? summary["scene"].value("L", 0) : 0}};
   }
+  if (o.k1 || o.k2) s.dof = 0.0;  // given errors are taken as reported errors
   if (o.k1) {
     s.law.k1 = *o.k1;
     s.law.k1_error = o.k1_error;
@@ -314,9 +325,17 @@ int main(int argc, char** argv) {
     }
 
     // Regime II fit.
+    // Branches (falling, then rising) are per model and R.
+    std::map<std::string, int> series_of;
+    for (const auto& p : pts)
+      series_of.emplace(p.model, static_cast<int>(series_of.size()));
     std::vector<nuc::ScalingPoint> sp;
     for (const auto& p : pts)
-      sp.push_back({.a_over_bcore0 = p.x, .mu_over_alpha = p.mu, .a = p.a, .R = p.R});
+      sp.push_back({.a_over_bcore0 = p.x,
+                    .mu_over_alpha = p.mu,
+                    .a = p.a,
+                    .R = p.R,
+                    .series = series_of.at(p.model)});
     nuc::RegimeTwoFitOptions fo{.bootstrap_samples = o.bootstrap,
                                 .seed = static_cast<std::uint64_t>(o.seed)};
     fo.automatic.rise_tolerance = o.rise_tolerance;
@@ -343,10 +362,13 @@ int main(int argc, char** argv) {
     std::vector<nuc::Prediction> predictions;
     nlohmann::json disagreements = nlohmann::json::array();
     std::size_t agree = 0, in_law = 0, agree_in_law = 0;
-    // The Regime III law is used below the core widths it was fitted on when the centre's core
-    // width b_core^0 (the smallest in the contact) is below the fit window.
+    // The Regime III law is used outside the core widths it was fitted on when the centre's core
+    // width b_core^0 (the smallest in the contact, where tau_P is largest) is outside the fit
+    // window: below it the law is extrapolated where it matters, above it the law is tiny and
+    // the regime map's test of it is empty.
     const auto extrapolated = [&](double beta) {
-      return law.law.b_min > 0.0 && beta < law.law.b_min;
+      return (law.law.b_min > 0.0 && beta < law.law.b_min) ||
+             (law.law.b_max > 0.0 && beta > law.law.b_max);
     };
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const auto& p = pts[i];
@@ -388,41 +410,64 @@ int main(int argc, char** argv) {
       const nuc::Crossover cr = nuc::regime_two_three_crossover(R, alpha, nu, model);
       nlohmann::json j = {{"R", R}, {"found", cr.found}};
       if (cr.found) {
-        // Error of a: each of c0, k1, k2 moved by its reported error, in quadrature (the three
-        // come from independent fits).
+        // Error of a: each of c0, k1, k2 moved both ways by its reported error, the larger
+        // shift of a taken, in quadrature (the three come from independent fits). k1 and k2
+        // errors of a peierls_scan summary are plain standard errors: they are put on the
+        // footing of c0's (times t_factor of their degrees of freedom, statistics.hpp).
+        // A move after which there is no crossover in range leaves the error incomplete.
+        // Not included: the law's extrapolation below its fit window (law_extrapolated), a
+        // systematic error (docs/nucleation.md).
+        const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
         double var = 0.0;
+        bool complete = true;
         for (int k = 0; k < 3; ++k) {
-          nuc::Model m = model;
-          (k == 0   ? m.c0
-           : k == 1 ? m.law.k1
-                    : m.law.k2) += k == 0   ? fit.c0_error
-                                   : k == 1 ? law.law.k1_error
-                                            : law.law.k2_error;
-          const nuc::Crossover moved = nuc::regime_two_three_crossover(R, alpha, nu, m);
-          if (moved.found) var += (moved.a - cr.a) * (moved.a - cr.a);
+          double shift = 0.0;
+          for (double sign : {1.0, -1.0}) {
+            nuc::Model m = model;
+            (k == 0   ? m.c0
+             : k == 1 ? m.law.k1
+                      : m.law.k2) += sign * (k == 0   ? fit.c0_error
+                                             : k == 1 ? law_t * law.law.k1_error
+                                                      : law_t * law.law.k2_error);
+            if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) {
+              complete = false;
+              continue;
+            }
+            const nuc::Crossover moved = nuc::regime_two_three_crossover(R, alpha, nu, m);
+            if (moved.found) {
+              shift = std::max(shift, std::abs(moved.a - cr.a));
+            } else {
+              complete = false;
+            }
+          }
+          var += shift * shift;
         }
         j["a_error"] = std::sqrt(var);
+        j["a_error_complete"] = complete;
       }
       if (cr.found)
-        j.update(
-            {{"a", cr.a},
-             {"a_over_bcore0", cr.a_over_bcore0},
-             {"mu_over_alpha", cr.mu_over_alpha},
-             {"a_below_0.1_R", cr.small_slope},
-             {"bcore0", cr.a / cr.a_over_bcore0},
-             {"law_extrapolated", law.law.b_min > 0.0 && cr.a / cr.a_over_bcore0 < law.law.b_min}});
+        j.update({{"a", cr.a},
+                  {"a_over_bcore0", cr.a_over_bcore0},
+                  {"mu_over_alpha", cr.mu_over_alpha},
+                  {"a_below_0.1_R", cr.small_slope},
+                  {"bcore0", cr.a / cr.a_over_bcore0},
+                  {"law_extrapolated", extrapolated(cr.a / cr.a_over_bcore0)}});
       j["regime_one_a"] = std::sqrt(x_one * R / (c * alpha));
       crossovers.push_back(j);
     }
 
-    // Regime III: the upturn of each R (its lowest point and every point past it that rises)
-    // against the prediction, and a fit of k1, k2 to those points where there are enough.
+    // Regime III: the upturn of each branch, model and R (its lowest point and every point past
+    // it that rises) against the prediction, and a fit of k1, k2 to the rising points where there
+    // are enough.
     nlohmann::json upturns = nlohmann::json::array();
     std::vector<double> beta3, mu3;
-    for (double R : Rs) {
+    std::set<std::pair<std::string, double>> branches;
+    for (const auto& p : pts)
+      branches.insert({p.model, p.R});
+    for (const auto& [model_name, R] : branches) {
       std::vector<std::size_t> idx;
       for (std::size_t i = 0; i < pts.size(); ++i)
-        if (pts[i].R == R) idx.push_back(i);
+        if (pts[i].R == R && pts[i].model == model_name) idx.push_back(i);
       std::sort(idx.begin(), idx.end(),
                 [&](std::size_t i, std::size_t j) { return pts[i].a < pts[j].a; });
       std::vector<std::size_t> branch;
@@ -456,12 +501,16 @@ int main(int argc, char** argv) {
                         {"regime_three_central", pr.central},
                         {"predicted", pr.mu_over_alpha},
                         {"data_over_integrated", ratio}});
-        beta3.push_back(pts[i].a / pts[i].x);
-        mu3.push_back(pts[i].mu);
+        // The fit takes only the rising points: the branch's lowest one is set by nucleation.
+        if (simulated[i] == nuc::Regime::three) {
+          beta3.push_back(pts[i].a / pts[i].x);
+          mu3.push_back(pts[i].mu);
+        }
       }
       const double sd = log_slope(a, mu_data), si = log_slope(a, mu_int),
                    sc = log_slope(a, mu_comb);
       upturns.push_back({{"R", R},
+                         {"model", model_name},
                          {"a_range", {a.front(), a.back()}},
                          {"points", rows},
                          {"slope_dlnmu_dlna_data", sd},
@@ -472,7 +521,8 @@ int main(int argc, char** argv) {
                          {"within_factor_2", worst_factor <= 2.0}});
     }
     nlohmann::json fit3 = {{"points", beta3.size()}};
-    if (beta3.size() >= 3) {
+    // Two parameters: at least 4 points, so that the errors rest on 2 degrees of freedom.
+    if (beta3.size() >= 4) {
       const nuc::RegimeThreeFit f3 = nuc::fit_regime_three(
           beta3, mu3, {.form = nuc::RegimeThreeForm::integrated, .f_P = o.f_P});
       fit3["form"] = "integrated";
@@ -490,7 +540,7 @@ int main(int argc, char** argv) {
         fit3["reason"] = f3.reason;
       }
     } else {
-      fit3["reason"] = "fewer than 3 points on rising branches";
+      fit3["reason"] = "fewer than 4 simulated Regime III points";
     }
 
     const fs::path dir = app::ensure_directory(o.out);
@@ -708,8 +758,14 @@ int main(int argc, char** argv) {
            {"points", fit.points},
            {"dof", fit.dof},
            {"t_factor", fit.t_factor},
+           {"points_trimmed", fit.trimmed},
            {"max_relative_deviation", fit.max_relative_deviation},
            {"rms_log_residual", fit.rms_log_residual},
+           {"free_slope", fit.free_slope},
+           {"free_slope_error", fit.free_slope_error},
+           {"c0_lower_half", fit.c0_lower_half},
+           {"c0_upper_half", fit.c0_upper_half},
+           {"c0_window_spread", fit.c0_window_spread},
            {"bootstrap_samples", o.bootstrap},
            {"seed", o.seed}}},
          {"regime_one_crossover",
@@ -739,8 +795,15 @@ int main(int argc, char** argv) {
 
     std::printf("c0 = %.4f +- %.4f (a/b_core^0 in [%g, %g], %zu points%s; fit within %.1f%%)\n",
                 fit.c0, fit.c0_error, fit.window_lo, fit.window_hi, fit.points,
-                fit.window_automatic ? ", automatic window" : "",
+                fit.window_automatic
+                    ? (", automatic window, " + std::to_string(fit.trimmed) + " trimmed").c_str()
+                    : "",
                 100.0 * fit.max_relative_deviation);
+    if (fit.free_slope_error > 0.0)
+      std::printf(
+          "  free log-log slope %.3f +- %.3f (law: -2/3); c0 lower / upper half of the "
+          "window %.4f / %.4f\n",
+          fit.free_slope, fit.free_slope_error, fit.c0_lower_half, fit.c0_upper_half);
     std::printf("Peierls law: k1 = %.4g +- %.2g, k2 = %.4g +- %.2g; f_P = %g\n", law.law.k1,
                 law.law.k1_error, law.law.k2, law.law.k2_error, o.f_P);
     std::printf("Regime I boundary: a/b_core^0 = %.3g (condition reaches mu = alpha at %.3g)\n",

@@ -9,10 +9,12 @@
 //   Regime III upturn, against the prediction built from the project's Peierls scan
 //   (acceptance 3);
 // - the regime map puts every committed point in its simulated regime where the Peierls law is
-//   used within its fitted window.
+//   used within its fitted window, and every simulated Regime III point is predicted so.
 // The Peierls law comes from the project's own peierls_scan (default scene, run by the fixture).
+// The R = 1700 d points are tested out of sample, against c0 of the R = 535 d fit alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -30,6 +32,19 @@ namespace {
 nlohmann::json summary(const std::string& dir = FIT_DIR) {
   std::ifstream in(dir + "/summary.json");
   return nlohmann::json::parse(in);
+}
+
+// The nucleation condition re-derived (regime_two.hpp): (1 - x) sqrt(1 - x^2) = c0 / (a/b_core^0),
+// mu/alpha = min(1, 3 (1 - x^2)); bisection to 1e-14.
+double nucleation(double a_over_bcore0, double c0) {
+  const double q = c0 / a_over_bcore0;
+  if (q >= 1.0) return 1.0;
+  double lo = 0.0, hi = 1.0;
+  while (hi - lo > 1e-14) {
+    const double x = 0.5 * (lo + hi);
+    ((1.0 - x) * std::sqrt(1.0 - x * x) > q ? lo : hi) = x;
+  }
+  return std::min(1.0, 3.0 * (1.0 - lo * lo));
 }
 
 // Least-squares slope of y against x.
@@ -70,21 +85,42 @@ TEST(FitScalingRegression, RegimeTwoFitOnTheR535Sweep) {
     EXPECT_EQ(t.number(i, "R"), 535.0);
   }
   EXPECT_EQ(in_window, r2["points"].get<int>());
+  // The automatic window trims points until the line is within 10% of the rest, so the check
+  // above holds by construction unless trimming went far. Not so over a range fixed in advance,
+  // issue 3's Regime II range a/b_core^0 in [10, 60]: every point of the sweep there, in the
+  // window or not, must be within 10% of the line.
+  int fixed_range = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const double x = t.number(i, "a_over_bcore0"), mu = t.number(i, "mu_over_alpha");
+    if (x < 10.0 || x > 60.0) continue;
+    ++fixed_range;
+    const double law = 3.0 * std::pow(2.0 * c0, 2.0 / 3.0) * std::pow(x, -2.0 / 3.0);
+    EXPECT_LE(std::abs(mu / law - 1.0), 0.10) << "a/b_core^0 = " << x;
+  }
+  EXPECT_GE(fixed_range, 3);
+  std::printf("R = 535 d fit: c0 = %.4f, %d points in the window, %d trimmed, free slope %.3f\n",
+              c0, in_window, r2["points_trimmed"].get<int>(), r2["free_slope"].get<double>());
 }
 
 // Acceptance 4, as far as the prediction's input holds: every point whose centre core width
-// b_core^0 lies within the Peierls fit window (2..6 d) is predicted in its simulated regime. The
-// R = 100 d points with b_core^0 < 1 d are not: there the extrapolated Peierls law predicts
-// Regime III and the simulation stays in Regime II (docs/nucleation.md); they are listed, not
-// hidden, and any disagreement elsewhere fails.
+// b_core^0 lies within the Peierls fit window (2..6 d) is predicted in its simulated regime.
+// Outside it disagreements are listed, not hidden (docs/nucleation.md: R = 40 d, a = 28 d, on
+// the predicted crossover). Inside the window the Regime III law is small against nucleation,
+// so the check that tests the law is the other: every point the simulation puts in Regime III
+// (friction rising with load) is predicted in Regime III.
 TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsWindow) {
   const auto s = summary();
   const auto& map = s["regime_map"];
   const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
   EXPECT_EQ(static_cast<std::size_t>(map["points"].get<int>()), t.rows());
-  int in_law = 0;
+  int in_law = 0, simulated_three = 0;
   for (std::size_t i = 0; i < t.rows(); ++i) {
     const bool same = t.text(i, "predicted_regime") == t.text(i, "simulated_regime");
+    if (t.text(i, "simulated_regime") == "III") {
+      ++simulated_three;
+      EXPECT_TRUE(same) << "simulated III: a = " << t.number(i, "a")
+                        << ", R = " << t.number(i, "R");
+    }
     if (t.integer(i, "law_extrapolated") == 0) {
       ++in_law;
       EXPECT_TRUE(same) << "a = " << t.number(i, "a") << ", R = " << t.number(i, "R");
@@ -96,18 +132,20 @@ TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsW
           t.text(i, "predicted_regime").c_str(), t.text(i, "simulated_regime").c_str());
     }
   }
-  EXPECT_GE(in_law, 14);
+  EXPECT_GE(in_law, 7);
+  EXPECT_GE(simulated_three, 2);
   EXPECT_EQ(map["agree_law_in_window"].get<int>(), map["points_law_in_window"].get<int>());
 }
 
 // What the committed large contacts at R = 1700 d show: no upturn. mu/alpha falls with every
-// larger contact and stays within 10% of the Regime II law fitted on all points; at R = 100 d
-// (a <= 50 d, before the predicted crossover at 57 d) it falls too.
+// larger contact and stays within 10% of the Regime II law with c0 fitted at R = 535 d alone
+// (out of sample); at R = 100 d (a <= 50 d, before the predicted crossover at 57 d) it falls
+// too.
 TEST(FitScalingRegression, NoUpturnAtR1700) {
   const auto s = summary();
   for (const auto& u : s["regime_three_upturns"])
     EXPECT_EQ(u["R"].get<double>(), 40.0);
-  const double c0 = s["regime_two"]["c0"].get<double>();
+  const double c0 = summary(FIT_R535_DIR)["regime_two"]["c0"].get<double>();
   const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
   for (double R : {100.0, 1700.0}) {
     double last_a = 0.0, last_mu = 2.0;
@@ -161,11 +199,21 @@ TEST(FitScalingRegression, RegimeThreePredictionFollowsTheUpturn) {
     lp.push_back(std::log(p3));
   }
   ASSERT_GE(la.size(), 3u) << "no rising branch after the lowest point";
-  const double data = log_slope(la, ld), predicted = log_slope(la, lp);
-  std::printf("R = 40 d upturn: d ln(mu)/d ln(a): data %.3f, Regime III prediction %.3f\n", data,
-              predicted);
+  // The integrated Regime III law rises with a at fixed R whatever k1, k2 > 0 are; the full
+  // prediction, max(nucleation, Regime III), rises only where the law has overtaken nucleation,
+  // so its slope is the test of where the crossover lies. Its magnitude must match the data's
+  // within a factor 2 too.
+  std::vector<double> lf;
+  for (std::size_t k = lowest; k < rows.size(); ++k)
+    lf.push_back(std::log(t.number(rows[k], "predicted")));
+  const double data = log_slope(la, ld), law = log_slope(la, lp), full = log_slope(la, lf);
+  std::printf(
+      "R = 40 d upturn: d ln(mu)/d ln(a): data %.3f, Regime III law %.3f, max(II, III) %.3f\n",
+      data, law, full);
   EXPECT_GT(data, 0.0);
-  EXPECT_GT(predicted, 0.0);
+  EXPECT_GT(full, 0.0);
+  EXPECT_GT(full / data, 0.5);
+  EXPECT_LT(full / data, 2.0);
 
   const auto s = summary();
   ASSERT_EQ(s["regime_three_upturns"].size(), 1u);
@@ -177,24 +225,30 @@ TEST(FitScalingRegression, RegimeThreePredictionFollowsTheUpturn) {
 
 // Acceptance 3 over the committed large-contact range: the prediction built from the project's
 // own Peierls scan, max(nucleation condition, integrated Regime III law), against the R = 1700 d
-// points: the same sign of d ln(mu)/d ln(a) and every point within a factor 2.
+// points: the same sign of d ln(mu)/d ln(a) and every point within a factor 2. Out of sample:
+// the nucleation condition with c0 of the R = 535 d fit alone.
 TEST(FitScalingRegression, PredictionFollowsTheLargeContacts) {
   const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
+  const double c0 = summary(FIT_R535_DIR)["regime_two"]["c0"].get<double>();
   std::vector<double> la, ld, lp;
   for (std::size_t i = 0; i < t.rows(); ++i) {
     if (t.number(i, "R") != 1700.0) continue;
-    const double ratio = t.number(i, "data_over_predicted");
+    const double prediction = std::max(nucleation(t.number(i, "a_over_bcore0"), c0),
+                                       t.number(i, "regime_three_integrated"));
+    const double ratio = t.number(i, "mu_over_alpha") / prediction;
     EXPECT_GT(ratio, 0.5) << "a = " << t.number(i, "a");
     EXPECT_LT(ratio, 2.0) << "a = " << t.number(i, "a");
     la.push_back(std::log(t.number(i, "a")));
     ld.push_back(std::log(t.number(i, "mu_over_alpha")));
-    lp.push_back(std::log(t.number(i, "predicted")));
+    lp.push_back(std::log(prediction));
   }
   ASSERT_GE(la.size(), 1u);
   if (la.size() < 2) GTEST_SKIP() << "one large contact committed: no slope to compare yet";
   const double data = log_slope(la, ld), predicted = log_slope(la, lp);
   std::printf("R = 1700 d: d ln(mu)/d ln(a): data %.3f, prediction %.3f\n", data, predicted);
   EXPECT_EQ(data > 0.0, predicted > 0.0);
+  EXPECT_GT(predicted / data, 0.5);
+  EXPECT_LT(predicted / data, 2.0);
 }
 
 TEST(FitScalingRegression, FiguresWritten) {
