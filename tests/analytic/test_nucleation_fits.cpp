@@ -68,6 +68,38 @@ TEST(Acceptance1, C0ErrorsAreHonest) {
   }
 }
 
+// The same through the automatic window, which must find the Regime II branch itself and trims
+// end points that miss the line by more than 10% (WindowOptions): each trial's branch starts in
+// Regime I (mu/alpha = 1 and 0.95) and ends with two Regime III points rising above the law,
+// around 8 Regime II points with 5% scatter. Trimming drops genuine scatter too (a 5% point
+// misses by 10% about 5% of the time), which narrows the errors; coverage must stay honest.
+TEST(Acceptance1, C0ErrorsAreHonestThroughTheAutomaticWindow) {
+  const double c0 = 0.21;
+  const std::vector<double> xs{6, 8, 11, 15, 21, 30, 42, 60};
+  int hits = 0, trimmed = 0, wrong_window = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    Normal noise(5000 + static_cast<std::uint64_t>(trial));
+    std::vector<ScalingPoint> points{{.a_over_bcore0 = 0.3, .mu_over_alpha = 1.0},
+                                     {.a_over_bcore0 = 1.0, .mu_over_alpha = 0.95}};
+    for (double x : xs)
+      points.push_back(
+          {.a_over_bcore0 = x, .mu_over_alpha = regime_two_law(x, c0) * std::exp(0.05 * noise())});
+    for (double rise : {1.3, 1.7})
+      points.push_back(
+          {.a_over_bcore0 = 60.0 * rise, .mu_over_alpha = points.back().mu_over_alpha * rise});
+    const RegimeTwoFit fit = fit_regime_two(
+        points, {.bootstrap_samples = 2000, .seed = static_cast<std::uint64_t>(trial)});
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    trimmed += static_cast<int>(fit.trimmed);
+    for (std::size_t i : fit.used)
+      if (i < 2 || i >= 2 + xs.size()) ++wrong_window;
+    if (std::abs(fit.c0 - c0) <= 2.0 * fit.c0_error) ++hits;
+  }
+  std::printf("automatic window: %d points trimmed over %d trials\n", trimmed, kTrials);
+  EXPECT_EQ(wrong_window, 0);  // no Regime I or III point in any window
+  expect_coverage(hits, "c0 (automatic window)");
+}
+
 // k1, k2 by Levenberg-Marquardt from 6 points with 10% log-normal scatter, both forms.
 TEST(Acceptance1, K1K2ErrorsAreHonest) {
   const PeierlsLaw truth{.k1 = 2.3, .k2 = 1.8};
