@@ -352,16 +352,33 @@ int main(int argc, char** argv) {
     for (std::size_t i : fit.used)
       window_R.insert(pts[i].R);
 
+    // k1 and k2 errors of a peierls_scan summary are plain standard errors: on the footing of
+    // c0's reported error they are multiplied by t_factor of their degrees of freedom
+    // (statistics.hpp).
+    const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
+    // The model with one of c0, k1, k2 (k = 0, 1, 2) moved by `errors` reported errors; nullopt
+    // if that leaves a parameter <= 0.
+    const auto moved_model = [&](int k, double errors) -> std::optional<nuc::Model> {
+      nuc::Model m = model;
+      (k == 0   ? m.c0
+       : k == 1 ? m.law.k1
+                : m.law.k2) += errors * (k == 0   ? fit.c0_error
+                                         : k == 1 ? law_t * law.law.k1_error
+                                                  : law_t * law.law.k2_error);
+      if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) return std::nullopt;
+      return m;
+    };
+
     // Per point: predictions and regimes.
     const std::vector<nuc::Regime> simulated = nuc::simulated_regimes(sp, fit.c0, o.rise_tolerance);
     app::CsvTable table({"source", "model", "a", "R", "a_over_bcore0", "bcore0", "mu_over_alpha",
                          "in_window", "regime_two_law", "nucleation", "regime_three_central",
                          "regime_three_integrated", "regime_three_log_error", "predicted",
                          "data_over_predicted", "predicted_regime", "simulated_regime",
-                         "law_extrapolated"});
+                         "law_extrapolated", "regime_undetermined"});
     std::vector<nuc::Prediction> predictions;
     nlohmann::json disagreements = nlohmann::json::array();
-    std::size_t agree = 0, in_law = 0, agree_in_law = 0;
+    std::size_t agree = 0, in_law = 0, agree_in_law = 0, undetermined = 0, contradictions = 0;
     // The Regime III law is used outside the core widths it was fitted on when the centre's core
     // width b_core^0 (the smallest in the contact, where tau_P is largest) is outside the fit
     // window: below it the law is extrapolated where it matters, above it the law is tiny and
@@ -375,6 +392,17 @@ int main(int argc, char** argv) {
       const double beta = p.a / p.x;
       const nuc::Prediction pr = nuc::predict(p.x, beta, model);
       predictions.push_back(pr);
+      // The prediction cannot decide the regime of a point that lies within the fitted
+      // parameters' uncertainty of a boundary: moving one of c0, k1, k2 by 2 reported errors
+      // (either way) changes its predicted regime.
+      bool open = false;
+      for (int k = 0; k < 3 && !open; ++k) {
+        for (double e : {2.0, -2.0}) {
+          const std::optional<nuc::Model> m = moved_model(k, e);
+          open = open || !m || nuc::predict(p.x, beta, *m).regime != pr.regime;
+        }
+      }
+      if (open) ++undetermined;
       if (!extrapolated(beta)) {
         ++in_law;
         if (pr.regime == simulated[i]) ++agree_in_law;
@@ -382,6 +410,7 @@ int main(int argc, char** argv) {
       if (pr.regime == simulated[i]) {
         ++agree;
       } else {
+        if (!open) ++contradictions;
         disagreements.push_back({{"a", p.a},
                                  {"R", p.R},
                                  {"a_over_bcore0", p.x},
@@ -389,13 +418,15 @@ int main(int argc, char** argv) {
                                  {"predicted", nuc::to_string(pr.regime)},
                                  {"simulated", nuc::to_string(simulated[i])},
                                  {"bcore0", beta},
-                                 {"law_extrapolated", extrapolated(beta)}});
+                                 {"law_extrapolated", extrapolated(beta)},
+                                 {"regime_undetermined", open}});
       }
       table.add_row({p.source, p.model, p.a, p.R, p.x, beta, p.mu,
                      static_cast<long long>(in_window[i]), pr.law_two, pr.nucleation, pr.central,
                      pr.integrated, pr.integrated_log_error, pr.mu_over_alpha,
                      p.mu / pr.mu_over_alpha, nuc::to_string(pr.regime),
-                     nuc::to_string(simulated[i]), static_cast<long long>(extrapolated(beta))});
+                     nuc::to_string(simulated[i]), static_cast<long long>(extrapolated(beta)),
+                     static_cast<long long>(open)});
     }
 
     // Crossovers: Regime I (a/b_core^0, any R), II -> III per R of the data.
@@ -410,30 +441,22 @@ int main(int argc, char** argv) {
       const nuc::Crossover cr = nuc::regime_two_three_crossover(R, alpha, nu, model);
       nlohmann::json j = {{"R", R}, {"found", cr.found}};
       if (cr.found) {
-        // Error of a: each of c0, k1, k2 moved both ways by its reported error, the larger
-        // shift of a taken, in quadrature (the three come from independent fits). k1 and k2
-        // errors of a peierls_scan summary are plain standard errors: they are put on the
-        // footing of c0's (times t_factor of their degrees of freedom, statistics.hpp).
+        // Error of a: each of c0, k1, k2 moved both ways by its reported error (moved_model),
+        // the larger shift of a taken, in quadrature (the three come from independent fits).
         // A move after which there is no crossover in range leaves the error incomplete.
         // Not included: the law's extrapolation below its fit window (law_extrapolated), a
         // systematic error (docs/nucleation.md).
-        const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
         double var = 0.0;
         bool complete = true;
         for (int k = 0; k < 3; ++k) {
           double shift = 0.0;
           for (double sign : {1.0, -1.0}) {
-            nuc::Model m = model;
-            (k == 0   ? m.c0
-             : k == 1 ? m.law.k1
-                      : m.law.k2) += sign * (k == 0   ? fit.c0_error
-                                             : k == 1 ? law_t * law.law.k1_error
-                                                      : law_t * law.law.k2_error);
-            if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) {
+            const std::optional<nuc::Model> m = moved_model(k, sign);
+            if (!m) {
               complete = false;
               continue;
             }
-            const nuc::Crossover moved = nuc::regime_two_three_crossover(R, alpha, nu, m);
+            const nuc::Crossover moved = nuc::regime_two_three_crossover(R, alpha, nu, *m);
             if (moved.found) {
               shift = std::max(shift, std::abs(moved.a - cr.a));
             } else {
@@ -785,6 +808,8 @@ int main(int argc, char** argv) {
            {"all_agree", agree == pts.size()},
            {"points_law_in_window", in_law},
            {"agree_law_in_window", agree_in_law},
+           {"undetermined", undetermined},
+           {"contradictions", contradictions},
            {"disagreements", disagreements},
            {"rule",
             "III: rising branch (simulated) / Regime III law above the nucleation condition "
@@ -829,8 +854,9 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "regime map: %zu of %zu points in their simulated regime (%zu of %zu where the "
-        "Peierls law is used within its window)\n",
-        agree, pts.size(), agree_in_law, in_law);
+        "Peierls law is used within its window); %zu disagree where the prediction decides "
+        "(%zu points within 2 errors of a boundary)\n",
+        agree, pts.size(), agree_in_law, in_law, contradictions, undetermined);
     std::printf("results: %s\n", fs::absolute(dir / "summary.json").c_str());
     for (const auto& f : figures)
       std::printf("figure:  %s\n", fs::absolute(f).c_str());
