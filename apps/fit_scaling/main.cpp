@@ -728,13 +728,19 @@ int main(int argc, char** argv) {
         }
         if (!d.x.empty()) overlays.push_back(d);
       }
+      // Disagreements: circled where the prediction decides, boxed where it cannot (a point on
+      // a boundary within 2 errors of the fits, regime_undetermined).
       app::Series wrong{.title = "predicted regime differs",
                         .style = "points pt 6 ps 3 lc 'black'"};
+      app::Series open{.title = "differs, on a boundary within 2 errors",
+                       .style = "points pt 4 ps 3 lc 'black'"};
       for (const auto& dj : disagreements) {
-        wrong.x.push_back(dj["a"].get<double>());
-        wrong.y.push_back(dj["R"].get<double>());
+        app::Series& into = dj["regime_undetermined"].get<bool>() ? open : wrong;
+        into.x.push_back(dj["a"].get<double>());
+        into.y.push_back(dj["R"].get<double>());
       }
-      if (!wrong.x.empty()) overlays.push_back(wrong);
+      for (app::Series* ser : {&wrong, &open})
+        if (!ser->x.empty()) overlays.push_back(*ser);
       const fs::path png = dir / "regime_map.png";
       app::heatmap_png(
           png, ax, Ry, v,
