@@ -21,7 +21,7 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kFormat = "asperity contact_slide checkpoint";
-constexpr int kVersion = 2;  // 2: h, dFz_dh and u_z of the explicit model
+constexpr int kVersion = 3;  // 2: h, dFz_dh and u_z of the explicit model; 3: cycle replay
 const char* const kByteOrder = std::endian::native == std::endian::little ? "little" : "big";
 // Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
 constexpr long long kMaxSites = 1LL << 28;
@@ -124,6 +124,13 @@ json optional_fields(const std::optional<slide::SlideFields>& s) {
   return s ? fields_json(*s) : json(nullptr);
 }
 
+json window_json(const std::vector<slide::SlideFields>& window) {
+  json out = json::array();
+  for (const auto& s : window)
+    out.push_back(fields_json(s));
+  return out;
+}
+
 json snapshot_json(const slide::Snapshot& s) {
   return {{"label", s.label},
           {"iteration", s.iteration},
@@ -148,7 +155,7 @@ json result_json(const slide::SlideResult& r) {
   json trace = json::array();
   for (const auto& t : r.trace) {
     trace.push_back({t.Dx, t.Fx, t.Fz, t.energy, t.iterations, t.gf_applications, t.max_force,
-                     t.slip, t.slipped_sites});
+                     t.slip, t.slipped_sites, t.replayed});
   }
   json snapshots = json::array();
   for (const auto& s : r.snapshots)
@@ -167,6 +174,9 @@ json result_json(const slide::SlideResult& r) {
           {"distance", r.distance},
           {"stop_reason", r.stop_reason},
           {"steps", r.steps},
+          {"replayed_steps", r.replayed_steps},
+          {"cycle_verified_at", r.cycle_verified_at},
+          {"cycle_mismatch", r.cycle_mismatch},
           {"minimizations", r.minimizations},
           {"gf_applications", r.gf_applications},
           {"gradient_evaluations", r.gradient_evaluations},
@@ -331,7 +341,7 @@ slide::Snapshot snapshot_from(const json& j) {
 slide::SlideResult result_from(const json& j) {
   slide::SlideResult r;
   for (const json& row : array(j, "trace")) {
-    if (!row.is_array() || row.size() != 9) throw Bad("trace: rows of 9 values expected");
+    if (!row.is_array() || row.size() != 10) throw Bad("trace: rows of 10 values expected");
     r.trace.push_back(
         {.Dx = number(row[0]),
          .Fx = number(row[1]),
@@ -342,7 +352,8 @@ slide::SlideResult result_from(const json& j) {
              static_cast<std::size_t>(integer(row[5], 0, std::numeric_limits<long long>::max())),
          .max_force = number(row[6]),
          .slip = row[7].is_boolean() ? row[7].get<bool>() : throw Bad("trace: slip"),
-         .slipped_sites = static_cast<int>(integer(row[8], 0, std::numeric_limits<int>::max()))});
+         .slipped_sites = static_cast<int>(integer(row[8], 0, std::numeric_limits<int>::max())),
+         .replayed = row[9].is_boolean() ? row[9].get<bool>() : throw Bad("trace: replayed")});
   }
   r.mu = number(j, "mu");
   r.mu_over_alpha = number(j, "mu_over_alpha");
@@ -357,6 +368,9 @@ slide::SlideResult result_from(const json& j) {
   r.distance = number(j, "distance");
   r.stop_reason = text(j, "stop_reason");
   r.steps = int_value(j, "steps");
+  r.replayed_steps = int_value(j, "replayed_steps");
+  r.cycle_verified_at = number(j, "cycle_verified_at");
+  r.cycle_mismatch = number(j, "cycle_mismatch");
   r.minimizations = int_value(j, "minimizations");
   r.gf_applications = count_value(j, "gf_applications");
   r.gradient_evaluations = count_value(j, "gradient_evaluations");
@@ -414,6 +428,8 @@ std::string common_fingerprint(const SlideScene& scene) {
   add("max_distance", exact(o.max_distance));
   add("slips_to_stop", std::to_string(o.slips_to_stop));
   add("extrapolate", std::to_string(o.extrapolate));
+  add("replay_cycle", std::to_string(o.replay_cycle));
+  add("cycle_tolerance", exact(o.cycle_tolerance));
   add("path_frame_every", std::to_string(o.path_frame_every));
   add("max_path_frames", std::to_string(o.max_path_frames));
   add("solver", minimize::to_string(m.method));
@@ -463,6 +479,9 @@ std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {
                       {"first_max_Dx", st.first_max_Dx},
                       {"slip_at", st.slip_at},
                       {"stepping_done", st.stepping_done},
+                      {"window", window_json(st.window)},
+                      {"window_rows", st.window_rows},
+                      {"cycle_check_due", st.cycle_check_due},
                       {"partial", result_json(st.partial)}};
   return json::to_cbor(json{{"format", kFormat},
                             {"version", kVersion},
@@ -507,6 +526,17 @@ SlideCheckpoint decode_checkpoint(std::span<const std::uint8_t> bytes, const std
     c.state.slip_at = number(s, "slip_at");
     c.state.stepping_done = boolean(s, "stepping_done");
     c.state.partial = result_from(at(s, "partial"));
+    for (const json& w : array(s, "window"))
+      c.state.window.push_back(fields_from(w));
+    for (const json& row : array(s, "window_rows"))
+      c.state.window_rows.push_back(
+          static_cast<std::size_t>(integer(row, 0, std::numeric_limits<int>::max())));
+    if (c.state.window_rows.size() != c.state.window.size())
+      throw Bad("window_rows: one per window state expected");
+    for (std::size_t row : c.state.window_rows) {
+      if (row >= c.state.partial.trace.size()) throw Bad("window_rows: row beyond the trace");
+    }
+    c.state.cycle_check_due = boolean(s, "cycle_check_due");
     return c;
   } catch (const Bad& e) {
     throw std::invalid_argument(prefix + e.what());

@@ -35,6 +35,7 @@ SlideScene read_slide_keys(SceneReader& r) {
   o.slips_to_stop = r.integer("slide.slips_to_stop", o.slips_to_stop, Range::closed(1, 1000));
   o.path_frame_every =
       r.integer("slide.path_frame_every", o.path_frame_every, Range::closed(0, 1000000));
+  o.replay_cycle = r.boolean("slide.replay_cycle", o.replay_cycle);
   auto& m = o.minimizer;
   m.method = minimize::method_from_string(
       r.string("solver.method", minimize::to_string(m.method), {"lbfgs", "cg", "fire", "newton"}));
@@ -113,6 +114,13 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"stop_reason", r.stop_reason},
       {"failed", r.failed},
       {"steps", r.steps},
+      // The cycle replay (slider.hpp, SlideOptions::replay_cycle): rows copied from the cycle
+      // one period back once the state had repeated, and where and how closely it did.
+      {"replayed_steps", r.replayed_steps},
+      {"cycle_verified_at",
+       r.cycle_verified_at >= 0.0 ? nlohmann::json(r.cycle_verified_at) : nlohmann::json()},
+      {"cycle_mismatch",
+       r.cycle_mismatch >= 0.0 ? nlohmann::json(r.cycle_mismatch) : nlohmann::json()},
       {"minimizations", r.minimizations},
       {"iterations", r.iterations},
       {"gf_applications", r.gf_applications},
@@ -282,12 +290,13 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
   ensure_directory(dir);
   std::vector<std::filesystem::path> written;
   CsvTable trace({"Dx", "Fx", "Fz", "Fx_over_Fz", "energy", "iterations", "gf_applications",
-                  "max_force", "slip", "slipped_sites"});
+                  "max_force", "slip", "slipped_sites", "replayed"});
   for (const auto& row : r.trace) {
     trace.add_row({row.Dx, row.Fx, row.Fz, row.Fx / row.Fz, row.energy,
                    static_cast<long long>(row.iterations),
                    static_cast<long long>(row.gf_applications), row.max_force,
-                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites)});
+                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites),
+                   static_cast<long long>(row.replayed)});
   }
   if (options.figures) write_figures(dir, scene, r, written);
   if (options.snapshots) write_snapshot_files(dir, scene, r, options.summary_extra, written);

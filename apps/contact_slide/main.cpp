@@ -404,6 +404,12 @@ int main(int argc, char** argv) {
         "interface filter passes, %.2f s\n",
         r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications,
         r.filter_applications, r.wall_s);
+    if (r.replayed_steps > 0) {
+      std::printf(
+          "cycle repeated at Dx = %.4f d (largest force difference %.1e G d^2): %d more "
+          "rows replayed, not computed\n",
+          r.cycle_verified_at, r.cycle_mismatch, r.replayed_steps);
+    }
     std::printf("results: %s\n", (std::filesystem::path(out) / "summary.json").c_str());
     std::printf("figures:");
     for (const auto& f : files) {

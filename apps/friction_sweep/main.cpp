@@ -142,6 +142,7 @@ nlohmann::json scene_json(const app::SweepScene& s, int jobs) {
       {"distance", o.distance == 0.0 ? nlohmann::json("automatic") : nlohmann::json(o.distance)},
       {"max_distance", o.max_distance},
       {"slips_to_stop", o.slips_to_stop},
+      {"replay_cycle", o.replay_cycle},
       {"solver", minimize::to_string(m.method)},
       {"tolerance", m.force_tolerance},
       {"max_iterations", m.max_iterations},

@@ -269,6 +269,9 @@ std::string settings_fingerprint(const SlideScene& scene) {
     add("slips", std::to_string(o.slips_to_stop));
   }
   if (!o.extrapolate) s.append(" no-extrapolation");
+  // Rows made before the cycle replay existed carry the default (replaying) settings: in Regime
+  // II their results are the same, and a slide replays only after a slip of the whole contact.
+  if (!o.replay_cycle) s.append(" no-replay");
   s.append(" ").append(minimize::to_string(m.method));
   add("tol", exact(m.force_tolerance));
   add("iter", std::to_string(m.max_iterations));

@@ -65,6 +65,15 @@ void check_start(const SlideState& st, const Model& model) {
   if (st.previous) fields(*st.previous, "previous");
   if (st.earlier) fields(*st.earlier, "earlier");
   if (st.runner_up) fields(*st.runner_up, "runner_up");
+  for (const SlideFields& w : st.window)
+    fields(w, "window");
+  if (st.window_rows.size() != st.window.size())
+    reject("SlideState.window_rows", std::to_string(st.window_rows.size()) + " rows",
+           "one per window state (" + std::to_string(st.window.size()) + ")");
+  for (std::size_t row : st.window_rows) {
+    if (row >= st.partial.trace.size())
+      reject("SlideState.window_rows", std::to_string(row), "rows of partial.trace");
+  }
   if (st.partial.trace.empty())
     reject("SlideState.partial.trace", "empty", "the first row at least");
 }
@@ -143,6 +152,28 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
   double slip_at = std::numeric_limits<double>::infinity();
   bool stopped = false;
+  // Cycle replay (SlideOptions::replay_cycle): the accepted states of the last period d and a
+  // step, with their trace rows, so that a state one period after one of them can be compared.
+  std::vector<State> window;
+  std::vector<std::size_t> window_rows;
+  bool cycle_check_due = false;
+  // Only models that can compare states a period apart replay (the explicit model does not).
+  constexpr bool comparable = requires(const Model& m, const State& a) {
+    m.period_mismatch(a, a);
+  };
+  const auto mismatch = [&](const State& later, const State& before) {
+    if constexpr (comparable) {
+      return model.period_mismatch(later, before);
+    } else {
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+  const bool replay = comparable && options.replay_cycle && options.protocol == Protocol::adaptive;
+  constexpr std::size_t kMaxWindow = kCycleWindow;  // slider.hpp
+  // Fraction of the contact sites whose registry index changed in a slip worth a probe (seen:
+  // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
+  // in Regime III, with a few larger partial slips of 0.58 to 0.84).
+  constexpr double kSweptSlip = 0.5;
   if (control.start) {
     const SlideState& st = *control.start;
     state = st.current;
@@ -155,11 +186,18 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     first_max_Dx = st.first_max_Dx;
     slip_at = st.slip_at;
     stopped = st.stepping_done;
+    window = st.window;
+    window_rows = st.window_rows;
+    cycle_check_due = st.cycle_check_due;
   } else {
     auto first = model.relax(state, 0.0, nullptr);
     count(first);
     res.contact_sites = model.contact_sites();
     record(state, first, false, 0);
+    if (replay) {
+      window.push_back(state);
+      window_rows.push_back(0);
+    }
     best = state.Fx / state.Fz;
     peak = state;
     if (const std::string why = failure(first, state, 0.0, 0.0); !why.empty()) {
@@ -181,6 +219,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   .first_max_Dx = first_max_Dx,
                   .slip_at = slip_at,
                   .stepping_done = stepping_done,
+                  .window = window,
+                  .window_rows = window_rows,
+                  .cycle_check_due = cycle_check_due,
                   .partial = res};
     st.partial.gf_applications = gf_before + model.gf_applications() - gf_unused;
     st.partial.wall_s = wall_before + elapsed();
@@ -254,6 +295,77 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   };
 
   const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
+  // Takes the next state of the slide (computed, or replayed from the repeating cycle) into the
+  // trace; true when the slide stops there.
+  const auto accept = [&](State&& next, int iterations, std::size_t gf, double max_force, bool slip,
+                          int sites, std::vector<Snapshot> frames, bool replayed) {
+    if (slip) {
+      ++res.slip_events;
+      char label[32];
+      std::snprintf(label, sizeof label, "slip_%03d", res.slip_events);
+      res.snapshots.push_back(model.snapshot(state, std::string(label) + "_before"));
+      res.snapshots.push_back(model.snapshot(next, std::string(label) + "_after"));
+      for (auto& frame : frames) {
+        frame.label = std::string(label) + "_path";
+        res.snapshots.push_back(std::move(frame));
+      }
+      // A slip that swept most of the contact (a Regime II loop, or several) may have brought
+      // the state back to one of the last period: probe it. Not after the small slips of
+      // Regime III (arrested loops; a few % of the sites each), where probes would be wasted.
+      cycle_check_due =
+          replay && !replayed &&
+          static_cast<double>(sites) >= kSweptSlip * static_cast<double>(model.contact_sites());
+    }
+    earlier = std::move(previous);
+    previous = std::move(state);
+    state = std::move(next);
+    res.trace.push_back(TraceRow{state.Dx, state.Fx, state.Fz, state.energy, iterations, gf,
+                                 max_force, slip, sites, replayed});
+    res.iterations += iterations;
+    ++(replayed ? res.replayed_steps : res.steps);
+    if (replay) {
+      window.push_back(state);
+      window_rows.push_back(res.trace.size() - 1);
+      std::size_t drop = 0;
+      while (drop < window.size() &&
+             (window[drop].Dx < state.Dx - d - h - 1e-9 * d || window.size() - drop > kMaxWindow))
+        ++drop;
+      window.erase(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(drop));
+      window_rows.erase(window_rows.begin(),
+                        window_rows.begin() + static_cast<std::ptrdiff_t>(drop));
+    }
+    // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
+    // Regime I the trace repeats its first maximum a period later, and the first, which has
+    // samples on both sides, is the one to refine.
+    const double ratio = state.Fx / state.Fz;
+    if (ratio > best + 1e-6 * std::abs(best)) {
+      runner_up = std::move(peak);
+      runner_up_ratio = best;
+      best = ratio;
+      peak = state;
+    }
+    if (control.progress) control.progress(state.Dx, limit, res.slip_events);
+
+    // Regime I: a smooth maximum (rise then fall, no slip yet).
+    const std::size_t k = res.trace.size();
+    if (first_max_Dx < 0.0 && res.slip_events == 0 && k >= 3 &&
+        res.trace[k - 2].Fx > res.trace[k - 3].Fx && res.trace[k - 1].Fx < res.trace[k - 2].Fx) {
+      first_max_Dx = res.trace[k - 2].Dx;
+    }
+    if (automatic && res.slip_events >= options.slips_to_stop && peak_held()) {
+      res.stop_reason = "slip events reached";
+      return true;
+    }
+    // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
+    // (the last period) must lie inside them.
+    const double lead = options.protocol == Protocol::adaptive ? h : 0.0;
+    if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
+        state.Dx >= first_max_Dx + lead + d - 1e-12) {
+      res.stop_reason = "one period past the first maximum (no slip)";
+      return true;
+    }
+    return false;
+  };
   while (!stopped) {
     if (stop_requested()) return interrupt(capture(false));
     if (control.checkpoint) {
@@ -290,6 +402,23 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
         Dx = slip_at;
       }
     }
+    // Cycle replay: after a slip, a probe relaxes to one period d after the latest window state
+    // within a step, to compare with it. A probe that does not find the cycle repeated (it
+    // slipped, failed or differs) is dropped as if it had not been made: the slide goes on
+    // with the step it would have taken, so a slide that never repeats (Regime III) follows the
+    // same path as without the replay, at the probe's cost.
+    std::optional<std::size_t> cycle_of;
+    if (replay && cycle_check_due && !std::isfinite(slip_at)) {
+      cycle_check_due = false;
+      for (std::size_t i = window.size(); i-- > 0;) {
+        const double target = window[i].Dx + d;
+        if (target <= Dx && target > state.Dx + 1e-9 * d) {
+          Dx = target;
+          cycle_of = i;
+          break;
+        }
+      }
+    }
     State trial = state;
     // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or
     // three states of the branch (Lagrange; u follows as G f). After a slip the branch is new.
@@ -322,6 +451,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     const bool want_frames = options.path_frame_every > 0 && !may_undo;
     const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
     count(r);
+    if (cycle_of &&
+        (r.termination != Termination::converged || model.slipped_sites(state, trial) > 0 ||
+         !(mismatch(trial, window[*cycle_of]) <= options.cycle_tolerance))) {
+      continue;  // the probe did not find the cycle
+    }
     if (may_undo && r.termination == Termination::interrupted) {
       slip_at = Dx;  // slipped: bisect towards the instability
       continue;
@@ -344,52 +478,47 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // After a slip the bracket is used up; a stable state at the bracket's end means the
     // instability lies further on (a trial from further back had slipped).
     if (slip || Dx >= slip_at) slip_at = std::numeric_limits<double>::infinity();
-    if (slip) {
-      ++res.slip_events;
-      char label[32];
-      std::snprintf(label, sizeof label, "slip_%03d", res.slip_events);
-      res.snapshots.push_back(model.snapshot(state, std::string(label) + "_before"));
-      res.snapshots.push_back(model.snapshot(trial, std::string(label) + "_after"));
-      for (auto& frame : frames) {
-        frame.label = std::string(label) + "_path";
-        res.snapshots.push_back(std::move(frame));
+    // The state one period after a window state: the cycle repeats if they are equal. Then the
+    // states after the matched one, up to the one before this, carried on by one period, are
+    // the next period of the slide; and so on.
+    double cycle_mismatch = std::numeric_limits<double>::infinity();
+    if (cycle_of && !slip) cycle_mismatch = mismatch(trial, window[*cycle_of]);
+    std::vector<State> cycle;
+    std::vector<TraceRow> cycle_rows;
+    if (cycle_mismatch <= options.cycle_tolerance) {
+      for (std::size_t e = *cycle_of + 1; e < window.size(); ++e) {
+        cycle.push_back(window[e]);
+        cycle_rows.push_back(res.trace[window_rows[e]]);
       }
     }
-    earlier = std::move(previous);
-    previous = std::move(state);
-    state = std::move(trial);
-    record(state, r, slip, sites);
-    ++res.steps;
-    // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
-    // Regime I the trace repeats its first maximum a period later, and the first, which has
-    // samples on both sides, is the one to refine.
-    const double ratio = state.Fx / state.Fz;
-    if (ratio > best + 1e-6 * std::abs(best)) {
-      runner_up = std::move(peak);
-      runner_up_ratio = best;
-      best = ratio;
-      peak = state;
-    }
-    if (control.progress) control.progress(state.Dx, limit, res.slip_events);
-
-    // Regime I: a smooth maximum (rise then fall, no slip yet).
-    const std::size_t k = res.trace.size();
-    if (first_max_Dx < 0.0 && res.slip_events == 0 && k >= 3 &&
-        res.trace[k - 2].Fx > res.trace[k - 3].Fx && res.trace[k - 1].Fx < res.trace[k - 2].Fx) {
-      first_max_Dx = res.trace[k - 2].Dx;
-    }
-    if (automatic && res.slip_events >= options.slips_to_stop && peak_held()) {
-      res.stop_reason = "slip events reached";
+    if (accept(std::move(trial), r.iterations, r.gf_applications, r.max_force, slip, sites,
+               std::move(frames), false)) {
       break;
     }
-    // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
-    // (the last period) must lie inside them.
-    const double lead = options.protocol == Protocol::adaptive ? h : 0.0;
-    if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
-        state.Dx >= first_max_Dx + lead + d - 1e-12) {
-      res.stop_reason = "one period past the first maximum (no slip)";
-      break;
+    // A smooth cycle (Regime I) has its own stop rule.
+    if (std::none_of(cycle_rows.begin(), cycle_rows.end(),
+                     [](const TraceRow& row) { return row.slip; }))
+      continue;
+    res.cycle_verified_at = state.Dx;
+    res.cycle_mismatch = cycle_mismatch;
+    bool done = false, past_limit = false;
+    for (int k = 1; !done && !past_limit; ++k) {
+      for (std::size_t e = 0; e < cycle.size(); ++e) {
+        State next = cycle[e];
+        next.Dx += k * d;
+        next.shift += k;
+        if (next.Dx > limit + 1e-12) {
+          past_limit = true;  // the computed steps take over up to the limit
+          break;
+        }
+        const TraceRow& row = cycle_rows[e];
+        if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites, {}, true)) {
+          done = true;
+          break;
+        }
+      }
     }
+    if (done) break;
   }
 
   // mu and its resolution. Before a slip the peak is the last stable state: the instability

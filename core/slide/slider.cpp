@@ -163,6 +163,24 @@ class Slider {
   [[nodiscard]] Shape2 block_shape() const { return gf_.region(); }
   [[nodiscard]] Shape2 fft_grid() const { return gf_.fft_shape(); }
 
+  // How far `later` is from `earlier` carried on by whole periods: the largest difference of a
+  // block site's force (G d^2), when the tip is k d further on and the block k rows further
+  // (the block follows the tip, so site i is at the same place relative to the tip); +inf
+  // otherwise. The registry potential has period d and the Hertz envelope moves with the tip
+  // (MODEL.md 3), so equal forces mean the same state of the interface one period on (the
+  // displacements follow from the forces, u = G f, up to whole periods d of the registry).
+  [[nodiscard]] double period_mismatch(const State& later, const State& earlier) const {
+    const int k = later.shift - earlier.shift;
+    if (k < 1 || later.f.size() != earlier.f.size() ||
+        std::abs(later.Dx - earlier.Dx - k * scene_.d) > 1e-9 * scene_.d) {
+      return std::numeric_limits<double>::infinity();
+    }
+    double worst = 0.0;
+    for (std::size_t i = 0; i < later.f.size(); ++i)
+      worst = std::max(worst, std::abs(later.f[i] - earlier.f[i]));
+    return worst;
+  }
+
   // Sites of the contact at `after` whose x displacement changed by more than d/2 since
   // `before` (same block alignment after rolling).
   int slipped_sites(const State& before, const State& after) const {
@@ -337,7 +355,7 @@ double estimated_slide_bytes(const interface::ContactScene& scene) {
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;
-  return 260.0 * grid * grid;
+  return 260.0 * grid * grid + static_cast<double>(kCycleWindow) * 32.0 * n * n;
 }
 
 }  // namespace asperity::slide

@@ -53,9 +53,17 @@ struct SlideOptions {
   int slips_to_stop = 2;      // automatic distance: slip events after the peak (which must
                               // also have held over d) before the slide stops
   bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
-  int path_frame_every = 0;   // relaxation-path frames through slip events every N iterations
-                              // (0: none)
-  int max_path_frames = 64;   // frames kept per slip event (the interval doubles when full)
+  // Adaptive protocol: after a slip, land the next step one period d after an accepted state of
+  // the last period; if the relaxed state equals that one carried on by d (largest force
+  // difference <= cycle_tolerance), the stick-slip cycle repeats exactly (the interface is
+  // periodic in Dx with period d, and the quasi-static path is fixed by the state) and its rows
+  // are replayed from the computed ones instead of being recomputed (TraceRow::replayed). Off:
+  // every step is computed. The reference protocol (the classic one) never replays.
+  bool replay_cycle = true;
+  double cycle_tolerance = 1e-3;  // largest force difference of a site (G d^2) for equal states
+  int path_frame_every = 0;       // relaxation-path frames through slip events every N iterations
+                                  // (0: none)
+  int max_path_frames = 64;       // frames kept per slip event (the interval doubles when full)
   // Tolerance, method, ...; sliding defaults: force tolerance 1e-5 G d^2 and a displacement cap
   // of 0.2 d per iteration (docs/benchmarks.md: mu within 3e-4 of converged at 1/7 of the
   // classic protocol's GF applications).
@@ -88,6 +96,8 @@ struct TraceRow {
   double max_force = 0.0;  // residual reached
   bool slip = false;       // a slip event happened during this step
   int slipped_sites = 0;   // sites whose registry index changed in this step
+  bool replayed = false;   // copied from the computed row one or more periods d back (the cycle
+                           // repeats, SlideOptions::replay_cycle), not computed: no iterations
 };
 
 struct SlideResult {
@@ -106,8 +116,12 @@ struct SlideResult {
   int slip_events = 0;
   double distance = 0.0;  // Dx reached
   std::string stop_reason;
-  int steps = 0;          // accepted steps
-  int minimizations = 0;  // including undone trial steps
+  int steps = 0;                    // accepted steps (computed; replayed rows not counted)
+  int replayed_steps = 0;           // rows of the trace replayed from the repeating cycle
+  double cycle_verified_at = -1.0;  // Dx at which the state equalled the one a period d back,
+                                    // from where the cycle was replayed (-1: never)
+  double cycle_mismatch = -1.0;     // its largest force difference of a site (G d^2; -1: none)
+  int minimizations = 0;            // including undone trial steps
   std::size_t gf_applications = 0;
   std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
   std::size_t filter_applications = 0;   // interface filter passes (an FFT pair each, like a GF
@@ -153,9 +167,12 @@ struct SlideState {
   double runner_up_ratio = 0.0;          // Fx/Fz at the runner-up (-inf: none)
   double first_max_Dx = -1.0;            // Regime I: first maximum of Fx without a slip (-1: none)
   double slip_at = 0.0;                  // adaptive: known unstable Dx beyond current (inf: none)
-  bool stepping_done = false;  // the stepping had ended (stop_reason set); the peak refinement
-                               // and the summary quantities remain
-  SlideResult partial;         // trace, counts, slip events, snapshots, stop reason so far
+  bool stepping_done = false;       // the stepping had ended (stop_reason set); the peak refinement
+                                    // and the summary quantities remain
+  std::vector<SlideFields> window;  // cycle replay: accepted states of the last period
+  std::vector<std::size_t> window_rows;  // and their rows in partial.trace
+  bool cycle_check_due = false;          // the next step lands one period after a window state
+  SlideResult partial;  // trace, counts, slip events, snapshots, stop reason so far
 };
 
 // How a caller steers a slide besides its options: progress reports, checkpoints, a stop request,
@@ -182,10 +199,17 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideControl& control);
 
+// Accepted states the cycle replay keeps at most (SlideOptions::replay_cycle): a period of
+// adaptive steps with a bisected slip is 10-15 of them; beyond this the oldest go, and a cycle
+// whose start went with them is computed instead of replayed.
+inline constexpr std::size_t kCycleWindow = 16;
+
 // Estimated peak memory of slide() on this scene (bytes), so that callers can refuse a contact
 // that cannot fit before allocating: the padded FFT grid of the block (the smallest 7-smooth
 // size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260 bytes per grid point, the
-// measured peak (docs/benchmarks.md, scaling: 248-254 bytes for a = 256 and 512 d).
+// measured peak without the cycle replay (docs/benchmarks.md, scaling: 248-254 bytes for a = 256
+// and 512 d), plus the replay's window of kCycleWindow states (force and displacement, 2
+// components: 32 bytes per block site each).
 double estimated_slide_bytes(const interface::ContactScene& scene);
 
 }  // namespace asperity::slide

@@ -52,7 +52,7 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
     EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.Fz, y.Fz) &&
                 same_bits(x.energy, y.energy) && same_bits(x.max_force, y.max_force) &&
                 x.iterations == y.iterations && x.gf_applications == y.gf_applications &&
-                x.slip == y.slip && x.slipped_sites == y.slipped_sites)
+                x.slip == y.slip && x.slipped_sites == y.slipped_sites && x.replayed == y.replayed)
         << where << ": trace row " << i;
   }
   EXPECT_TRUE(same_bits(a.mu, b.mu)) << where;
@@ -61,6 +61,9 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
   EXPECT_TRUE(same_bits(a.kinetic, b.kinetic)) << where;
   EXPECT_EQ(a.slip_events, b.slip_events) << where;
   EXPECT_EQ(a.steps, b.steps) << where;
+  EXPECT_EQ(a.replayed_steps, b.replayed_steps) << where;
+  EXPECT_TRUE(same_bits(a.cycle_verified_at, b.cycle_verified_at)) << where;
+  EXPECT_TRUE(same_bits(a.cycle_mismatch, b.cycle_mismatch)) << where;
   EXPECT_EQ(a.minimizations, b.minimizations) << where;
   EXPECT_EQ(a.gf_applications, b.gf_applications) << where;
   EXPECT_EQ(a.gradient_evaluations, b.gradient_evaluations) << where;
@@ -101,12 +104,17 @@ bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& referen
 }
 
 TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
-  // Regime I with a fixed distance (the peak is refined after the stepping): every poll; Regime
-  // II through two slip events (bisection brackets, relaxation-path frames): every third poll,
-  // which keeps the test short under the sanitizers.
-  for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 3}}) {
+  // Regime I with a fixed distance (the peak is refined after the stepping), and Regime II
+  // through two slip events (bisection brackets, relaxation-path frames, the probe of the
+  // cycle and its replay): every poll.
+  for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1}}) {
     const SlideResult reference = slide::slide(s.contact, s.options);
     ASSERT_FALSE(reference.failed) << reference.stop_reason;
+    // Regime II replays its second cycle (SlideOptions::replay_cycle): stops between the first
+    // slip and the replay must carry the window of states and the pending comparison.
+    if (reference.slip_events > 0) {
+      EXPECT_GT(reference.replayed_steps, 0);
+    }
     int stops = 0;
     for (int k = 1; stop_and_resume(s, k, reference); k += stride)
       ++stops;
