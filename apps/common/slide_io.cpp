@@ -164,9 +164,15 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
   const double alpha = c.alpha;
   Series fx{.title = "Fx / (alpha Fz)", .style = "lines lw 2"};
   Series slips{.title = "slip events", .style = "points pt 7 ps 1.2"};
+  // Rows replayed from the repeating cycle (slider.hpp, replay_cycle) are marked as such.
+  Series replayed{.title = "replayed from the cycle a period back", .style = "points pt 6 ps 1.0"};
   for (const auto& row : r.trace) {
     fx.x.push_back(row.Dx / c.d);
     fx.y.push_back(row.Fx / (alpha * row.Fz));
+    if (row.replayed) {
+      replayed.x.push_back(row.Dx / c.d);
+      replayed.y.push_back(row.Fx / (alpha * row.Fz));
+    }
     if (row.slip) {
       slips.x.push_back(row.Dx / c.d);
       slips.y.push_back(row.Fx / (alpha * row.Fz));
@@ -179,6 +185,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
                 r.mu_is_lower_bound ? " (lower bound)" : "");
   std::vector<Series> trace_series{fx};
   if (!slips.x.empty()) trace_series.push_back(slips);
+  if (!replayed.x.empty()) trace_series.push_back(replayed);
   plot_png(dir / "trace.png", trace_series,
            {.title = title, .xlabel = "Dx / d", .ylabel = "Fx / (alpha Fz)"});
   written.push_back(dir / "trace.png");
