@@ -109,7 +109,8 @@ runs of each setting, and a = 138 d a single run. Raw rows: docs/figures/work_pr
 The default preconditioner is automatic (docs/solvers.md): G alone below a/b_core^0 = 10, the
 interface filter above; the "(elastic preconditioner)" and "(interface preconditioner)" rows
 force one of them. A filter pass is an FFT pair like a GF application, so the cost ratios count
-both.
+both. "steps" counts computed steps: the adaptive protocol replays the second stick-slip cycle
+once it is shown to repeat (docs/solvers.md), and those rows cost nothing.
 
 $body
 EOT

@@ -269,8 +269,9 @@ std::string settings_fingerprint(const SlideScene& scene) {
     add("slips", std::to_string(o.slips_to_stop));
   }
   if (!o.extrapolate) s.append(" no-extrapolation");
-  // Rows made before the cycle replay existed carry the default (replaying) settings: in Regime
-  // II their results are the same, and a slide replays only after a slip of the whole contact.
+  // Rows made before the cycle replay existed carry the default (replaying) settings: mu is the
+  // same (the peak lies in the computed first cycle; a slide that does not repeat takes the
+  // same path), the kinetic friction may differ in its sampling and the cost is lower.
   if (!o.replay_cycle) s.append(" no-replay");
   s.append(" ").append(minimize::to_string(m.method));
   add("tol", exact(m.force_tolerance));

@@ -70,9 +70,16 @@ void check_start(const SlideState& st, const Model& model) {
   if (st.window_rows.size() != st.window.size())
     reject("SlideState.window_rows", std::to_string(st.window_rows.size()) + " rows",
            "one per window state (" + std::to_string(st.window.size()) + ")");
-  for (std::size_t row : st.window_rows) {
-    if (row >= st.partial.trace.size())
-      reject("SlideState.window_rows", std::to_string(row), "rows of partial.trace");
+  if (st.window.size() > kCycleWindow)
+    reject("SlideState.window", std::to_string(st.window.size()) + " states",
+           "at most kCycleWindow = " + std::to_string(kCycleWindow));
+  for (std::size_t i = 0; i < st.window_rows.size(); ++i) {
+    const std::size_t row = st.window_rows[i];
+    if (row >= st.partial.trace.size() || (i > 0 && row <= st.window_rows[i - 1]) ||
+        st.partial.trace[row].Dx != st.window[i].Dx || st.window[i].Dx > st.current.Dx) {
+      reject("SlideState.window_rows", std::to_string(row),
+             "increasing rows of partial.trace at the window states' Dx, up to current.Dx");
+    }
   }
   if (st.partial.trace.empty())
     reject("SlideState.partial.trace", "empty", "the first row at least");
@@ -323,7 +330,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                                  max_force, slip, sites, replayed});
     res.iterations += iterations;
     ++(replayed ? res.replayed_steps : res.steps);
-    if (replay) {
+    if (replay && !replayed) {
       window.push_back(state);
       window_rows.push_back(res.trace.size() - 1);
       std::size_t drop = 0;
@@ -478,29 +485,39 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // After a slip the bracket is used up; a stable state at the bracket's end means the
     // instability lies further on (a trial from further back had slipped).
     if (slip || Dx >= slip_at) slip_at = std::numeric_limits<double>::infinity();
-    // The state one period after a window state: the cycle repeats if they are equal. Then the
-    // states after the matched one, up to the one before this, carried on by one period, are
-    // the next period of the slide; and so on.
+    // The state one period after a window state: if they are equal the cycle repeats, and the
+    // period from the matched state to this one (the states after it, and this one), carried on
+    // by whole periods, is the rest of the slide.
     double cycle_mismatch = std::numeric_limits<double>::infinity();
     if (cycle_of && !slip) cycle_mismatch = mismatch(trial, window[*cycle_of]);
+    const bool repeats = cycle_mismatch <= options.cycle_tolerance;
     std::vector<State> cycle;
     std::vector<TraceRow> cycle_rows;
-    if (cycle_mismatch <= options.cycle_tolerance) {
+    std::vector<int> cycle_slip;  // slip event number of each row (0: none), for its path frames
+    if (repeats) {
       for (std::size_t e = *cycle_of + 1; e < window.size(); ++e) {
-        cycle.push_back(window[e]);
-        cycle_rows.push_back(res.trace[window_rows[e]]);
+        const std::size_t row = window_rows[e];
+        cycle.push_back(std::move(window[e]));
+        cycle_rows.push_back(res.trace[row]);
+        cycle_slip.push_back(
+            res.trace[row].slip
+                ? static_cast<int>(std::count_if(
+                      res.trace.begin(), res.trace.begin() + static_cast<std::ptrdiff_t>(row) + 1,
+                      [](const TraceRow& t) { return t.slip; }))
+                : 0);
       }
+      cycle.push_back(trial);
+      // Replayed states are not kept: the cycle holds them.
+      window.clear();
+      window_rows.clear();
     }
     if (accept(std::move(trial), r.iterations, r.gf_applications, r.max_force, slip, sites,
                std::move(frames), false)) {
       break;
     }
-    // A smooth cycle (Regime I) has its own stop rule.
-    if (std::none_of(cycle_rows.begin(), cycle_rows.end(),
-                     [](const TraceRow& row) { return row.slip; }))
-      continue;
-    res.cycle_verified_at = state.Dx;
-    res.cycle_mismatch = cycle_mismatch;
+    if (!repeats) continue;
+    cycle_rows.push_back(res.trace.back());
+    cycle_slip.push_back(0);
     bool done = false, past_limit = false;
     for (int k = 1; !done && !past_limit; ++k) {
       for (std::size_t e = 0; e < cycle.size(); ++e) {
@@ -511,8 +528,26 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
           past_limit = true;  // the computed steps take over up to the limit
           break;
         }
+        if (res.cycle_verified_at < 0.0) {
+          res.cycle_verified_at = state.Dx;
+          res.cycle_mismatch = cycle_mismatch;
+        }
+        // A replayed slip's relaxation path is the computed one's, carried on by k periods.
+        std::vector<Snapshot> path;
+        if (cycle_slip[e] > 0) {
+          char label[32];
+          std::snprintf(label, sizeof label, "slip_%03d_path", cycle_slip[e]);
+          for (const Snapshot& frame : res.snapshots) {
+            if (frame.label != label) continue;
+            Snapshot moved = frame;
+            moved.Dx += k * d;
+            moved.block.origin0 += k;
+            path.push_back(std::move(moved));
+          }
+        }
         const TraceRow& row = cycle_rows[e];
-        if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites, {}, true)) {
+        if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites,
+                   std::move(path), true)) {
           done = true;
           break;
         }
@@ -520,6 +555,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     }
     if (done) break;
   }
+  // The replay's window is of no use past the stepping (a resumed slide that had finished
+  // stepping does not step again); its memory goes now, before the peak refinement.
+  window.clear();
+  window.shrink_to_fit();
+  window_rows.clear();
 
   // mu and its resolution. Before a slip the peak is the last stable state: the instability
   // lies within one step after it, and mu is resolved to that step times the slope. A smooth

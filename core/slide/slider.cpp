@@ -168,7 +168,7 @@ class Slider {
   // (the block follows the tip, so site i is at the same place relative to the tip); +inf
   // otherwise. The registry potential has period d and the Hertz envelope moves with the tip
   // (MODEL.md 3), so equal forces mean the same state of the interface one period on (the
-  // displacements follow from the forces, u = G f, up to whole periods d of the registry).
+  // displacements follow from the forces, u = G f).
   [[nodiscard]] double period_mismatch(const State& later, const State& earlier) const {
     const int k = later.shift - earlier.shift;
     if (k < 1 || later.f.size() != earlier.f.size() ||
@@ -317,6 +317,9 @@ void SlideOptions::validate() const {
     fail("max_distance", max_distance, ">= 0 (0: automatic)");
   }
   if (slips_to_stop < 1) fail("slips_to_stop", slips_to_stop, ">= 1");
+  // Unbounded, it would take any state for a repeat and replay slides that never repeat.
+  if (!(cycle_tolerance > 0.0) || !std::isfinite(cycle_tolerance))
+    fail("cycle_tolerance", cycle_tolerance, "finite and > 0 (G d^2)");
   if (path_frame_every < 0) fail("path_frame_every", path_frame_every, ">= 0");
   if (max_path_frames < 2) fail("max_path_frames", max_path_frames, ">= 2");
   minimizer.validate();
@@ -355,7 +358,7 @@ double estimated_slide_bytes(const interface::ContactScene& scene) {
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;
-  return 260.0 * grid * grid + static_cast<double>(kCycleWindow) * 32.0 * n * n;
+  return 260.0 * grid * grid + 2.0 * static_cast<double>(kCycleWindow) * 32.0 * n * n;
 }
 
 }  // namespace asperity::slide

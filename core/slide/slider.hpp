@@ -209,7 +209,7 @@ inline constexpr std::size_t kCycleWindow = 16;
 // size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260 bytes per grid point, the
 // measured peak without the cycle replay (docs/benchmarks.md, scaling: 248-254 bytes for a = 256
 // and 512 d), plus the replay's window of kCycleWindow states (force and displacement, 2
-// components: 32 bytes per block site each).
+// components: 32 bytes per block site each), twice: a checkpoint copies it.
 double estimated_slide_bytes(const interface::ContactScene& scene);
 
 }  // namespace asperity::slide

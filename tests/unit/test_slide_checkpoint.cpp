@@ -105,8 +105,8 @@ bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& referen
 
 TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
   // Regime I with a fixed distance (the peak is refined after the stepping), and Regime II
-  // through two slip events (bisection brackets, relaxation-path frames, the probe of the
-  // cycle and its replay): every poll.
+  // through two slip events (bisection brackets, relaxation-path frames, and after the first
+  // slip the window of states and the pending probe of the cycle replay): every poll.
   for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1}}) {
     const SlideResult reference = slide::slide(s.contact, s.options);
     ASSERT_FALSE(reference.failed) << reference.stop_reason;
