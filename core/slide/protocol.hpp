@@ -458,11 +458,8 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     const bool want_frames = options.path_frame_every > 0 && !may_undo;
     const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
     count(r);
-    if (cycle_of &&
-        (r.termination != Termination::converged || model.slipped_sites(state, trial) > 0 ||
-         !(mismatch(trial, window[*cycle_of]) <= options.cycle_tolerance))) {
-      continue;  // the probe did not find the cycle
-    }
+    // A probe that failed or slipped did not find the cycle (nor one that differs, below).
+    if (cycle_of && !failure(r, trial, Dx, state.Dx).empty()) continue;
     if (may_undo && r.termination == Termination::interrupted) {
       slip_at = Dx;  // slipped: bisect towards the instability
       continue;
@@ -478,6 +475,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     }
     const int sites = model.slipped_sites(state, trial);
     const bool slip = sites > 0;
+    if (cycle_of && slip) continue;
     if (slip && may_undo) {
       slip_at = Dx;
       continue;
@@ -488,9 +486,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // The state one period after a window state: if they are equal the cycle repeats, and the
     // period from the matched state to this one (the states after it, and this one), carried on
     // by whole periods, is the rest of the slide.
-    double cycle_mismatch = std::numeric_limits<double>::infinity();
-    if (cycle_of && !slip) cycle_mismatch = mismatch(trial, window[*cycle_of]);
-    const bool repeats = cycle_mismatch <= options.cycle_tolerance;
+    const double cycle_mismatch =
+        cycle_of ? mismatch(trial, window[*cycle_of]) : std::numeric_limits<double>::infinity();
+    if (cycle_of && !(cycle_mismatch <= options.cycle_tolerance)) continue;
+    const bool repeats = cycle_of.has_value();
     std::vector<State> cycle;
     std::vector<TraceRow> cycle_rows;
     std::vector<int> cycle_slip;  // slip event number of each row (0: none), for its path frames
