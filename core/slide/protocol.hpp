@@ -115,10 +115,12 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // The start state replaces the initial one: GF work the model spent building it (the
   // explicit model's Hertz start) was counted by the session that did use it.
   const std::size_t gf_unused = control.start ? model.gf_applications() : 0;
-  const auto record = [&](const State& s, const minimize::MinimizeResult& r, bool slip, int sites) {
-    res.trace.push_back(TraceRow{s.Dx, s.Fx, s.Fz, s.energy, r.iterations, r.gf_applications,
-                                 r.max_force, slip, sites});
-    res.iterations += r.iterations;
+  // A trace row of state s; replayed rows cost no iterations.
+  const auto record = [&](const State& s, int iterations, std::size_t gf, double max_force,
+                          bool slip, int sites, bool replayed) {
+    res.trace.push_back(
+        TraceRow{s.Dx, s.Fx, s.Fz, s.energy, iterations, gf, max_force, slip, sites, replayed});
+    res.iterations += iterations;
   };
   const auto count = [&](const minimize::MinimizeResult& r) {
     ++res.minimizations;
@@ -200,7 +202,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     auto first = model.relax(state, 0.0, nullptr);
     count(first);
     res.contact_sites = model.contact_sites();
-    record(state, first, false, 0);
+    record(state, first.iterations, first.gf_applications, first.max_force, false, 0, false);
     if (replay) {
       window.push_back(state);
       window_rows.push_back(0);
@@ -326,9 +328,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     earlier = std::move(previous);
     previous = std::move(state);
     state = std::move(next);
-    res.trace.push_back(TraceRow{state.Dx, state.Fx, state.Fz, state.energy, iterations, gf,
-                                 max_force, slip, sites, replayed});
-    res.iterations += iterations;
+    record(state, iterations, gf, max_force, slip, sites, replayed);
     ++(replayed ? res.replayed_steps : res.steps);
     if (replay && !replayed) {
       window.push_back(state);

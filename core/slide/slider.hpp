@@ -53,12 +53,13 @@ struct SlideOptions {
   int slips_to_stop = 2;      // automatic distance: slip events after the peak (which must
                               // also have held over d) before the slide stops
   bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
-  // Adaptive protocol: after a slip, land the next step one period d after an accepted state of
-  // the last period; if the relaxed state equals that one carried on by d (largest force
-  // difference <= cycle_tolerance), the stick-slip cycle repeats exactly (the interface is
-  // periodic in Dx with period d, and the quasi-static path is fixed by the state) and its rows
-  // are replayed from the computed ones instead of being recomputed (TraceRow::replayed). Off:
-  // every step is computed. The reference protocol (the classic one) never replays.
+  // Adaptive protocol: after a slip that moved at least half the contact, probe one period d
+  // after an accepted state of the last period; if the probe equals that state carried on by d
+  // (largest force difference <= cycle_tolerance), the stick-slip cycle repeats exactly (the
+  // interface is periodic in Dx with period d, and the quasi-static path is fixed by the state)
+  // and its rows are replayed from the computed ones instead of being recomputed
+  // (TraceRow::replayed); a probe that differs is dropped. Off: every step is computed. The
+  // reference protocol (the classic one) never replays. docs/solvers.md.
   bool replay_cycle = true;
   double cycle_tolerance = 1e-3;  // largest force difference of a site (G d^2) for equal states
   int path_frame_every = 0;       // relaxation-path frames through slip events every N iterations
@@ -171,7 +172,7 @@ struct SlideState {
                                     // and the summary quantities remain
   std::vector<SlideFields> window;  // cycle replay: accepted states of the last period
   std::vector<std::size_t> window_rows;  // and their rows in partial.trace
-  bool cycle_check_due = false;          // the next step lands one period after a window state
+  bool cycle_check_due = false;          // a probe of the cycle is due at the next step
   SlideResult partial;  // trace, counts, slip events, snapshots, stop reason so far
 };
 
