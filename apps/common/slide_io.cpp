@@ -1,7 +1,9 @@
 // Scene reading and outputs of the sliding tools; see slide_io.hpp.
 #include "common/slide_io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 
@@ -534,6 +536,66 @@ nlohmann::json explicit_summary_extra(const ExplicitSlideScene& scene, const Exp
           {"centre_force_eps_sigma", alpha.centre_force},
           {"force_unit", m.force_unit()},
           {"energy_unit", m.energy_unit()}};
+}
+
+std::string describe_progress(const slide::SlideProgressInfo& info) {
+  using slide::SlidePhase;
+  const auto duration = [](double s) {
+    char b[32];
+    if (s < 120.0) {
+      std::snprintf(b, sizeof b, "%.0f s", s);
+    } else if (s < 7200.0) {
+      std::snprintf(b, sizeof b, "%.1f min", s / 60.0);
+    } else {
+      std::snprintf(b, sizeof b, "%.2f h", s / 3600.0);
+    }
+    return std::string(b);
+  };
+  char buf[320];
+  int n =
+      std::snprintf(buf, sizeof buf, "Dx = %.4f d of at most %.2f d, %d slip event%s, %d step%s",
+                    info.Dx, info.limit, info.slip_events, info.slip_events == 1 ? "" : "s",
+                    info.steps, info.steps == 1 ? "" : "s");
+  std::string line(buf, static_cast<std::size_t>(std::max(n, 0)));
+  if (info.replayed_steps > 0) line += " + " + std::to_string(info.replayed_steps) + " replayed";
+  line += ", " + std::to_string(info.gf_applications) + " GF, " + duration(info.wall_s);
+  const char* what = nullptr;
+  switch (info.phase) {
+    case SlidePhase::start:
+      what = "the first state at";
+      break;
+    case SlidePhase::accepted:
+      break;
+    case SlidePhase::step:
+      what = "a step to";
+      break;
+    case SlidePhase::bisection:
+      what = "a trial inside the slip's bracket at";
+      break;
+    case SlidePhase::slip:
+      what = "the slip at";
+      break;
+    case SlidePhase::probe:
+      what = "a probe of the repeating cycle at";
+      break;
+    case SlidePhase::peak:
+      what = "a point of the peak refinement at";
+      break;
+  }
+  if (what) {
+    n = std::snprintf(buf, sizeof buf, "; relaxing %s Dx = %.4f d", what, info.target_Dx);
+    line.append(buf, static_cast<std::size_t>(std::max(n, 0)));
+    if (info.iteration > 0) line += ", iteration " + std::to_string(info.iteration);
+  }
+  return line;
+}
+
+bool ProgressLines::due(const slide::SlideProgressInfo& info) {
+  const bool slipped = each_slip_ && info.slip_events != last_slips_;
+  last_slips_ = info.slip_events;
+  if (last_s_ >= 0.0 && info.wall_s - last_s_ < every_s_ && !slipped) return false;
+  last_s_ = info.wall_s;
+  return true;
 }
 
 }  // namespace asperity::app

@@ -43,6 +43,26 @@ struct SlideOutputOptions {
   nlohmann::json summary_extra;
 };
 
+// One line on a slide in progress (SlideControl::progress): where it is, what it has cost and
+// what it relaxes now, e.g. "Dx = 4.6250 d of at most 9.12 d, 0 slip events, 25 steps, 801 GF,
+// 5.3 min; relaxing the slip at Dx = 4.6260 d, iteration 3200".
+std::string describe_progress(const slide::SlideProgressInfo& info);
+
+// Which progress reports get a line: the first, then one when `every_s` seconds of the slide's
+// wall time have passed since the last line, and (each_slip) one at every new slip event.
+class ProgressLines {
+ public:
+  explicit ProgressLines(double every_s, bool each_slip = false)
+      : every_s_(every_s), each_slip_(each_slip) {}
+  bool due(const slide::SlideProgressInfo& info);
+
+ private:
+  double every_s_;
+  bool each_slip_;
+  double last_s_ = -1.0;  // wall time of the last line (s); < 0: none yet
+  int last_slips_ = 0;
+};
+
 // Writes trace.csv, summary.json and, as `options` asks, the figures and the NetCDF snapshots
 // into dir. Returns the list of files written (figures first). The NetCDF library is not
 // thread-safe: callers running points in parallel serialise calls that write snapshots.

@@ -60,21 +60,13 @@ CheckpointedSlide run_checkpointed(
     app::check_checkpoint_settings(*start, settings, c.checkpoint_file);
   }
   const bool tty = isatty(2) != 0;
-  // In a log (no terminal) a line at each slip event and otherwise every 10 s: the automatic
-  // distance is capped generously, so fractions of the cap say little.
-  const auto progress = [tty, last = std::chrono::steady_clock::now(), last_slips = 0](
-                            double Dx, double limit, int slips) mutable {
-    if (tty) {
-      std::fprintf(stderr, "\r  Dx = %7.4f d of at most %.2f d, slip events: %d   ", Dx, limit,
-                   slips);
-      return;
-    }
-    const auto now = std::chrono::steady_clock::now();
-    if (slips != last_slips || now - last > std::chrono::seconds(10)) {
-      std::fprintf(stderr, "  Dx = %.4f d of at most %.2f d, slip events: %d\n", Dx, limit, slips);
-      last = now;
-      last_slips = slips;
-    }
+  // On a terminal the line is rewritten 5 times a second; in a log (no terminal) a line at each
+  // slip event and otherwise every 10 s, also from inside a long relaxation (the automatic
+  // distance is capped generously, so fractions of the cap say little).
+  const auto progress = [tty, lines = app::ProgressLines(tty ? 0.2 : 10.0, !tty)](
+                            const slide::SlideProgressInfo& info) mutable {
+    if (!lines.due(info)) return;
+    std::fprintf(stderr, tty ? "\r  %s\033[K" : "  %s\n", app::describe_progress(info).c_str());
   };
   app::ensure_directory(out);
   if (const std::size_t n = app::remove_stale_temporaries(out)) {

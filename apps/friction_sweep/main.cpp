@@ -316,6 +316,12 @@ int main(int argc, char** argv) {
                    "Seconds of run time between checkpoints of each running point (0: every step)")
         ->check(app::non_negative())
         ->capture_default_str();
+    double progress_every = 60.0;
+    cli.add_option("--progress-every", progress_every,
+                   "Seconds of run time between progress lines of each running point, also from "
+                   "inside a long relaxation (0: none)")
+        ->check(app::non_negative())
+        ->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     app::SweepScene s = app::read_sweep_scene(scene_path);
@@ -497,7 +503,22 @@ int main(int argc, char** argv) {
                        "Dx = %.4f d\n",
                        job.x ? "explicit " : "", point.a, point.R, start->state.current.Dx);
         }
-        const slide::SlideControl control{.checkpoint =
+        // Large points run for hours, mostly inside a few relaxations (a slip sweeps a contact
+        // of a million sites in thousands of iterations): a line now and then says where each
+        // is and that it runs.
+        slide::SlideProgress progress;
+        if (progress_every > 0.0) {
+          progress = [&, lines = app::ProgressLines(progress_every)](
+                         const slide::SlideProgressInfo& info) mutable {
+            if (!lines.due(info)) return;
+            const std::lock_guard lock(table_mutex);
+            std::fprintf(stderr, "friction_sweep: %sa = %.4g d, R = %g d: %s\n",
+                         job.x ? "explicit " : "", point.a, point.R,
+                         app::describe_progress(info).c_str());
+          };
+        }
+        const slide::SlideControl control{.progress = progress,
+                                          .checkpoint =
                                               [&](const slide::SlideState& state) {
                                                 app::ensure_directory(point_dir);
                                                 app::write_checkpoint(

@@ -18,6 +18,8 @@
 //                                              state's fields on a foreign block), or empty
 //   std::size_t field_size(), contact_sites(), gf_applications();  Shape2 block_shape(),
 //   fft_grid();
+// and optionally std::function<void(int)> heartbeat, called during relax() with the iteration
+// (progress reports from inside long relaxations).
 // Include only from the .cpp files that instantiate it.
 #pragma once
 
@@ -115,6 +117,41 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // The start state replaces the initial one: GF work the model spent building it (the
   // explicit model's Hertz start) was counted by the session that did use it.
   const std::size_t gf_unused = control.start ? model.gf_applications() : 0;
+  // Progress report: what starts now (or was just accepted), with the cost so far; a model that
+  // can (one with a `heartbeat` slot) also reports while it relaxes, so that a relaxation of
+  // many minutes (a slip through a large contact) shows what it is and that it runs.
+  SlidePhase relaxing = SlidePhase::start;
+  double relaxing_to = 0.0;
+  const auto report = [&](SlidePhase phase, double target, int iteration = 0) {
+    if (!control.progress) return;
+    if (iteration == 0) {
+      relaxing = phase;
+      relaxing_to = target;
+    }
+    control.progress(
+        SlideProgressInfo{.phase = phase,
+                          .Dx = state.Dx,
+                          .target_Dx = target,
+                          .limit = limit,
+                          .slip_events = res.slip_events,
+                          .steps = res.steps,
+                          .replayed_steps = res.replayed_steps,
+                          .gf_applications = gf_before + model.gf_applications() - gf_unused,
+                          .wall_s = wall_before + elapsed(),
+                          .iteration = iteration});
+  };
+  struct ClearOnExit {
+    std::function<void(int)>* slot = nullptr;
+    ~ClearOnExit() {
+      if (slot) *slot = nullptr;  // it refers to this call's locals
+    }
+  } clear_heartbeat;
+  if constexpr (requires { model.heartbeat = std::function<void(int)>{}; }) {
+    if (control.progress) {
+      model.heartbeat = [&](int iteration) { report(relaxing, relaxing_to, iteration); };
+      clear_heartbeat.slot = &model.heartbeat;
+    }
+  }
   // A trace row of state s; replayed rows cost no iterations.
   const auto record = [&](const State& s, int iterations, std::size_t gf, double max_force,
                           bool slip, int sites, bool replayed) {
@@ -199,6 +236,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     window_rows = st.window_rows;
     cycle_check_due = st.cycle_check_due;
   } else {
+    report(SlidePhase::start, 0.0);
     auto first = model.relax(state, 0.0, nullptr);
     count(first);
     res.contact_sites = model.contact_sites();
@@ -351,7 +389,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
       best = ratio;
       peak = state;
     }
-    if (control.progress) control.progress(state.Dx, limit, res.slip_events);
+    report(SlidePhase::accepted, state.Dx);
 
     // Regime I: a smooth maximum (rise then fall, no slip yet).
     const std::size_t k = res.trace.size();
@@ -456,6 +494,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     }
     std::vector<Snapshot> frames;
     const bool want_frames = options.path_frame_every > 0 && !may_undo;
+    report(cycle_of                  ? SlidePhase::probe
+           : !std::isfinite(slip_at) ? SlidePhase::step
+           : may_undo                ? SlidePhase::bisection
+                                     : SlidePhase::slip,
+           Dx);
     const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
     count(r);
     // A probe that failed or slipped did not find the cycle (nor one that differs, below).
@@ -642,6 +685,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
           return interrupt(*stepping_end);
         }
         State probe = *peak;
+        report(SlidePhase::peak, xv);
         const auto r = model.relax(probe, xv, nullptr);
         count(r);
         if (const std::string why = failure(r, probe, xv, peak->Dx); !why.empty()) {

@@ -48,6 +48,10 @@ class Slider {
     return lfm_;
   }
 
+  // Called by relax() every 16 minimiser iterations with the iteration (the protocol's progress
+  // reports); empty: not called.
+  std::function<void(int)> heartbeat;
+
   State initial() {
     State s;
     s.f.assign(gf_.size(), 0.0);
@@ -89,8 +93,9 @@ class Slider {
     // A long relaxation keeps at most max_path_frames frames: when full, every other frame is
     // dropped and the interval doubles, so the frames stay evenly spread over the relaxation.
     int interval = options_.path_frame_every;
-    if (record || stop_on_slip) {
+    if (record || stop_on_slip || heartbeat) {
       observer = [&](int it, std::span<const double> uu, std::span<const double> ff) {
+        if (heartbeat && it % 16 == 0) heartbeat(it);
         if (record && it % interval == 0) {
           if (static_cast<int>(frames->size()) >= options_.max_path_frames) {
             std::size_t keep = 0;

@@ -140,8 +140,34 @@ struct SlideResult {
   std::vector<Snapshot> snapshots;
 };
 
-// Progress: (Dx, distance target or cap, slip events so far).
-using SlideProgress = std::function<void(double, double, int)>;
+// What a slide is doing when it reports progress. A slide at a million sites spends most of its
+// time in a few relaxations (a slip sweeps the contact in thousands of iterations), so it says
+// which relaxation starts, not only which step was taken.
+enum class SlidePhase {
+  start,      // relaxing the first state (Dx = 0)
+  accepted,   // a state was taken into the trace (computed or replayed)
+  step,       // relaxing a step that is undone if it slips
+  bisection,  // relaxing a trial inside the bracket of an instability
+  slip,       // relaxing through a bracketed instability: the slip itself, often the longest
+  probe,      // relaxing one period on, to compare with a kept state (cycle replay)
+  peak,       // relaxing a point of the peak refinement, after the stepping
+};
+
+struct SlideProgressInfo {
+  SlidePhase phase = SlidePhase::accepted;
+  double Dx = 0.0;                  // tip position of the last accepted state (d)
+  double target_Dx = 0.0;           // tip position the relaxation starting now goes to (d); = Dx
+                                    // for `accepted`
+  double limit = 0.0;               // distance requested, or the automatic distance's cap (d)
+  int slip_events = 0;              // so far
+  int steps = 0;                    // computed steps accepted so far
+  int replayed_steps = 0;           // replayed steps so far
+  std::size_t gf_applications = 0;  // so far, earlier sessions of a resumed slide included
+  double wall_s = 0.0;              // so far, earlier sessions included (s)
+  int iteration = 0;  // minimiser iterations of the relaxation in progress; 0: it starts now (the
+                      // lateral force model reports every 16 iterations while it relaxes)
+};
+using SlideProgress = std::function<void(const SlideProgressInfo&)>;
 
 // One state of the slide on the block of sites that follows the tip.
 struct SlideFields {
@@ -180,7 +206,7 @@ struct SlideState {
 // a start state. Checkpoints and stop requests are handled between steps (a step, one or a few
 // minimisations, is not interrupted).
 struct SlideControl {
-  SlideProgress progress;  // after every accepted step
+  SlideProgress progress;  // after every accepted step and before every relaxation
   // Receives the state: every checkpoint_every_s of wall time, on a stop request (before slide()
   // returns with interrupted = true) and on a numerical failure (the last good state).
   std::function<void(const SlideState&)> checkpoint;
