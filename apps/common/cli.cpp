@@ -117,8 +117,8 @@ void Progress::print() {
 }
 
 namespace {
-// Set by the signal handler, read between steps. Lock-free, so that setting it is
-// async-signal-safe.
+// Set by the signal handler, read between steps and inside relaxations. Lock-free, so that setting
+// it is async-signal-safe.
 std::atomic<bool> g_stop{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 

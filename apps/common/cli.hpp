@@ -58,7 +58,8 @@ int run_main(int argc, char** argv, const std::function<int(int, char**)>& body)
 constexpr int kInterrupted = 3;
 
 // Installs handlers for SIGINT and SIGTERM that only set a flag (async-signal-safe): long runs
-// poll stop_requested() between steps, save their state and return kInterrupted.
+// poll stop_requested() between steps (slides also inside relaxations), save their state and
+// return kInterrupted.
 void install_stop_handlers();
 bool stop_requested();
 

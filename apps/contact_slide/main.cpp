@@ -236,7 +236,8 @@ int main(int argc, char** argv) {
       return 0;
     }
 
-    // From here on a signal only asks the slide to stop at its next step (with a checkpoint):
+    // From here on a signal only asks the slide to stop (with a checkpoint; inside a relaxation
+    // within 16 iterations, else at its next step):
     // installed before a checkpoint is read, so that no signal meets the default action.
     app::install_stop_handlers();
 

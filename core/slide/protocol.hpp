@@ -18,8 +18,9 @@
 //                                              state's fields on a foreign block), or empty
 //   std::size_t field_size(), contact_sites(), gf_applications();  Shape2 block_shape(),
 //   fft_grid();
-// and optionally std::function<void(int)> heartbeat, called during relax() with the iteration
-// (progress reports from inside long relaxations).
+// and optionally std::function<bool(int)> heartbeat, called during relax() with the iteration
+// (progress reports from inside long relaxations); returning true abandons the relaxation (a stop
+// request acts within it, not after it).
 // Include only from the .cpp files that instantiate it.
 #pragma once
 
@@ -140,15 +141,27 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                           .wall_s = wall_before + elapsed(),
                           .iteration = iteration});
   };
+  // A stop request is also polled from inside a relaxation of the stepping or of the peak
+  // refinement (not the first one, before which there is no state to hand over): the relaxation,
+  // of a copy of the state, is abandoned and the state it started from is handed over, so that
+  // the resumed slide repeats it. A slip through a large contact relaxes for most of an hour
+  // (R = 1700 d, a = 510 d: 12 854 iterations), which a stop must not wait for.
+  bool may_abandon = false;
+  bool abandoned = false;
+  const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
   struct ClearOnExit {
-    std::function<void(int)>* slot = nullptr;
+    std::function<bool(int)>* slot = nullptr;
     ~ClearOnExit() {
       if (slot) *slot = nullptr;  // it refers to this call's locals
     }
   } clear_heartbeat;
-  if constexpr (requires { model.heartbeat = std::function<void(int)>{}; }) {
-    if (control.progress) {
-      model.heartbeat = [&](int iteration) { report(relaxing, relaxing_to, iteration); };
+  if constexpr (requires { model.heartbeat = std::function<bool(int)>{}; }) {
+    if (control.progress || control.stop_requested) {
+      model.heartbeat = [&](int iteration) {
+        report(relaxing, relaxing_to, iteration);
+        abandoned = may_abandon && stop_requested();
+        return abandoned;
+      };
       clear_heartbeat.slot = &model.heartbeat;
     }
   }
@@ -254,8 +267,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     }
   }
 
-  // The state at the top of the stepping loop (or after it), for checkpoints.
-  const auto capture = [&](bool stepping_done) {
+  // The state at the top of the stepping loop (or after it), for checkpoints. Its cost is the
+  // model's so far, or `model_gf` (the count before an abandoned relaxation, whose work the
+  // resumed slide repeats: counted once, a resumed slide reports an uninterrupted one's counts).
+  const auto capture = [&](bool stepping_done, std::optional<std::size_t> model_gf = {}) {
     SlideState st{.current = state,
                   .previous = previous,
                   .earlier = earlier,
@@ -270,18 +285,25 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   .window_rows = window_rows,
                   .cycle_check_due = cycle_check_due,
                   .partial = res};
-    st.partial.gf_applications = gf_before + model.gf_applications() - gf_unused;
+    st.partial.gf_applications = gf_before + model_gf.value_or(model.gf_applications()) - gf_unused;
     st.partial.wall_s = wall_before + elapsed();
     return st;
   };
   // Stop on request: hand the state over and return what is known so far.
-  const auto interrupt = [&](const SlideState& st) {
+  // `abandoned_to`: the target of a relaxation abandoned for the stop, if one was.
+  const auto interrupt = [&](const SlideState& st,
+                             double abandoned_to = std::numeric_limits<double>::quiet_NaN()) {
     if (control.checkpoint) control.checkpoint(st);
     SlideResult out = st.partial;
     out.interrupted = true;
-    char buf[120];
-    std::snprintf(buf, sizeof buf, "interrupted at Dx = %.6g d%s", st.current.Dx,
-                  st.stepping_done ? " (refining the peak)" : "");
+    char buf[200];
+    char within[100] = "";
+    if (std::isfinite(abandoned_to)) {
+      std::snprintf(within, sizeof within,
+                    ", within the relaxation to Dx = %.6g d (repeated on resume)", abandoned_to);
+    }
+    std::snprintf(buf, sizeof buf, "interrupted at Dx = %.6g d%s%s", st.current.Dx,
+                  st.stepping_done ? " (refining the peak)" : "", within);
     out.stop_reason = buf;
     out.mu = st.best;
     out.mu_over_alpha = st.best / params.alpha;
@@ -292,7 +314,6 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     out.kinetic = out.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
     return out;
   };
-  const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
   auto last_checkpoint = std::chrono::steady_clock::now();
   // The static peak is established once it has held over a whole period d of sliding with
   // slips_to_stop slip events after it. In Regime II the stick-slip cycle repeats with period
@@ -499,7 +520,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
            : may_undo                ? SlidePhase::bisection
                                      : SlidePhase::slip,
            Dx);
+    const std::size_t gf_at_top = model.gf_applications();
+    may_abandon = true;
     const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
+    may_abandon = false;
+    if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
     count(r);
     // A probe that failed or slipped did not find the cycle (nor one that differs, below).
     if (cycle_of && !failure(r, trial, Dx, state.Dx).empty()) continue;
@@ -686,7 +711,13 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
         }
         State probe = *peak;
         report(SlidePhase::peak, xv);
+        may_abandon = true;
         const auto r = model.relax(probe, xv, nullptr);
+        may_abandon = false;
+        if (abandoned) {
+          stepping_end->partial.snapshots = std::move(res.snapshots);
+          return interrupt(*stepping_end, xv);
+        }
         count(r);
         if (const std::string why = failure(r, probe, xv, peak->Dx); !why.empty()) {
           res.failed = true;

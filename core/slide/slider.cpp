@@ -49,8 +49,9 @@ class Slider {
   }
 
   // Called by relax() every 16 minimiser iterations with the iteration (the protocol's progress
-  // reports); empty: not called.
-  std::function<void(int)> heartbeat;
+  // reports and stop requests); returning true abandons the relaxation (Termination::interrupted,
+  // the state half relaxed). Empty: not called.
+  std::function<bool(int)> heartbeat;
 
   State initial() {
     State s;
@@ -95,7 +96,7 @@ class Slider {
     int interval = options_.path_frame_every;
     if (record || stop_on_slip || heartbeat) {
       observer = [&](int it, std::span<const double> uu, std::span<const double> ff) {
-        if (heartbeat && it % 16 == 0) heartbeat(it);
+        if (heartbeat && it % 16 == 0 && heartbeat(it)) return true;
         if (record && it % interval == 0) {
           if (static_cast<int>(frames->size()) >= options_.max_path_frames) {
             std::size_t keep = 0;

@@ -203,16 +203,18 @@ struct SlideState {
 };
 
 // How a caller steers a slide besides its options: progress reports, checkpoints, a stop request,
-// a start state. Checkpoints and stop requests are handled between steps (a step, one or a few
-// minimisations, is not interrupted).
+// a start state. Checkpoints are taken between steps. Stop requests are polled between steps and,
+// in the lateral force model, every 16 iterations inside a relaxation (not the first one), which
+// is then abandoned: the state before it is handed over, and a resumed slide repeats it.
 struct SlideControl {
   SlideProgress progress;  // after every accepted step and before every relaxation
   // Receives the state: every checkpoint_every_s of wall time, on a stop request (before slide()
   // returns with interrupted = true) and on a numerical failure (the last good state).
   std::function<void(const SlideState&)> checkpoint;
   double checkpoint_every_s = 300.0;  // wall time between checkpoints (s); 0: after every step
-  // Polled between steps; true: checkpoint, then return with interrupted = true. Called from the
-  // sliding thread; a signal handler sets a flag that this reads.
+  // Polled between steps and inside relaxations (above); true: checkpoint, then return with
+  // interrupted = true. Called from the sliding thread; a signal handler sets a flag that this
+  // reads.
   std::function<bool()> stop_requested;
   const SlideState* start = nullptr;  // continue from this state instead of Dx = 0 (not owned)
 

@@ -1,9 +1,10 @@
 // Checkpoints of a slide (slide::SlideControl, slide::SlideState) and their files
 // (common/slide_checkpoint.hpp); numerical failures during a slide.
 //
-// - A slide stopped at every possible point (each poll of stop_requested, in the stepping and in
-//   the peak refinement) and resumed from the state it handed over, through an encoded
-//   checkpoint, gives the uninterrupted result bit for bit: trace, mu, counts, snapshots.
+// - A slide stopped at every possible point (each poll of stop_requested: between steps, in the
+//   peak refinement, and every 16 iterations inside their relaxations, which are abandoned) and
+//   resumed from the state it handed over, through an encoded checkpoint, gives the
+//   uninterrupted result bit for bit: trace, mu, counts, snapshots.
 // - A minimiser that stops converging mid-slide fails the slide with the step, Dx, step size and
 //   solver settings in stop_reason, keeps the last good state as snapshot "last_good" and hands
 //   it to the checkpoint callback.
@@ -80,8 +81,9 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
 }
 
 // Stops at the k-th poll of stop_requested; resumes from the encoded and decoded checkpoint.
-// Returns false once k is past the last poll (the slide was not interrupted).
-bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& reference) {
+// Returns false once k is past the last poll (the slide was not interrupted); counts the stops
+// that abandoned a relaxation in `within`.
+bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& reference, int& within) {
   std::optional<SlideState> saved;
   int polls = 0;
   const SlideControl stop{.checkpoint = [&](const SlideState& st) { saved = st; },
@@ -93,6 +95,7 @@ bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& referen
   EXPECT_TRUE(saved.has_value()) << where;
   if (!saved) return false;
   EXPECT_TRUE(first.mu_is_lower_bound) << where;
+  if (first.stop_reason.find("within the relaxation to Dx = ") != std::string::npos) ++within;
   const auto bytes =
       app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
   const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
@@ -115,10 +118,87 @@ TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
     if (reference.slip_events > 0) {
       EXPECT_GT(reference.replayed_steps, 0);
     }
-    int stops = 0;
-    for (int k = 1; stop_and_resume(s, k, reference); k += stride)
+    int stops = 0, within = 0;
+    for (int k = 1; stop_and_resume(s, k, reference, within); k += stride)
       ++stops;
     EXPECT_GT(stops, 5) << "a = " << s.contact.a;
+    // Polls inside relaxations come every 16 iterations; the slips of a = 20 d are short, so
+    // few of them (StopInsideSlipRelaxations has many).
+    if (reference.slip_events > 0) {
+      EXPECT_GT(within, 0) << "a = " << s.contact.a;
+    }
+  }
+}
+
+TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
+  // A contact whose slips relax for about a hundred iterations (a = 43 d, a / b_core^0 = 6.2):
+  // a stop at a poll inside a relaxation (a heartbeat, which the progress report just before
+  // the poll tells by its iteration > 0) abandons it at once, hands over the state before it
+  // and resumes to the uninterrupted result bit for bit. Stops: inside the first relaxation of
+  // a slip, and at the first and the last poll inside any relaxation (bisection trials, steps).
+  // The progress reports change nothing (test_slide_progress.cpp), so the reference may run
+  // without them.
+  const auto s = scene(43.0, 0.0);
+  const SlideResult reference = slide::slide(s.contact, s.options);
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  ASSERT_GT(reference.slip_events, 0);
+  // Runs the slide, stopping at the n-th poll inside a relaxation (of phase `only`, if given);
+  // returns the number of such polls if it never stops.
+  struct Stop {
+    SlideResult result;
+    std::optional<SlideState> saved;
+    int polls = 0;
+    slide::SlidePhase phase{};
+  };
+  const auto run = [&](int n, std::optional<slide::SlidePhase> only) {
+    Stop out;
+    slide::SlidePhase phase{};
+    int iteration = 0;
+    out.result =
+        slide::slide(s.contact, s.options,
+                     SlideControl{.progress =
+                                      [&](const slide::SlideProgressInfo& p) {
+                                        phase = p.phase, iteration = p.iteration;
+                                      },
+                                  .checkpoint = [&](const SlideState& st) { out.saved = st; },
+                                  .checkpoint_every_s = 1e9,
+                                  .stop_requested =
+                                      [&] {
+                                        if (iteration == 0 || (only && phase != *only))
+                                          return false;
+                                        out.phase = phase;
+                                        return ++out.polls == n;
+                                      }});
+    return out;
+  };
+  const int inside = run(0, std::nullopt).polls;
+  const int inside_slips = run(0, slide::SlidePhase::slip).polls;
+  ASSERT_GT(inside, 5);
+  ASSERT_GT(inside_slips, 0);
+  for (const auto& [n, only] : {std::pair{1, std::optional{slide::SlidePhase::slip}},
+                                std::pair{1, std::optional<slide::SlidePhase>{}},
+                                std::pair{inside, std::optional<slide::SlidePhase>{}}}) {
+    const Stop stop = run(n, only);
+    const std::string where = "stop at poll " + std::to_string(n) + " inside " +
+                              (only ? "slip" : "any") + " relaxations (" + stop.result.stop_reason +
+                              ")";
+    ASSERT_TRUE(stop.result.interrupted) << where;
+    EXPECT_NE(stop.result.stop_reason.find("within the relaxation to Dx = "), std::string::npos)
+        << where;
+    ASSERT_TRUE(stop.saved.has_value()) << where;
+    // The handed-over state is the one before the abandoned relaxation; its cost leaves out
+    // the abandoned work, which the resumed slide repeats.
+    if (only) {
+      EXPECT_LT(stop.saved->partial.slip_events, reference.slip_events) << where;
+    }
+    EXPECT_LT(stop.saved->partial.gf_applications, reference.gf_applications) << where;
+    const auto bytes =
+        app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *stop.saved});
+    const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+    const SlideResult resumed =
+        slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+    EXPECT_FALSE(resumed.interrupted) << where;
+    expect_same(reference, resumed, where);
   }
 }
 
