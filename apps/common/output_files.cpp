@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -317,6 +318,44 @@ CsvTable CsvTable::read(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return parse(text.str(), path.string());
+}
+
+DirectoryLock::DirectoryLock(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / kFileName;
+  // O_CLOEXEC: a child (gnuplot) must not inherit the lock and hold it past our exit.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw std::runtime_error("cannot open the lock file " + path.string() + ": " +
+                             std::strerror(errno));
+  }
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    std::string holder;
+    char buf[32] = {};
+    if (const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0); n > 0) {
+      holder = std::string(buf, static_cast<std::size_t>(n));
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' '))
+        holder.pop_back();
+    }
+    ::close(fd_);
+    fd_ = -1;
+    if (err == EWOULDBLOCK) {
+      throw std::invalid_argument(
+          "another run is writing to " + dir.string() +
+          (holder.empty() ? std::string() : " (process " + holder + ")") +
+          "; wait for it to end or stop it (SIGINT: it checkpoints), or choose another --out");
+    }
+    throw std::runtime_error("cannot lock " + path.string() + ": " + std::strerror(err));
+  }
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  // Informational only (the lock is the flock): a failed write leaves the message without it.
+  if (::ftruncate(fd_, 0) == 0) {
+    [[maybe_unused]] const ssize_t written = ::pwrite(fd_, pid.data(), pid.size(), 0);
+  }
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
 }  // namespace asperity::app

@@ -51,6 +51,28 @@ class TemporaryFile {
 // not share an output directory. Returns the number removed; a missing `dir` removes nothing.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
+// An exclusive lock on an output directory for as long as the object lives, so that two runs
+// cannot write one directory at once: their checkpoints, tables and point folders would
+// interleave (two friction_sweep runs of one point once ran side by side for 7 minutes). An
+// advisory flock on `<dir>/.asperity.lock`, which the kernel releases when the process ends,
+// however it ends, so a killed run leaves no stale lock; the file itself stays (removing it
+// would let a third run lock a file that a second one has just opened). The holder writes its
+// pid into it, for the message. Throws std::invalid_argument (exit status 2: a command-line
+// problem) naming the directory and the holder's pid if another run holds the lock, and
+// std::runtime_error if the lock file cannot be opened.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::filesystem::path& dir);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+  static constexpr const char* kFileName = ".asperity.lock";
+
+ private:
+  int fd_ = -1;
+};
+
 // Throws std::runtime_error naming `path` on failure.
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);
 

@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
     if (explicit_slide && model != "explicit") {
       throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
     }
+    // One run per output directory, for the whole run (its checkpoint is read under the lock).
+    const app::DirectoryLock dir_lock(app::ensure_directory(out));
 
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(

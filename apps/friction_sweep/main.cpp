@@ -346,6 +346,9 @@ int main(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
+    // One sweep per output directory: its table and point folders (with their checkpoints)
+    // would interleave with another's.
+    const app::DirectoryLock dir_lock(dir);
     if (const std::size_t n = app::remove_stale_temporaries(dir)) {
       std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n", n,
                    n > 1 ? "s" : "");

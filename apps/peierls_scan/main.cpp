@@ -556,6 +556,7 @@ int main(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
+    const app::DirectoryLock dir_lock(dir);  // one scan per output directory
     app::remove_stale_temporaries(dir);
     const fs::path csv = dir / "peierls.csv";
     std::vector<std::optional<Row>> rows(points.size());

@@ -1,4 +1,7 @@
-// Shared helpers of the command-line tools: scene reading, result files, plots, CLI wrapper.
+// Shared helpers of the command-line tools: scene reading, result files, output-directory locks,
+// plots, CLI wrapper.
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -144,6 +147,49 @@ TEST_F(FilesTest, EnsureDirectoryRejectsFiles) {
   EXPECT_TRUE(fs::is_directory(dir_ / "a" / "b"));
   write_file_atomic(dir_ / "f", "x");
   EXPECT_THROW(ensure_directory(dir_ / "f"), std::runtime_error);
+}
+
+TEST_F(FilesTest, DirectoryLockAdmitsOneRunAndDiesWithItsHolder) {
+  {
+    const DirectoryLock first(dir_);
+    // A second lock (another open file, as another process would have) is refused, naming the
+    // directory and the holder.
+    const std::string message = invalid_argument_message([&] { DirectoryLock second(dir_); });
+    EXPECT_NE(message.find("another run is writing to " + dir_.string()), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("(process " + std::to_string(::getpid()) + ")"), std::string::npos)
+        << message;
+  }
+  { const DirectoryLock again(dir_); }  // released with its holder
+
+  // Another process holds it, then is killed with SIGKILL (no destructor runs): the lock goes
+  // with it.
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(ready[0]);
+    try {
+      const DirectoryLock held(dir_);
+      const char c = 'x';
+      if (::write(ready[1], &c, 1) != 1) ::_exit(1);
+      ::pause();
+    } catch (...) {
+    }
+    ::_exit(1);
+  }
+  ::close(ready[1]);
+  char c = 0;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1) << "the child did not take the lock";
+  ::close(ready[0]);
+  const std::string message = invalid_argument_message([&] { DirectoryLock mine(dir_); });
+  EXPECT_NE(message.find("(process " + std::to_string(child) + ")"), std::string::npos) << message;
+  ASSERT_EQ(::kill(child, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status));
+  EXPECT_NO_THROW(DirectoryLock after(dir_)) << "a killed holder left a stale lock";
 }
 
 TEST_F(FilesTest, CsvRoundTripIsBitIdentical) {
