@@ -69,6 +69,8 @@ void PeierlsLaw::validate() const {
        {std::pair{"PeierlsLaw.k1_error", k1_error}, std::pair{"PeierlsLaw.k2_error", k2_error}}) {
     if (!(v >= 0.0) || !std::isfinite(v)) reject(name, std::to_string(v), "finite and >= 0");
   }
+  if (!(correlation >= -1.0 && correlation <= 1.0))
+    reject("PeierlsLaw.correlation", std::to_string(correlation), "in [-1, 1]");
 }
 
 std::string to_string(RegimeThreeForm form) {
@@ -125,7 +127,8 @@ double dlog_dk2(RegimeThreeForm form, double beta, double k2) {
 double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLaw& law) {
   const double a = law.k1_error / law.k1;
   const double b = dlog_dk2(form, beta, law.k2) * law.k2_error;
-  return std::hypot(a, b);
+  // Round-off can take a + b with a correlation of 1 a hair below zero.
+  return std::sqrt(std::max(0.0, a * a + b * b + 2.0 * law.correlation * a * b));
 }
 
 void RegimeThreeFitOptions::validate() const {
@@ -258,6 +261,7 @@ RegimeThreeFit fit_regime_three(std::span<const double> beta, std::span<const do
   fit.law.b_min = fit.beta_min;
   fit.law.b_max = fit.beta_max;
   fit.correlation = cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1));
+  fit.law.correlation = std::clamp(fit.correlation, -1.0, 1.0);
   fit.rms_log_residual = std::sqrt(ssr / n);
   fit.valid = true;
   return fit;

@@ -31,9 +31,12 @@ double exponential_integral_en(int n, double x);
 struct PeierlsLaw {
   double k1 = 0.0, k1_error = 0.0;  // dimensionless
   double k2 = 0.0, k2_error = 0.0;  // dimensionless (b_core in units of d)
+  // Correlation of the k1 and k2 estimates, in [-1, 1] (0: unknown or independent). A fit on a
+  // window of core widths gives near +1 (peierls::ExponentialFit::correlation).
+  double correlation = 0.0;
   double b_min = 0.0, b_max = 0.0;  // window of core widths the law was fitted on (d); 0: unknown
 
-  void validate() const;  // k1, k2 > 0, errors >= 0, all finite
+  void validate() const;  // k1, k2 > 0, errors >= 0, correlation in [-1, 1], all finite
 };
 
 enum class RegimeThreeForm { central, integrated };
@@ -46,8 +49,9 @@ double bcore0(double a, double R, double alpha, double nu);
 double regime_three_central(double beta, const PeierlsLaw& law);
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);
 double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, double f_P);
-// Standard error of ln(mu / alpha) from the errors of k1 and k2 (taken as uncorrelated: a
-// peierls_scan summary gives no covariance).
+// Standard error of ln(mu / alpha) from the errors of k1 and k2 and their correlation (linear
+// propagation: for the central form and a law fitted by peierls::fit_exponential this is the
+// line fit's prediction error at b_core = beta, s sqrt(1/n + (beta - mean_b)^2 / S_bb)).
 double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLaw& law);
 
 struct RegimeThreeFitOptions {

@@ -34,6 +34,9 @@ ExponentialFit fit_exponential(std::span<const double> b_core, std::span<const d
   fit.k2_error = std::sqrt(sigma2 / line.sxx);
   fit.k1 = std::exp(line.intercept);
   fit.k1_error = fit.k1 * std::sqrt(sigma2 * (1.0 / n + line.mean_x * line.mean_x / line.sxx));
+  // cov(ln k1, k2) = -cov(intercept, slope) = sigma2 mean_x / sxx; k1's error is k1 times that
+  // of ln k1, so the correlation is the same.
+  fit.correlation = line.mean_x / std::sqrt(line.sxx / n + line.mean_x * line.mean_x);
   fit.rms_log_residual = std::sqrt(line.ssr / n);
   fit.valid = true;
   return fit;

@@ -10,6 +10,7 @@
 // - regime_map.png: predicted mu/alpha over (a/d, R/d) with the regime boundaries and the data
 //   points marked by their simulated regime.
 #include <CLI/CLI.hpp>
+#include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -45,6 +46,7 @@ struct Options {
   std::string peierls;              // peierls_scan summary.json or its folder; empty: k1, k2 given
   std::optional<double> k1, k2;     // Peierls law (dimensionless); override the summary
   double k1_error = 0.0, k2_error = 0.0;  // their errors when given
+  std::optional<double> correlation;      // of k1 and k2 when given, in [-1, 1]
   double f_P = 0.5;                       // fraction of the local Peierls stress, (0, 1]
   std::vector<double> window;  // Regime II window in a/b_core^0 (2 values); empty: automatic
   int bootstrap = 4000;        // bootstrap resamples for c0
@@ -62,6 +64,8 @@ struct Options {
       throw std::invalid_argument("--peierls or both --k1 and --k2 are required (Regime III law)");
     if (!window.empty() && (window.size() != 2 || !(window[0] > 0.0) || !(window[1] >= window[0])))
       throw std::invalid_argument("--window: two values 0 < lo <= hi (a/b_core^0) expected");
+    if (correlation && !(k1 && k2))
+      throw std::invalid_argument("--k1-k2-correlation: only with both --k1 and --k2");
     for (const auto& [name, r] : {std::pair{"--map-a", map_a}, std::pair{"--map-R", map_R}}) {
       if (r.empty()) continue;
       if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > r[0]))
@@ -191,6 +195,18 @@ LawSource read_law(const Options& o) {
     s.law.k1_error = number(field("k1_error"), "k1_error", false);
     s.law.k2 = number(field("k2"), "k2", true);
     s.law.k2_error = number(field("k2_error"), "k2_error", false);
+    // Summaries before the correlation was written lack it: taken as 0, which overstates the
+    // errors of the predictions (said in summary.json).
+    if (e.contains("k1_k2_correlation")) {
+      const nlohmann::json& v = e["k1_k2_correlation"];
+      if (!v.is_number() || !(v.get<double>() >= -1.0 && v.get<double>() <= 1.0)) {
+        throw std::invalid_argument(p.string() + ": fits.edge.k1_k2_correlation = " + v.dump() +
+                                    ": not a number in [-1, 1]");
+      }
+      s.law.correlation = v.get<double>();
+    } else {
+      j["correlation_missing"] = "taken as 0 (a peierls_scan summary without k1_k2_correlation)";
+    }
     const nlohmann::json window = field("window_b_core");
     if (!window.is_array() || window.size() != 2) {
       throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
@@ -209,7 +225,11 @@ LawSource read_law(const Options& o) {
          {"points", e.value("points", 0)},
          {"L", summary.contains("scene") ? summary["scene"].value("L", 0) : 0}};
   }
-  if (o.k1 || o.k2) s.dof = 0.0;  // given errors are taken as reported errors
+  if (o.k1 || o.k2) {
+    s.dof = 0.0;  // given errors are taken as reported errors
+    // The summary's correlation belongs to its k1 and k2 together.
+    s.law.correlation = o.correlation.value_or(0.0);
+  }
   if (o.k1) {
     s.law.k1 = *o.k1;
     s.law.k1_error = o.k1_error;
@@ -224,7 +244,8 @@ LawSource read_law(const Options& o) {
   j.update({{"k1", s.law.k1},
             {"k1_error", s.law.k1_error},
             {"k2", s.law.k2},
-            {"k2_error", s.law.k2_error}});
+            {"k2_error", s.law.k2_error},
+            {"k1_k2_correlation", s.law.correlation}});
   s.json = j;
   return s;
 }
@@ -287,6 +308,9 @@ int main(int argc, char** argv) {
         ->check(app::positive());
     cli.add_option("--k1-error", k1_error, "Error of a given k1")->check(app::non_negative());
     cli.add_option("--k2-error", k2_error, "Error of a given k2")->check(app::non_negative());
+    cli.add_option("--k1-k2-correlation", o.correlation,
+                   "Correlation of the given k1 and k2 errors (default 0)")
+        ->check(app::finite_number(-1, 1));
     cli.add_option("--f-P", o.f_P, "Fraction of the local Peierls stress (Regime III)")
         ->check(app::finite_number(0, 1, true))
         ->capture_default_str();
@@ -356,15 +380,28 @@ int main(int argc, char** argv) {
     // c0's reported error they are multiplied by t_factor of their degrees of freedom
     // (statistics.hpp).
     const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
-    // The model with one of c0, k1, k2 (k = 0, 1, 2) moved by `errors` reported errors; nullopt
-    // if that leaves a parameter <= 0.
+    // Independent directions of uncertainty: c0 (k = 0), and the two principal axes of the
+    // covariance of (k1, k2) (k = 1, 2). k1 and k2 come from one line fit and are strongly
+    // correlated (near +1 for a window at b_core > 0): moved one at a time they would overstate
+    // the errors of the law inside its window up to 4x (peierls/fit.hpp); along the axes, in
+    // quadrature, linear propagation is exact (with correlation 0 they are k1 and k2 alone).
+    const Eigen::Vector2d law_sd(law_t * law.law.k1_error, law_t * law.law.k2_error);
+    Eigen::Matrix2d law_cov;
+    law_cov << law_sd(0) * law_sd(0), law.law.correlation * law_sd(0) * law_sd(1),
+        law.law.correlation * law_sd(0) * law_sd(1), law_sd(1) * law_sd(1);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(law_cov);
+    // The model with c0 or the (k1, k2) pair moved along direction k by `errors` reported
+    // errors; nullopt if that leaves a parameter <= 0.
     const auto moved_model = [&](int k, double errors) -> std::optional<nuc::Model> {
       nuc::Model m = model;
-      (k == 0   ? m.c0
-       : k == 1 ? m.law.k1
-                : m.law.k2) += errors * (k == 0   ? fit.c0_error
-                                         : k == 1 ? law_t * law.law.k1_error
-                                                  : law_t * law.law.k2_error);
+      if (k == 0) {
+        m.c0 += errors * fit.c0_error;
+      } else {
+        const Eigen::Vector2d step = errors * std::sqrt(std::max(0.0, axes.eigenvalues()(k - 1))) *
+                                     axes.eigenvectors().col(k - 1);
+        m.law.k1 += step(0);
+        m.law.k2 += step(1);
+      }
       if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) return std::nullopt;
       return m;
     };
@@ -393,8 +430,8 @@ int main(int argc, char** argv) {
       const nuc::Prediction pr = nuc::predict(p.x, beta, model);
       predictions.push_back(pr);
       // The prediction cannot decide the regime of a point that lies within the fitted
-      // parameters' uncertainty of a boundary: moving one of c0, k1, k2 by 2 reported errors
-      // (either way) changes its predicted regime.
+      // parameters' uncertainty of a boundary: moving c0 or the (k1, k2) pair along one
+      // independent direction by 2 reported errors (either way) changes its predicted regime.
       bool open = false;
       for (int k = 0; k < 3 && !open; ++k) {
         for (double e : {2.0, -2.0}) {
@@ -441,8 +478,8 @@ int main(int argc, char** argv) {
       const nuc::Crossover cr = nuc::regime_two_three_crossover(R, alpha, nu, model);
       nlohmann::json j = {{"R", R}, {"found", cr.found}};
       if (cr.found) {
-        // Error of a: each of c0, k1, k2 moved both ways by its reported error (moved_model),
-        // the larger shift of a taken, in quadrature (the three come from independent fits).
+        // Error of a: c0 and the (k1, k2) pair moved both ways along each independent direction
+        // by its reported error (moved_model), the larger shift of a taken, in quadrature.
         // A move after which there is no crossover in range leaves the error incomplete.
         // Not included: the law's extrapolation below its fit window (law_extrapolated), a
         // systematic error (docs/nucleation.md).

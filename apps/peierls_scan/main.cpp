@@ -722,6 +722,7 @@ int main(int argc, char** argv) {
                   {"k1_error", f.k1_error},
                   {"k2", f.k2},
                   {"k2_error", f.k2_error},
+                  {"k1_k2_correlation", f.correlation},
                   {"window_b_core", {f.b_min, f.b_max}},
                   {"rms_log_residual", f.rms_log_residual}});
       }

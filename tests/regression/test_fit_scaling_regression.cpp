@@ -155,9 +155,19 @@ TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsW
 // What the committed large contacts at R = 1700 d show: no upturn. mu/alpha falls with every
 // larger contact and stays within 10% of the Regime II law with c0 fitted at R = 535 d alone
 // (out of sample); at R = 100 d (a <= 50 d, before the predicted crossover at 57 d) it falls
-// too.
+// too. And the predicted II -> III crossover at R = 1700 d lies beyond the largest point by more
+// than 2 of its errors (which propagate the correlated k1, k2 of the scan, 0.94).
 TEST(FitScalingRegression, NoUpturnAtR1700) {
   const auto s = summary();
+  EXPECT_GT(s["peierls"]["k1_k2_correlation"].get<double>(), 0.9);
+  bool crossover_1700 = false;
+  for (const auto& c : s["crossovers_two_three"]) {
+    if (c["R"].get<double>() != 1700.0 || !c["found"].get<bool>()) continue;
+    crossover_1700 = true;
+    EXPECT_TRUE(c["a_error_complete"].get<bool>());
+    EXPECT_GT(c["a"].get<double>() - 2.0 * c["a_error"].get<double>(), 510.0);
+  }
+  EXPECT_TRUE(crossover_1700);
   for (const auto& u : s["regime_three_upturns"])
     EXPECT_EQ(u["R"].get<double>(), 40.0);
   const double c0 = summary(FIT_R535_DIR)["regime_two"]["c0"].get<double>();
