@@ -202,6 +202,42 @@ TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
   }
 }
 
+TEST(SlideCheckpoint, StopInsideAPeakRefinementResumesBitForBit) {
+  // Regime I (a = 12 d, no slip in 1.2 d) with a fixed distance: the smooth maximum is refined
+  // after the stepping, by 4 probes. With FIRE (L-BFGS converges them in under 16 iterations)
+  // they relax for up to about 100 iterations, so a stop lands inside one: the probe is
+  // abandoned, the state at the end of the stepping is handed over, and the resumed slide redoes
+  // the refinement to the uninterrupted result, bit for bit.
+  auto s = scene(12.0, 1.2);
+  s.options.minimizer.method = minimize::Method::fire;
+  const SlideResult reference = slide::slide(s.contact, s.options);
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  std::optional<SlideState> saved;
+  slide::SlidePhase phase{};
+  int iteration = 0;
+  const SlideResult first = slide::slide(
+      s.contact, s.options,
+      SlideControl{
+          .progress =
+              [&](const slide::SlideProgressInfo& p) { phase = p.phase, iteration = p.iteration; },
+          .checkpoint = [&](const SlideState& st) { saved = st; },
+          .checkpoint_every_s = 1e9,
+          .stop_requested = [&] { return phase == slide::SlidePhase::peak && iteration > 0; }});
+  ASSERT_TRUE(first.interrupted) << "no poll inside a peak probe: " << first.stop_reason;
+  EXPECT_NE(first.stop_reason.find("(refining the peak), within the relaxation to Dx = "),
+            std::string::npos)
+      << first.stop_reason;
+  ASSERT_TRUE(saved.has_value());
+  EXPECT_TRUE(saved->stepping_done);
+  const auto bytes =
+      app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
+  const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+  const SlideResult resumed =
+      slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+  EXPECT_FALSE(resumed.interrupted);
+  expect_same(reference, resumed, "stopped inside a peak probe");
+}
+
 TEST(SlideCheckpoint, IntervalCheckpointsChangeNothing) {
   const auto s = scene(20.0, 0.0);
   const SlideResult reference = slide::slide(s.contact, s.options);
