@@ -80,6 +80,14 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
   }
 }
 
+// The slide resumed from `saved` through an encoded and decoded checkpoint file.
+SlideResult resume_through_file(const app::SlideScene& s, const SlideState& saved) {
+  const auto bytes =
+      app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = saved});
+  const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+  return slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+}
+
 // Stops at the k-th poll of stop_requested; resumes from the encoded and decoded checkpoint.
 // Returns false once k is past the last poll (the slide was not interrupted); counts the stops
 // that abandoned a relaxation in `within`.
@@ -96,11 +104,7 @@ bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& referen
   if (!saved) return false;
   EXPECT_TRUE(first.mu_is_lower_bound) << where;
   if (first.stop_reason.find("within the relaxation to Dx = ") != std::string::npos) ++within;
-  const auto bytes =
-      app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
-  const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
-  const SlideResult resumed =
-      slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+  const SlideResult resumed = resume_through_file(s, *saved);
   EXPECT_FALSE(resumed.interrupted) << where;
   expect_same(reference, resumed, where);
   return true;
@@ -123,7 +127,7 @@ TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
       ++stops;
     EXPECT_GT(stops, 5) << "a = " << s.contact.a;
     // Polls inside relaxations come every 16 iterations; the slips of a = 20 d are short, so
-    // few of them (StopInsideSlipRelaxations has many).
+    // few of them (StopInsideRelaxationsResumesBitForBit has many).
     if (reference.slip_events > 0) {
       EXPECT_GT(within, 0) << "a = " << s.contact.a;
     }
@@ -148,7 +152,6 @@ TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
     SlideResult result;
     std::optional<SlideState> saved;
     int polls = 0;
-    slide::SlidePhase phase{};
   };
   const auto run = [&](int n, std::optional<slide::SlidePhase> only) {
     Stop out;
@@ -166,7 +169,6 @@ TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
                                       [&] {
                                         if (iteration == 0 || (only && phase != *only))
                                           return false;
-                                        out.phase = phase;
                                         return ++out.polls == n;
                                       }});
     return out;
@@ -192,11 +194,7 @@ TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
       EXPECT_LT(stop.saved->partial.slip_events, reference.slip_events) << where;
     }
     EXPECT_LT(stop.saved->partial.gf_applications, reference.gf_applications) << where;
-    const auto bytes =
-        app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *stop.saved});
-    const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
-    const SlideResult resumed =
-        slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+    const SlideResult resumed = resume_through_file(s, *stop.saved);
     EXPECT_FALSE(resumed.interrupted) << where;
     expect_same(reference, resumed, where);
   }
@@ -229,11 +227,7 @@ TEST(SlideCheckpoint, StopInsideAPeakRefinementResumesBitForBit) {
       << first.stop_reason;
   ASSERT_TRUE(saved.has_value());
   EXPECT_TRUE(saved->stepping_done);
-  const auto bytes =
-      app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
-  const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
-  const SlideResult resumed =
-      slide::slide(s.contact, s.options, SlideControl{.start = &back.state});
+  const SlideResult resumed = resume_through_file(s, *saved);
   EXPECT_FALSE(resumed.interrupted);
   expect_same(reference, resumed, "stopped inside a peak probe");
 }
