@@ -9,10 +9,14 @@
 #include <atomic>
 #include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace asperity::app {
 namespace {
@@ -320,7 +324,61 @@ CsvTable CsvTable::read(const std::filesystem::path& path) {
   return parse(text.str(), path.string());
 }
 
+namespace {
+
+// The directories this process holds a DirectoryLock on. A sweep locks its directory and then
+// each point folder below it; flock makes no exception for the same process (a second open file
+// is a second holder), so the probe of the ancestors must skip the ones locked here.
+std::mutex& held_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::multiset<std::filesystem::path>& held_here() {
+  static std::multiset<std::filesystem::path> held;
+  return held;
+}
+
+// The pid the holder wrote into its lock file, or "" if there is none.
+std::string lock_holder(int fd) {
+  char buf[32] = {};
+  const ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+  if (n <= 0) return {};
+  std::string holder(buf, static_cast<std::size_t>(n));
+  while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' '))
+    holder.pop_back();
+  return holder;
+}
+
+[[noreturn]] void refuse(const std::filesystem::path& locked, const std::filesystem::path& dir,
+                         const std::string& holder) {
+  throw std::invalid_argument(
+      "another run is writing to " + locked.string() +
+      (locked == dir ? std::string() : ", which contains " + dir.string()) +
+      (holder.empty() ? std::string() : " (process " + holder + ")") +
+      "; wait for it to end or stop it (SIGINT: it checkpoints), or choose another --out");
+}
+
+}  // namespace
+
 DirectoryLock::DirectoryLock(const std::filesystem::path& dir) {
+  std::error_code ec;
+  dir_ = std::filesystem::weakly_canonical(dir, ec);
+  if (ec) dir_ = std::filesystem::absolute(dir);
+  const std::lock_guard held_lock(held_mutex());
+  // A directory inside one another run holds is written by that run too (a sweep's point
+  // folders), so an ancestor's lock refuses this one. Probed with a shared lock, dropped at once.
+  for (std::filesystem::path p = dir_.parent_path();; p = p.parent_path()) {
+    if (!held_here().contains(p)) {
+      const std::filesystem::path file = p / kFileName;
+      if (const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC); fd >= 0) {
+        const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+        const std::string holder = held ? lock_holder(fd) : std::string();
+        ::close(fd);  // releases the probe
+        if (held) refuse(p, dir, holder);
+      }
+    }
+    if (p == p.parent_path()) break;
+  }
   const std::filesystem::path path = dir / kFileName;
   // O_CLOEXEC: a child (gnuplot) must not inherit the lock and hold it past our exit.
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -328,25 +386,22 @@ DirectoryLock::DirectoryLock(const std::filesystem::path& dir) {
     throw std::runtime_error("cannot open the lock file " + path.string() + ": " +
                              std::strerror(errno));
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    const int err = errno;
-    std::string holder;
-    char buf[32] = {};
-    if (const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0); n > 0) {
-      holder = std::string(buf, static_cast<std::size_t>(n));
-      while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' '))
-        holder.pop_back();
-    }
+  // Another run's probe of its ancestors holds this lock shared for a moment; a few retries
+  // keep that moment from refusing a run.
+  int err = 0;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    if (attempt > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    err = ::flock(fd_, LOCK_EX | LOCK_NB) == 0 ? 0 : errno;
+    if (err != EWOULDBLOCK) break;
+  }
+  if (err != 0) {
+    const std::string holder = lock_holder(fd_);
     ::close(fd_);
     fd_ = -1;
-    if (err == EWOULDBLOCK) {
-      throw std::invalid_argument(
-          "another run is writing to " + dir.string() +
-          (holder.empty() ? std::string() : " (process " + holder + ")") +
-          "; wait for it to end or stop it (SIGINT: it checkpoints), or choose another --out");
-    }
+    if (err == EWOULDBLOCK) refuse(dir, dir, holder);
     throw std::runtime_error("cannot lock " + path.string() + ": " + std::strerror(err));
   }
+  held_here().insert(dir_);
   const std::string pid = std::to_string(::getpid()) + "\n";
   // Informational only (the lock is the flock): a failed write leaves the message without it.
   if (::ftruncate(fd_, 0) == 0) {
@@ -355,7 +410,10 @@ DirectoryLock::DirectoryLock(const std::filesystem::path& dir) {
 }
 
 DirectoryLock::~DirectoryLock() {
-  if (fd_ >= 0) ::close(fd_);  // releases the lock
+  if (fd_ < 0) return;
+  const std::lock_guard held_lock(held_mutex());
+  held_here().erase(held_here().find(dir_));
+  ::close(fd_);  // releases the lock
 }
 
 }  // namespace asperity::app

@@ -57,9 +57,12 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 // advisory flock on `<dir>/.asperity.lock`, which the kernel releases when the process ends,
 // however it ends, so a killed run leaves no stale lock; the file itself stays (removing it
 // would let a third run lock a file that a second one has just opened). The holder writes its
-// pid into it, for the message. Throws std::invalid_argument (exit status 2: a command-line
-// problem) naming the directory and the holder's pid if another run holds the lock, and
-// std::runtime_error if the lock file cannot be opened.
+// pid into it, for the message. A directory inside one that another run holds is refused too
+// (that run writes below its directory: a sweep's point folders, which the sweep also locks one
+// by one while it runs them); directories this process locked itself are not in the way.
+// Throws std::invalid_argument (exit status 2: a command-line problem) naming the locked
+// directory and the holder's pid if another run holds the lock, and std::runtime_error if the
+// lock file cannot be opened.
 class DirectoryLock {
  public:
   explicit DirectoryLock(const std::filesystem::path& dir);
@@ -70,6 +73,7 @@ class DirectoryLock {
   static constexpr const char* kFileName = ".asperity.lock";
 
  private:
+  std::filesystem::path dir_;  // canonical, for this process's list of held directories
   int fd_ = -1;
 };
 

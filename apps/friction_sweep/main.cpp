@@ -482,6 +482,9 @@ int main(int argc, char** argv) {
       // the sweep is stopped (SIGINT, SIGTERM); the next run continues it from there, to the same
       // result bit for bit. A checkpoint of other settings is replaced.
       const fs::path point_dir = dir / "points" / app::point_folder(point, job.x);
+      // Held while the point runs: a contact_slide started into this folder is refused, and so is
+      // this point (failed, the sweep goes on) if a contact_slide already writes there.
+      const app::DirectoryLock point_lock(app::ensure_directory(point_dir));
       const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
       const std::string point_settings =
           job.x ? app::explicit_slide_fingerprint(es, alpha_x) : app::slide_fingerprint(ps);

@@ -149,6 +149,54 @@ TEST_F(FilesTest, EnsureDirectoryRejectsFiles) {
   EXPECT_THROW(ensure_directory(dir_ / "f"), std::runtime_error);
 }
 
+// Another process holding a DirectoryLock on `dir` until kill() sends it SIGKILL (no destructor
+// runs, as when a run is killed).
+class LockHeldByChild {
+ public:
+  explicit LockHeldByChild(const fs::path& dir) {
+    int ready[2];
+    if (::pipe(ready) != 0) throw std::runtime_error("pipe failed");
+    pid_ = ::fork();
+    if (pid_ < 0) throw std::runtime_error("fork failed");
+    if (pid_ == 0) {
+      ::close(ready[0]);
+      try {
+        const DirectoryLock held(dir);
+        const char c = 'x';
+        if (::write(ready[1], &c, 1) != 1) ::_exit(1);
+        ::pause();
+      } catch (...) {
+      }
+      ::_exit(1);
+    }
+    ::close(ready[1]);
+    char c = 0;
+    const bool locked = ::read(ready[0], &c, 1) == 1;
+    ::close(ready[0]);
+    if (!locked) {
+      kill();
+      throw std::runtime_error("the child did not take the lock");
+    }
+  }
+  ~LockHeldByChild() { kill(); }
+  LockHeldByChild(const LockHeldByChild&) = delete;
+  LockHeldByChild& operator=(const LockHeldByChild&) = delete;
+
+  pid_t pid() const { return pid_; }
+  // True if the child died of the SIGKILL.
+  bool kill() {
+    if (pid_ <= 0) return false;
+    int status = 0;
+    const bool killed =
+        ::kill(pid_, SIGKILL) == 0 && ::waitpid(pid_, &status, 0) == pid_ && WIFSIGNALED(status);
+    pid_ = -1;
+    return killed;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
 TEST_F(FilesTest, DirectoryLockAdmitsOneRunAndDiesWithItsHolder) {
   {
     const DirectoryLock first(dir_);
@@ -162,34 +210,43 @@ TEST_F(FilesTest, DirectoryLockAdmitsOneRunAndDiesWithItsHolder) {
   }
   { const DirectoryLock again(dir_); }  // released with its holder
 
-  // Another process holds it, then is killed with SIGKILL (no destructor runs): the lock goes
-  // with it.
-  int ready[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    ::close(ready[0]);
-    try {
-      const DirectoryLock held(dir_);
-      const char c = 'x';
-      if (::write(ready[1], &c, 1) != 1) ::_exit(1);
-      ::pause();
-    } catch (...) {
-    }
-    ::_exit(1);
-  }
-  ::close(ready[1]);
-  char c = 0;
-  ASSERT_EQ(::read(ready[0], &c, 1), 1) << "the child did not take the lock";
-  ::close(ready[0]);
+  // Another process holds it, then is killed: the lock goes with it.
+  LockHeldByChild child(dir_);
   const std::string message = invalid_argument_message([&] { DirectoryLock mine(dir_); });
-  EXPECT_NE(message.find("(process " + std::to_string(child) + ")"), std::string::npos) << message;
-  ASSERT_EQ(::kill(child, SIGKILL), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  EXPECT_TRUE(WIFSIGNALED(status));
+  EXPECT_NE(message.find("(process " + std::to_string(child.pid()) + ")"), std::string::npos)
+      << message;
+  EXPECT_TRUE(child.kill());
   EXPECT_NO_THROW(DirectoryLock after(dir_)) << "a killed holder left a stale lock";
+}
+
+// A sweep locks its directory, then each point folder while it runs: the folders below a
+// directory another run holds are refused, those below this process's own locks are not.
+TEST_F(FilesTest, DirectoryLockCoversTheFoldersBelowIt) {
+  const fs::path point = ensure_directory(dir_ / "points" / "a250_R1700");
+  const fs::path other = ensure_directory(dir_ / "points" / "a275_R1700");
+  {
+    const DirectoryLock sweep(dir_);
+    const DirectoryLock first(point);
+    const DirectoryLock second(other);
+    EXPECT_THROW(DirectoryLock again(point), std::invalid_argument);  // still one run per folder
+  }
+  {
+    // Released: its folders are free again, also to another process.
+    const DirectoryLock first(point);
+  }
+
+  LockHeldByChild sweep(dir_);
+  const std::string message = invalid_argument_message([&] { DirectoryLock mine(point); });
+  EXPECT_NE(message.find("another run is writing to " + fs::weakly_canonical(dir_).string() +
+                         ", which contains " + point.string()),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("(process " + std::to_string(sweep.pid()) + ")"), std::string::npos)
+      << message;
+  // The probe of the ancestor leaves it as it was: still held by the child.
+  EXPECT_THROW(DirectoryLock still(dir_), std::invalid_argument);
+  EXPECT_TRUE(sweep.kill());
+  EXPECT_NO_THROW(DirectoryLock after(point)) << "a killed holder still guards its folders";
 }
 
 TEST_F(FilesTest, CsvRoundTripIsBitIdentical) {
