@@ -151,6 +151,59 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
   return out;
 }
 
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+// One regime map and one set of crossovers need one material and one alpha. The lateral force
+// model's alpha is a parameter, the same on every row of a sweep; the explicit model's is the
+// potential's, measured at each point's central load (0.709 ... 0.719 for a tip set up for 0.7,
+// data/reference/sweep_explicit_R160.csv). Each row carries its own alpha into a/b_core^0 and
+// b_core^0, so every per-point prediction uses it; only the map and the crossovers use the common
+// alpha: the LFM rows' if there are any, else the mean. Rows further than max_spread from it
+// would put the map off by more than that in a/b_core^0, and are refused.
+struct MapAlpha {
+  double alpha = 0.0;
+  double min = 0.0, max = 0.0;  // over all rows
+  std::string rule;
+};
+
+MapAlpha common_alpha(const std::vector<DataPoint>& pts) {
+  constexpr double max_spread = 0.05;
+  const DataPoint& first = pts.front();
+  const DataPoint* lfm = nullptr;
+  double sum = 0.0;
+  MapAlpha out{.min = first.alpha, .max = first.alpha};
+  for (const auto& p : pts) {
+    if (std::abs(p.nu - first.nu) > 1e-12)
+      throw std::invalid_argument(p.source + ": nu = " + fmt("%g", p.nu) +
+                                  " differs from the first table's (" + fmt("%g", first.nu) +
+                                  "): one regime map needs one material");
+    if (p.model == "LFM") {
+      if (lfm && std::abs(p.alpha - lfm->alpha) > 1e-12)
+        throw std::invalid_argument(
+            p.source + ": alpha = " + fmt("%g", p.alpha) + " differs from " + lfm->source + "'s (" +
+            fmt("%g", lfm->alpha) + "): one regime map needs one alpha of the lateral force model");
+      if (!lfm) lfm = &p;
+    }
+    sum += p.alpha;
+    out.min = std::min(out.min, p.alpha);
+    out.max = std::max(out.max, p.alpha);
+  }
+  out.alpha = lfm ? lfm->alpha : sum / static_cast<double>(pts.size());
+  out.rule = lfm ? "the lateral force model's" : "mean of the rows' (explicit model: measured)";
+  for (const auto& p : pts) {
+    if (std::abs(p.alpha / out.alpha - 1.0) > max_spread)
+      throw std::invalid_argument(p.source + ": alpha = " + fmt("%g", p.alpha) + " is more than " +
+                                  fmt("%g", 100 * max_spread) + "% from the map's alpha " +
+                                  fmt("%g", out.alpha) + " (" + out.rule +
+                                  "): one regime map needs one alpha");
+  }
+  return out;
+}
+
 struct LawSource {
   nuc::PeierlsLaw law;
   double dof = 0.0;  // degrees of freedom of the k1, k2 fit (points - 2); 0: given or unknown
@@ -270,12 +323,6 @@ double log_slope(const std::vector<double>& x, const std::vector<double>& y) {
   return sxy / sxx;
 }
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
 // a / b_core^0 on the predicted I/II boundary: where the nucleation condition is as far (in ln)
 // from mu/alpha = 1 as from the Regime II law, i.e. mu = sqrt(law) (regime_map.hpp).
 double regime_one_two_boundary(double c0) {
@@ -338,15 +385,8 @@ int main(int argc, char** argv) {
     const Loaded data = load_sweeps(o.sweeps);
     const LawSource law = read_law(o);
     const auto& pts = data.points;
-    // The map and the crossovers need one material and one alpha.
-    const double alpha = pts.front().alpha, nu = pts.front().nu;
-    for (const auto& p : pts) {
-      if (std::abs(p.alpha - alpha) > 1e-12 || std::abs(p.nu - nu) > 1e-12)
-        throw std::invalid_argument(p.source + ": alpha = " + fmt("%g", p.alpha) +
-                                    ", nu = " + fmt("%g", p.nu) +
-                                    " differ from the first table's (" + fmt("%g", alpha) + ", " +
-                                    fmt("%g", nu) + "): one regime map needs one alpha and nu");
-    }
+    const MapAlpha map_alpha = common_alpha(pts);
+    const double alpha = map_alpha.alpha, nu = pts.front().nu;
 
     // Regime II fit.
     // Branches (falling, then rising) are per model and R.
@@ -806,7 +846,12 @@ int main(int argc, char** argv) {
     app::write_json(
         dir / "summary.json",
         {{"tool", "fit_scaling"},
-         {"inputs", {{"sweeps", data.sources}, {"alpha", alpha}, {"nu", nu}}},
+         {"inputs",
+          {{"sweeps", data.sources},
+           {"alpha", alpha},
+           {"alpha_rule", map_alpha.rule},
+           {"alpha_range", {map_alpha.min, map_alpha.max}},
+           {"nu", nu}}},
          {"regime_two",
           {{"law", "mu/alpha = 3 (2 c0)^(2/3) (a/b_core^0)^(-2/3)"},
            {"c0", fit.c0},
