@@ -65,7 +65,7 @@ std::vector<Regime> simulated_regimes(std::span<const ScalingPoint> points, doub
     double lowest = std::numeric_limits<double>::infinity();
     for (std::size_t i : idx) {
       const ScalingPoint& p = points[i];
-      out[i] = p.mu_over_alpha > lowest * (1.0 + rise_tolerance)
+      out[i] = rises_past(p.mu_over_alpha, lowest, rise_tolerance)
                    ? Regime::three
                    : nearer_of_one_two(p.a_over_bcore0, p.mu_over_alpha, c0);
       lowest = std::min(lowest, p.mu_over_alpha);

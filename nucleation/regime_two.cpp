@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -96,15 +97,16 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
       return points[i].a_over_bcore0 < points[j].a_over_bcore0;
     });
     std::vector<std::size_t> branch;
+    double lowest = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < idx.size(); ++k) {
       const ScalingPoint& p = points[idx[k]];
-      if (branch.empty()) {
-        if (p.mu_over_alpha <= options.crossover_max) branch.push_back(idx[k]);
-        continue;
-      }
-      if (p.mu_over_alpha > points[branch.back()].mu_over_alpha * (1.0 + options.rise_tolerance))
+      if (branch.empty() && p.mu_over_alpha > options.crossover_max) continue;
+      // Against the lowest point so far, not the previous one: a slow upturn (rises under the
+      // tolerance, point after point) ends the branch too, where simulated_regimes calls it III.
+      if (rises_past(p.mu_over_alpha, lowest, options.rise_tolerance))
         break;  // the upturn: Regime III from here on
       branch.push_back(idx[k]);
+      lowest = std::min(lowest, p.mu_over_alpha);
     }
     if (!branch.empty() && branch.size() >= options.min_branch_points)
       branches.push_back(std::move(branch));
@@ -231,6 +233,10 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
   }
   fit.valid = true;
   return fit;
+}
+
+bool rises_past(double mu_over_alpha, double lowest, double rise_tolerance) {
+  return mu_over_alpha > lowest * (1.0 + rise_tolerance);
 }
 
 NucleationSolution nucleation_condition(double a_over_bcore0, double c0) {

@@ -43,14 +43,19 @@ struct ScalingPoint {
 
 // Mu / alpha of the leading-order Regime II law.
 double regime_two_law(double a_over_bcore0, double c0);
+// The Regime III upturn in data: mu / alpha of a contact more than rise_tolerance (relative)
+// above the lowest of the smaller contacts of its branch (same series and R).
+bool rises_past(double mu_over_alpha, double lowest, double rise_tolerance);
+
 // c0 of a point that lies exactly on the law.
 double c0_of_point(double a_over_bcore0, double mu_over_alpha);
 
 // Automatic Regime II window, per branch (series and R; points sorted by a / b_core^0):
 // - starts at the first point with mu / alpha <= crossover_max (past the crossover from
 //   Regime I, where mu / alpha leaves 1);
-// - ends at the last point before mu / alpha rises again by more than rise_tolerance (relative)
-//   from one point to the next: the Regime III upturn;
+// - ends at the last point before mu / alpha rises by more than rise_tolerance (relative) above
+//   the lowest point of the branch so far (rises_past): the Regime III upturn, by the rule that
+//   also marks simulated Regime III points (simulated_regimes);
 // - a branch of fewer than min_branch_points points is left out: one point cannot show whether
 //   the upturn has begun at its R;
 // - then, while the fixed-slope fit misses a point by more than max_deviation (relative), the end

@@ -85,6 +85,32 @@ TEST(RegimeTwo, ALonePointAtItsRIsLeftOut) {
   EXPECT_EQ(fit.points, 7u);  // 4 ... 240 at R = 535
 }
 
+// A slow upturn, each point under the 2% rise tolerance above the previous one but the later
+// ones beyond it above the lowest: the window ends where simulated_regimes marks Regime III, so
+// no point called III enters the Regime II fit (with trimming off, which would hide it).
+TEST(RegimeTwo, TheWindowEndsWhereTheDataTurnToRegimeThree) {
+  const double c0 = 0.2;
+  std::vector<ScalingPoint> points;
+  for (double x : {4.0, 8.0, 15.0, 30.0})
+    points.push_back({.a_over_bcore0 = x, .mu_over_alpha = regime_two_law(x, c0), .R = 535});
+  const double lowest = points.back().mu_over_alpha;
+  for (double step : {1.0, 2.0, 3.0, 4.0})  // +1.5% per point
+    points.push_back({.a_over_bcore0 = 30.0 * (1.0 + 0.5 * step),
+                      .mu_over_alpha = lowest * (1.0 + 0.015 * step),
+                      .R = 535});
+  const std::vector<Regime> simulated = simulated_regimes(points, c0);
+  const std::vector<std::size_t> used =
+      automatic_window(points, {.max_deviation = 1e6, .min_points = 3});
+  ASSERT_FALSE(used.empty());
+  std::size_t three = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    three += simulated[i] == Regime::three;
+  EXPECT_EQ(three, 3u);  // +3%, +4.5% and +6% above the lowest
+  for (std::size_t i : used)
+    EXPECT_NE(simulated[i], Regime::three) << "a/b_core^0 = " << points[i].a_over_bcore0;
+  EXPECT_EQ(used.size(), 5u);  // 4 ... 30 and the +1.5% point
+}
+
 TEST(RegimeTwo, GivenWindow) {
   auto points = branch(0.2, 1e9);
   const RegimeTwoFit given = fit_regime_two(points, {.window = std::pair{10.0, 100.0}});
