@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -112,21 +113,35 @@ double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, do
                                           : regime_three_integrated(beta, law, f_P);
 }
 
-namespace {
-
-// d ln(mu/alpha) / d k2.
-double dlog_dk2(RegimeThreeForm form, double beta, double k2) {
-  if (form == RegimeThreeForm::central) return -beta;
-  // d E_n(x)/dx = -E_{n-1}(x).
-  const double x = k2 * beta;
-  return -beta * exponential_integral_en(3, x) / exponential_integral_en(4, x);
+std::array<double, 2> regime_three_log_gradient(RegimeThreeForm form, double beta,
+                                                const PeierlsLaw& law) {
+  if (form == RegimeThreeForm::central) {
+    if (law.k1 * std::exp(-law.k2 * beta) >= 1.0) return {0.0, 0.0};  // capped: tau_P = tau_max
+    return {1.0 / law.k1, -beta};
+  }
+  // With J = int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw (mu/alpha = 3 f_P J, so f_P drops out of
+  // ln): the integrand is continuous at the cap's w*, so the moving limit adds nothing, and with
+  // w = w* s, int_0^1 s^(n-2) e^(-x/s) ds = E_n(x):
+  //   dJ/dk1 = w*^3 E_4(ln k1),   dJ/dk2 = -beta k1 w*^2 E_3(ln k1);
+  // uncapped (w* >= 1) these are E_4(x) and -beta k1 E_3(x), x = k2 beta.
+  if (law.k1 > 1.0) {
+    const double w_star = law.k2 * beta / std::log(law.k1);
+    if (w_star < 1.0) {
+      const double x = std::log(law.k1), w2 = w_star * w_star;
+      const double J =
+          law.k1 * w2 * w_star * exponential_integral_en(4, x) + (1.0 - w2 * w_star) / 3.0;
+      return {w2 * w_star * exponential_integral_en(4, x) / J,
+              -beta * law.k1 * w2 * exponential_integral_en(3, x) / J};
+    }
+  }
+  const double x = law.k2 * beta;
+  return {1.0 / law.k1, -beta * exponential_integral_en(3, x) / exponential_integral_en(4, x)};
 }
 
-}  // namespace
-
 double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLaw& law) {
-  const double a = law.k1_error / law.k1;
-  const double b = dlog_dk2(form, beta, law.k2) * law.k2_error;
+  const auto [d1, d2] = regime_three_log_gradient(form, beta, law);
+  const double a = d1 * law.k1_error;
+  const double b = d2 * law.k2_error;
   // Round-off can take a + b with a correlation of 1 a hair below zero.
   return std::sqrt(std::max(0.0, a * a + b * b + 2.0 * law.correlation * a * b));
 }
@@ -152,15 +167,16 @@ struct Residuals : Eigen::DenseFunctor<double> {
         form(fo),
         f_P(f) {}
 
-  // ln(model) and its k2 derivative; k2 beta <= 0 (an LM trial step) continues the integrated
-  // form by f_P k1 exp(-k2 beta), which matches it at 0 (E_4(0) = 1/3) in value and slope sign.
+  // ln(model) and its gradient in (k1, k2); k2 beta <= 0 (an LM trial step) continues the
+  // integrated form by f_P k1 exp(-k2 beta), which matches it at 0 (E_4(0) = 1/3) in value and
+  // slope sign.
   [[nodiscard]] double log_model(double k1, double k2, double b) const {
     if (form == RegimeThreeForm::integrated && k2 * b <= 0.0) return std::log(f_P * k1) - k2 * b;
     return std::log(regime_three(form, b, {.k1 = k1, .k2 = k2}, f_P));
   }
-  [[nodiscard]] double dlog_model_dk2(double k2, double b) const {
-    if (form == RegimeThreeForm::integrated && k2 * b <= 0.0) return -b;
-    return dlog_dk2(form, b, k2);
+  [[nodiscard]] std::array<double, 2> log_model_gradient(double k1, double k2, double b) const {
+    if (form == RegimeThreeForm::integrated && k2 * b <= 0.0) return {1.0 / k1, -b};
+    return regime_three_log_gradient(form, b, {.k1 = k1, .k2 = k2});
   }
 
   int operator()(const InputType& p, ValueType& r) const {
@@ -171,10 +187,12 @@ struct Residuals : Eigen::DenseFunctor<double> {
     return 0;
   }
   int df(const InputType& p, JacobianType& J) const {
+    const double k1 = std::max(p(0), 1e-300);
     for (std::size_t i = 0; i < beta.size(); ++i) {
       const auto row = static_cast<Eigen::Index>(i);
-      J(row, 0) = -1.0 / p(0);
-      J(row, 1) = -dlog_model_dk2(p(1), beta[i]);
+      const auto [d1, d2] = log_model_gradient(k1, p(1), beta[i]);
+      J(row, 0) = -d1;
+      J(row, 1) = -d2;
     }
     return 0;
   }
@@ -250,7 +268,18 @@ RegimeThreeFit fit_regime_three(std::span<const double> beta, std::span<const do
   const double ssr = r.squaredNorm();
   fit.dof = n - 2.0;
   const double s2 = ssr / fit.dof;
-  const Eigen::Matrix2d cov = (J.transpose() * J).inverse() * s2;
+  // The shape of the covariance comes from J alone: its correlation is defined for exact data
+  // (s2 = 0) too. A singular J^T J (points all in the capped range, where the law is flat)
+  // leaves k1, k2 undetermined.
+  const Eigen::Matrix2d shape = (J.transpose() * J).inverse();
+  if (!shape.allFinite() || !(shape(0, 0) > 0.0) || !(shape(1, 1) > 0.0)) {
+    fit.reason =
+        "k1 and k2 are not determined by these points (singular Jacobian): where tau_P is "
+        "capped at tau_max at the centre (b_core^0 < ln(k1)/k2) the law depends on one "
+        "combination of them; add points of wider cores";
+    return fit;
+  }
+  const Eigen::Matrix2d cov = shape * s2;
   fit.t_factor = t_factor(fit.dof);
   fit.law.k1 = p(0);
   fit.law.k2 = p(1);
@@ -260,7 +289,7 @@ RegimeThreeFit fit_regime_three(std::span<const double> beta, std::span<const do
   fit.law.k2_error = fit.k2_se * fit.t_factor;
   fit.law.b_min = fit.beta_min;
   fit.law.b_max = fit.beta_max;
-  fit.correlation = cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1));
+  fit.correlation = shape(0, 1) / std::sqrt(shape(0, 0) * shape(1, 1));
   fit.law.correlation = std::clamp(fit.correlation, -1.0, 1.0);
   fit.rms_log_residual = std::sqrt(ssr / n);
   fit.valid = true;

@@ -9,8 +9,11 @@
 // Central estimate (the centre's core width everywhere): mu / alpha = k1 exp(-k2 beta).
 // Both cap tau_P at tau_max (the interface's ideal strength), which a fitted k1 > 1 exceeds at
 // core widths below ln(k1) / k2 (about 0.5 d): the integral is then split where the cap starts
-// (regime_three.cpp), and the central estimate is min(1, ...). The log errors and the
-// derivatives below use the uncapped law (no data lie in the capped range).
+// (regime_three.cpp), and the central estimate is min(1, ...). The cap is not in MODEL.md 8; it
+// keeps the prediction physical where the fitted law is extrapolated that far. The log errors
+// and the LM Jacobian differentiate the capped law (regime_three_log_gradient); where every
+// point has its centre capped, the integrated law depends on one combination of k1 and k2 and
+// the fit reports them as not determined.
 // Both depend on a and R separately, not on a / b_core^0 alone (beta = a / (a / b_core^0)).
 //
 // fit_regime_three() fits k1, k2 of either form to friction data with Eigen's
@@ -18,6 +21,7 @@
 // curvature (J^T J)^-1 s^2 reported as in statistics.hpp.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <span>
 #include <string>
@@ -49,6 +53,11 @@ double bcore0(double a, double R, double alpha, double nu);
 double regime_three_central(double beta, const PeierlsLaw& law);
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);
 double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, double f_P);
+// Gradient of ln(mu / alpha) in (k1, k2), of the capped law (tau_P <= tau_max): where the cap
+// holds, the capped part does not move with k1 or k2 (the central form is then flat).
+std::array<double, 2> regime_three_log_gradient(RegimeThreeForm form, double beta,
+                                                const PeierlsLaw& law);
+
 // Standard error of ln(mu / alpha) from the errors of k1 and k2 and their correlation (linear
 // propagation: for the central form and a law fitted by peierls::fit_exponential this is the
 // line fit's prediction error at b_core = beta, s sqrt(1/n + (beta - mean_b)^2 / S_bb)).

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "nucleation/regime_map.hpp"
@@ -191,6 +192,33 @@ TEST(RegimeThree, FormsAndBcore0) {
             std::string::npos);
 }
 
+// The gradient of ln(mu/alpha) in (k1, k2) that the LM Jacobian and the error propagation use,
+// against central differences of the capped law itself: uncapped (beta = 1, 2), partly capped
+// (the integrated form at beta = 0.1 ... 0.45, where the cap's core width is ln(2.3)/1.8 =
+// 0.463 d) and fully capped (the central form below 0.463 d: flat). Step 1e-6 relative: the
+// difference error, O(h^2) ~ 1e-12 relative, and round-off, ~1e-16/1e-6, are both far below
+// the 1e-7 asked.
+TEST(RegimeThree, LogGradientOfTheCappedLaw) {
+  const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
+  for (RegimeThreeForm form : {RegimeThreeForm::central, RegimeThreeForm::integrated}) {
+    for (double beta : {0.1, 0.3, 0.45, 1.0, 2.0}) {
+      const auto g = regime_three_log_gradient(form, beta, law);
+      const auto ln = [&](double k1, double k2) {
+        return std::log(regime_three(form, beta, {.k1 = k1, .k2 = k2}, 0.5));
+      };
+      const double h1 = 1e-6 * law.k1, h2 = 1e-6 * law.k2;
+      const double d1 = (ln(law.k1 + h1, law.k2) - ln(law.k1 - h1, law.k2)) / (2 * h1);
+      const double d2 = (ln(law.k1, law.k2 + h2) - ln(law.k1, law.k2 - h2)) / (2 * h2);
+      EXPECT_NEAR(g[0], d1, 1e-7) << to_string(form) << " beta " << beta;
+      EXPECT_NEAR(g[1], d2, 1e-7) << to_string(form) << " beta " << beta;
+    }
+  }
+  // Fully capped, the central form does not move: no error comes from k1, k2.
+  EXPECT_EQ(regime_three_log_error(RegimeThreeForm::central, 0.3,
+                                   {.k1 = 2.3, .k1_error = 0.1, .k2 = 1.8, .k2_error = 0.1}),
+            0.0);
+}
+
 TEST(RegimeThree, LevenbergMarquardtRecoversExactParameters) {
   const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
   for (RegimeThreeForm form : {RegimeThreeForm::central, RegimeThreeForm::integrated}) {
@@ -205,6 +233,33 @@ TEST(RegimeThree, LevenbergMarquardtRecoversExactParameters) {
     EXPECT_NEAR(fit.law.k2, 1.8, 1e-6) << to_string(form);
     EXPECT_DOUBLE_EQ(fit.beta_min, 1.5);
   }
+  // Every point partly capped (beta = 0.2 ... 0.45, below the cap's 0.463 d): there the
+  // integrated law is 1/3 + beta^3 (k2 / ln k1)^3 (k1 E_4(ln k1) - 1/3) over 3 f_P, one
+  // combination of k1 and k2, so the Jacobian's columns are proportional and the fit says so
+  // rather than return k1, k2 with meaningless errors. Across the cap (0.3 ... 1.5) exact data
+  // give k1, k2 back, with a finite correlation (from the Jacobian, defined for zero scatter).
+  for (const auto& [lo, hi, determined] : {std::tuple{0.2, 0.451, false}, {0.3, 1.501, true}}) {
+    std::vector<double> beta, mu;
+    for (double b = lo; b <= hi; b += 0.05) {
+      beta.push_back(b);
+      mu.push_back(regime_three_integrated(b, law, 0.5));
+    }
+    const RegimeThreeFit fit = fit_regime_three(beta, mu);
+    ASSERT_EQ(fit.valid, determined) << lo << ": " << fit.reason;
+    if (!determined) {
+      EXPECT_NE(fit.reason.find("not determined"), std::string::npos) << fit.reason;
+      continue;
+    }
+    EXPECT_NEAR(fit.law.k1, 2.3, 1e-6);
+    EXPECT_NEAR(fit.law.k2, 1.8, 1e-6);
+    EXPECT_TRUE(std::isfinite(fit.correlation));
+    EXPECT_NO_THROW(fit.law.validate());
+  }
+  // The central form is flat where it is capped: k1, k2 undetermined, and said so.
+  const std::vector<double> flat_beta = {0.1, 0.2, 0.3}, ones = {1.0, 1.0, 1.0};
+  const RegimeThreeFit flat = fit_regime_three(flat_beta, ones, {.form = RegimeThreeForm::central});
+  EXPECT_FALSE(flat.valid);
+  EXPECT_FALSE(flat.reason.empty());
   const std::vector<double> two = {1.0, 2.0};
   EXPECT_FALSE(fit_regime_three(two, two).valid);
   EXPECT_NE(message_of([] { RegimeThreeFitOptions{.f_P = 1.5}.validate(); }).find("f_P"),
