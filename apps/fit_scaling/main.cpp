@@ -278,6 +278,12 @@ LawSource read_law(const Options& o) {
          {"points", e.value("points", 0)},
          {"L", summary.contains("scene") ? summary["scene"].value("L", 0) : 0}};
   }
+  if (o.k1.has_value() != o.k2.has_value()) {
+    // k1 and k2 come from one fit, with correlated errors: one of them replaced would leave a
+    // law that no fit gave, with errors of unknown footing.
+    throw std::invalid_argument("give --k1 and --k2 together (" +
+                                std::string(o.k1 ? "--k1" : "--k2") + " alone was given)");
+  }
   if (o.k1 || o.k2) {
     s.dof = 0.0;  // given errors are taken as reported errors
     // The summary's correlation belongs to its k1 and k2 together.
@@ -294,6 +300,9 @@ LawSource read_law(const Options& o) {
     j["k2_given"] = true;
   }
   s.law.validate();
+  // The scan's errors are plain standard errors; predictions and their uncertainties use them
+  // times this factor (statistics.hpp). Given errors are used as they are.
+  j["reported_error_factor"] = s.dof > 0.0 ? nuc::t_factor(s.dof) : 1.0;
   j.update({{"k1", s.law.k1},
             {"k1_error", s.law.k1_error},
             {"k2", s.law.k2},
@@ -349,9 +358,9 @@ int main(int argc, char** argv) {
         ->required();
     cli.add_option("--peierls", o.peierls,
                    "peierls_scan summary.json (or its folder): k1, k2 of the edge fit");
-    cli.add_option("--k1", o.k1, "Peierls law prefactor k1 (overrides --peierls)")
+    cli.add_option("--k1", o.k1, "Peierls law prefactor k1 (with --k2; the pair overrides --peierls)")
         ->check(app::positive());
-    cli.add_option("--k2", o.k2, "Peierls law exponent k2 (overrides --peierls)")
+    cli.add_option("--k2", o.k2, "Peierls law exponent k2 (with --k1; the pair overrides --peierls)")
         ->check(app::positive());
     cli.add_option("--k1-error", k1_error, "Error of a given k1")->check(app::non_negative());
     cli.add_option("--k2-error", k2_error, "Error of a given k2")->check(app::non_negative());
@@ -408,7 +417,15 @@ int main(int argc, char** argv) {
     if (!fit.valid)
       throw std::invalid_argument("no Regime II fit: " + fit.reason +
                                   " (give --window, or add points)");
-    const nuc::Model model{.c0 = fit.c0, .law = law.law, .f_P = o.f_P};
+    // k1 and k2 errors of a peierls_scan summary are plain standard errors: on the footing of
+    // c0's reported error they are multiplied by t_factor of their degrees of freedom
+    // (statistics.hpp), in the model too, so that the per-point regime_three_log_error is a
+    // reported error like every other (+-2 of them: the 95.45% interval).
+    const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
+    nuc::PeierlsLaw reported_law = law.law;
+    reported_law.k1_error *= law_t;
+    reported_law.k2_error *= law_t;
+    const nuc::Model model{.c0 = fit.c0, .law = reported_law, .f_P = o.f_P};
     std::vector<bool> in_window(pts.size(), false);
     for (std::size_t i : fit.used)
       in_window[i] = true;
@@ -416,16 +433,12 @@ int main(int argc, char** argv) {
     for (std::size_t i : fit.used)
       window_R.insert(pts[i].R);
 
-    // k1 and k2 errors of a peierls_scan summary are plain standard errors: on the footing of
-    // c0's reported error they are multiplied by t_factor of their degrees of freedom
-    // (statistics.hpp).
-    const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
     // Independent directions of uncertainty: c0 (k = 0), and the two principal axes of the
     // covariance of (k1, k2) (k = 1, 2). k1 and k2 come from one line fit and are strongly
     // correlated (near +1 for a window at b_core > 0): moved one at a time they would overstate
     // the errors of the law inside its window up to 4x (peierls/fit.hpp); along the axes, in
     // quadrature, linear propagation is exact (with correlation 0 they are k1 and k2 alone).
-    const Eigen::Vector2d law_sd(law_t * law.law.k1_error, law_t * law.law.k2_error);
+    const Eigen::Vector2d law_sd(reported_law.k1_error, reported_law.k2_error);
     Eigen::Matrix2d law_cov;
     law_cov << law_sd(0) * law_sd(0), law.law.correlation * law_sd(0) * law_sd(1),
         law.law.correlation * law_sd(0) * law_sd(1), law_sd(1) * law_sd(1);

@@ -24,6 +24,8 @@
 #include <vector>
 
 #include "common/output_files.hpp"
+#include "nucleation/regime_three.hpp"
+#include "nucleation/statistics.hpp"
 
 using asperity::app::CsvTable;
 
@@ -310,6 +312,29 @@ TEST(FitScalingRegression, PredictionFollowsTheLargeContacts) {
   EXPECT_EQ(data > 0.0, predicted > 0.0);
   EXPECT_GT(predicted / data, 0.5);
   EXPECT_LT(predicted / data, 2.0);
+}
+
+// The per-point error of the integrated Regime III law is a reported error like c0's: the
+// scan's plain standard errors of k1, k2 (with their correlation) propagated, times the t factor
+// of the scan's degrees of freedom (5 points: 3, t factor 1.66; statistics.hpp).
+TEST(FitScalingRegression, RegimeThreeLogErrorsAreReportedErrors) {
+  namespace nuc = asperity::nucleation;
+  const auto p = summary()["peierls"];
+  const double factor = p["reported_error_factor"].get<double>();
+  EXPECT_NEAR(factor, nuc::t_factor(p["points"].get<double>() - 2.0), 1e-12);
+  EXPECT_GT(factor, 1.5);
+  const nuc::PeierlsLaw plain{.k1 = p["k1"].get<double>(),
+                              .k1_error = p["k1_error"].get<double>(),
+                              .k2 = p["k2"].get<double>(),
+                              .k2_error = p["k2_error"].get<double>(),
+                              .correlation = p["k1_k2_correlation"].get<double>()};
+  const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const double expected = factor * nuc::regime_three_log_error(nuc::RegimeThreeForm::integrated,
+                                                                 t.number(i, "bcore0"), plain);
+    EXPECT_NEAR(t.number(i, "regime_three_log_error"), expected, 1e-9 * expected)
+        << "a = " << t.number(i, "a") << ", R = " << t.number(i, "R");
+  }
 }
 
 TEST(FitScalingRegression, FiguresWritten) {
