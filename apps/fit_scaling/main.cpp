@@ -358,9 +358,11 @@ int main(int argc, char** argv) {
         ->required();
     cli.add_option("--peierls", o.peierls,
                    "peierls_scan summary.json (or its folder): k1, k2 of the edge fit");
-    cli.add_option("--k1", o.k1, "Peierls law prefactor k1 (with --k2; the pair overrides --peierls)")
+    cli.add_option("--k1", o.k1,
+                   "Peierls law prefactor k1 (with --k2; the pair overrides --peierls)")
         ->check(app::positive());
-    cli.add_option("--k2", o.k2, "Peierls law exponent k2 (with --k1; the pair overrides --peierls)")
+    cli.add_option("--k2", o.k2,
+                   "Peierls law exponent k2 (with --k1; the pair overrides --peierls)")
         ->check(app::positive());
     cli.add_option("--k1-error", k1_error, "Error of a given k1")->check(app::non_negative());
     cli.add_option("--k2-error", k2_error, "Error of a given k2")->check(app::non_negative());
