@@ -196,6 +196,7 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
   fit.prefactor = 3.0 * std::exp(e.mean);
   fit.prefactor_error = fit.prefactor * err_mean;
   fit.max_relative_deviation = e.max_relative_deviation;
+  fit.within_max_deviation = e.max_relative_deviation <= options.automatic.max_deviation;
   fit.rms_log_residual = e.rms_log_residual;
   // Checks of the fixed slope over the window. Free slope: ln(mu/alpha) = A + s ln(a/b_core^0)
   // by least squares, s with its reported error (t_factor(n - 2)); a fixed-slope fit is only

@@ -94,11 +94,13 @@ struct RegimeTwoFit {
   bool window_automatic = true;
   std::vector<std::size_t> used;  // indices of the points in the window
   std::size_t points = 0;
-  // Automatic window: branch points dropped to bring the fit within max_deviation. The window's
-  // max_relative_deviation is then within it by construction; what trimming removed is here.
+  // Automatic window: branch points dropped to bring the fit within max_deviation; trimming
+  // stops at min_points, so the window may still miss it (within_max_deviation false: the data
+  // do not follow the law over any window of min_points, which the caller should say).
   std::size_t trimmed = 0;
   double dof = 0.0, t_factor = 0.0;
   double max_relative_deviation = 0.0;  // max |data - fit| / fit over the window
+  bool within_max_deviation = true;     // max_relative_deviation <= WindowOptions::max_deviation
   double rms_log_residual = 0.0;
   // Checks of the fixed slope -2/3 over the window (3 points at least; else 0): the free
   // log-log slope with its reported error, and c0 of the lower and upper halves of the window

@@ -886,6 +886,7 @@ int main(int argc, char** argv) {
            {"t_factor", fit.t_factor},
            {"points_trimmed", fit.trimmed},
            {"max_relative_deviation", fit.max_relative_deviation},
+           {"within_max_deviation", fit.within_max_deviation},
            {"rms_log_residual", fit.rms_log_residual},
            {"free_slope", fit.free_slope},
            {"free_slope_error", fit.free_slope_error},
@@ -927,6 +928,12 @@ int main(int argc, char** argv) {
                     ? (", automatic window, " + std::to_string(fit.trimmed) + " trimmed").c_str()
                     : "",
                 100.0 * fit.max_relative_deviation);
+    if (!fit.within_max_deviation)
+      std::fprintf(stderr,
+                   "fit_scaling: warning: the Regime II law misses a point of the window by "
+                   "%.1f%%, more than %.0f%%%s: the data do not follow the law there\n",
+                   100.0 * fit.max_relative_deviation, 100.0 * fo.automatic.max_deviation,
+                   fit.window_automatic ? " even with the window trimmed to its minimum" : "");
     if (fit.free_slope_error > 0.0)
       std::printf(
           "  free log-log slope %.3f +- %.3f (law: -2/3); c0 lower / upper half of the "

@@ -129,7 +129,26 @@ TEST(RegimeTwo, TrimsAnOutlyingEnd) {
   ASSERT_TRUE(fit.valid);
   EXPECT_GT(fit.window_lo, 4.0);
   EXPECT_LE(fit.max_relative_deviation, 0.10);
+  EXPECT_TRUE(fit.within_max_deviation);
   EXPECT_NEAR(fit.c0, 0.2, 1e-12);
+}
+
+// Scatter of +-15% about the law at every point (spaced by 4x, so the branch keeps falling):
+// trimming stops at min_points (3) with the fit still missing by more than 10%, and the fit says
+// so (a fit, but not of data on the law).
+TEST(RegimeTwo, SaysWhenTrimmingCannotReachTheLaw) {
+  std::vector<ScalingPoint> points;
+  double sign = 1.0;
+  for (double x : {2.0, 8.0, 32.0, 128.0, 512.0}) {
+    points.push_back(
+        {.a_over_bcore0 = x, .mu_over_alpha = regime_two_law(x, 0.2) * (1.0 + 0.15 * sign)});
+    sign = -sign;
+  }
+  const RegimeTwoFit fit = fit_regime_two(points, {.automatic = {.crossover_max = 2.0}});
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_EQ(fit.points, 3u);
+  EXPECT_GT(fit.max_relative_deviation, 0.10);
+  EXPECT_FALSE(fit.within_max_deviation);
 }
 
 TEST(RegimeTwo, ErrorsAreReportedWithTheirCause) {
