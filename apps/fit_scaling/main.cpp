@@ -23,6 +23,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -90,6 +91,12 @@ fs::path table_path(const std::string& p) {
   return fs::is_directory(path) ? path / "sweep.csv" : path;
 }
 
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
 Loaded load_sweeps(const std::vector<std::string>& sweeps) {
   Loaded out;
   for (const auto& s : sweeps) {
@@ -148,13 +155,17 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
                            {"lower_bound_skipped", lower}});
   }
   if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
+  // The bootstrap takes the points as independent measurements: a point given twice (a table
+  // passed twice, or a sweep and a copy of it) would count double and shrink c0's error.
+  std::map<std::tuple<std::string, double, double>, const DataPoint*> seen;
+  for (const auto& p : out.points) {
+    const auto [it, fresh] = seen.emplace(std::tuple{p.model, p.a, p.R}, &p);
+    if (!fresh)
+      throw std::invalid_argument("the point a = " + fmt("%g", p.a) + " d, R = " + fmt("%g", p.R) +
+                                  " d (" + p.model + ") is in " + it->second->source + " and in " +
+                                  p.source + ": give each point once");
+  }
   return out;
-}
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
 }
 
 // One regime map and one set of crossovers need one material and one alpha. The lateral force
