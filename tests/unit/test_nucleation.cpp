@@ -168,12 +168,20 @@ TEST(RegimeTwo, ErrorsAreReportedWithTheirCause) {
 }
 
 TEST(Nucleation, LimitsOfTheCondition) {
-  // Large a / b_core^0: the leading-order law.
+  // Large a / b_core^0: the leading-order law and its first correction. With eps = 1 - r*/a and
+  // q = c0 / (a/b_core^0), (1 - x) sqrt(1 - x^2) = sqrt(2) eps^(3/2) (1 - eps/4 + ...) = q gives
+  // eps = eps0 (1 + eps0/6), eps0 = (q / sqrt 2)^(2/3), and mu/alpha = 6 eps (1 - eps/2) =
+  // law (1 - eps0/3): relative correction -q^(2/3) / (3 cbrt 2). Tolerance: the next term,
+  // O(q^(4/3)) (a coefficient of 1; measured 0.05), plus round-off: the root is resolved to
+  // about 1e-15 in x, which is relative 1e-15 / eps in mu (measured 3e-11 at 1e7).
   const double c0 = 0.2;
   for (double x : {1e3, 1e5, 1e7}) {
     const NucleationSolution s = nucleation_condition(x, c0);
     EXPECT_FALSE(s.rigid);
-    EXPECT_NEAR(s.mu_over_alpha / regime_two_law(x, c0), 1.0, 2.0 * std::pow(c0 / x, 1.0 / 3.0));
+    const double q = c0 / x;
+    EXPECT_NEAR(s.mu_over_alpha / regime_two_law(x, c0) - 1.0,
+                -std::pow(q, 2.0 / 3.0) / (3.0 * std::cbrt(2.0)),
+                std::pow(q, 4.0 / 3.0) + 1e-14 / std::pow(q, 2.0 / 3.0));
   }
   // Below the crossover: rigid sliding, mu = alpha.
   EXPECT_TRUE(nucleation_condition(0.5, c0).rigid);
