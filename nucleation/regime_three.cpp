@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <unsupported/Eigen/LevenbergMarquardt>
 #include <vector>
@@ -93,17 +94,25 @@ double regime_three_central(double beta, const PeierlsLaw& law) {
   return std::min(1.0, law.k1 * std::exp(-law.k2 * beta));
 }
 
+namespace {
+
+// Capped: tau_P = tau_max where w = p/p0 > w* = beta k2 / ln(k1) (b_core(r) = beta / w below the
+// cap's core width). w* if it lies inside the contact (< 1), else none.
+std::optional<double> cap_start(double beta, const PeierlsLaw& law) {
+  if (!(law.k1 > 1.0)) return std::nullopt;
+  const double w_star = law.k2 * beta / std::log(law.k1);
+  return w_star < 1.0 ? std::optional(w_star) : std::nullopt;
+}
+
+}  // namespace
+
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {
-  // Capped: tau_P = tau_max where w > w* = beta k2 / ln(k1) (b_core(r) = beta / w below the
-  // cap's core width), and with w = w* s on [0, w*]
+  // With w = w* s on [0, w*]:
   //   int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw = k1 w*^3 E_4(ln k1) + (1 - w*^3) / 3.
-  if (law.k1 > 1.0) {
-    const double w_star = law.k2 * beta / std::log(law.k1);
-    if (w_star < 1.0) {
-      const double w3 = w_star * w_star * w_star;
-      return 3.0 * f_P *
-             (law.k1 * w3 * exponential_integral_en(4, std::log(law.k1)) + (1.0 - w3) / 3.0);
-    }
+  if (const auto w_star = cap_start(beta, law)) {
+    const double w3 = *w_star * *w_star * *w_star;
+    return 3.0 * f_P *
+           (law.k1 * w3 * exponential_integral_en(4, std::log(law.k1)) + (1.0 - w3) / 3.0);
   }
   return 3.0 * f_P * law.k1 * exponential_integral_en(4, law.k2 * beta);
 }
@@ -116,7 +125,7 @@ double regime_three(RegimeThreeForm form, double beta, const PeierlsLaw& law, do
 std::array<double, 2> regime_three_log_gradient(RegimeThreeForm form, double beta,
                                                 const PeierlsLaw& law) {
   if (form == RegimeThreeForm::central) {
-    if (law.k1 * std::exp(-law.k2 * beta) >= 1.0) return {0.0, 0.0};  // capped: tau_P = tau_max
+    if (regime_three_central(beta, law) >= 1.0) return {0.0, 0.0};  // capped: tau_P = tau_max
     return {1.0 / law.k1, -beta};
   }
   // With J = int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw (mu/alpha = 3 f_P J, so f_P drops out of
@@ -124,15 +133,11 @@ std::array<double, 2> regime_three_log_gradient(RegimeThreeForm form, double bet
   // w = w* s, int_0^1 s^(n-2) e^(-x/s) ds = E_n(x):
   //   dJ/dk1 = w*^3 E_4(ln k1),   dJ/dk2 = -beta k1 w*^2 E_3(ln k1);
   // uncapped (w* >= 1) these are E_4(x) and -beta k1 E_3(x), x = k2 beta.
-  if (law.k1 > 1.0) {
-    const double w_star = law.k2 * beta / std::log(law.k1);
-    if (w_star < 1.0) {
-      const double x = std::log(law.k1), w2 = w_star * w_star;
-      const double J =
-          law.k1 * w2 * w_star * exponential_integral_en(4, x) + (1.0 - w2 * w_star) / 3.0;
-      return {w2 * w_star * exponential_integral_en(4, x) / J,
-              -beta * law.k1 * w2 * exponential_integral_en(3, x) / J};
-    }
+  if (const auto w_star = cap_start(beta, law)) {
+    const double x = std::log(law.k1), w2 = *w_star * *w_star;
+    const double J = regime_three_integrated(beta, law, 1.0 / 3.0);
+    return {w2 * *w_star * exponential_integral_en(4, x) / J,
+            -beta * law.k1 * w2 * exponential_integral_en(3, x) / J};
   }
   const double x = law.k2 * beta;
   return {1.0 / law.k1, -beta * exponential_integral_en(3, x) / exponential_integral_en(4, x)};

@@ -217,12 +217,15 @@ MapAlpha common_alpha(const std::vector<DataPoint>& pts) {
 
 struct LawSource {
   nuc::PeierlsLaw law;
-  double dof = 0.0;  // degrees of freedom of the k1, k2 fit (points - 2); 0: given or unknown
+  // Factor from the law's errors to reported errors (statistics.hpp): t_factor of the scan fit's
+  // degrees of freedom (points - 2) for its plain standard errors, 1 for given errors.
+  double error_factor = 1.0;
   nlohmann::json json;
 };
 
 LawSource read_law(const Options& o) {
   LawSource s;
+  double dof = 0.0;  // of the k1, k2 fit; 0: given or unknown
   nlohmann::json j = {{"source", "given"}};
   if (!o.peierls.empty()) {
     fs::path p(o.peierls);
@@ -282,7 +285,7 @@ LawSource read_law(const Options& o) {
       throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
                                   ": b_min must be below b_max");
     }
-    s.dof = std::max(0.0, e.value("points", 0) - 2.0);
+    dof = std::max(0.0, e.value("points", 0) - 2.0);
     j = {{"source", p.string()},
          {"fit", "edge (theta = 90 deg), tau_P = k1 tau_max exp(-k2 b_core/d)"},
          {"window_b_core", {s.law.b_min, s.law.b_max}},
@@ -296,7 +299,7 @@ LawSource read_law(const Options& o) {
                                 std::string(o.k1 ? "--k1" : "--k2") + " alone was given)");
   }
   if (o.k1 || o.k2) {
-    s.dof = 0.0;  // given errors are taken as reported errors
+    dof = 0.0;  // given errors are taken as reported errors
     // The summary's correlation belongs to its k1 and k2 together.
     s.law.correlation = o.correlation.value_or(0.0);
   }
@@ -313,7 +316,8 @@ LawSource read_law(const Options& o) {
   s.law.validate();
   // The scan's errors are plain standard errors; predictions and their uncertainties use them
   // times this factor (statistics.hpp). Given errors are used as they are.
-  j["reported_error_factor"] = s.dof > 0.0 ? nuc::t_factor(s.dof) : 1.0;
+  s.error_factor = dof > 0.0 ? nuc::t_factor(dof) : 1.0;
+  j["reported_error_factor"] = s.error_factor;
   j.update({{"k1", s.law.k1},
             {"k1_error", s.law.k1_error},
             {"k2", s.law.k2},
@@ -434,10 +438,9 @@ int main(int argc, char** argv) {
     // c0's reported error they are multiplied by t_factor of their degrees of freedom
     // (statistics.hpp), in the model too, so that the per-point regime_three_log_error is a
     // reported error like every other (+-2 of them: the 95.45% interval).
-    const double law_t = law.dof > 0.0 ? nuc::t_factor(law.dof) : 1.0;
     nuc::PeierlsLaw reported_law = law.law;
-    reported_law.k1_error *= law_t;
-    reported_law.k2_error *= law_t;
+    reported_law.k1_error *= law.error_factor;
+    reported_law.k2_error *= law.error_factor;
     const nuc::Model model{.c0 = fit.c0, .law = reported_law, .f_P = o.f_P};
     std::vector<bool> in_window(pts.size(), false);
     for (std::size_t i : fit.used)
