@@ -18,4 +18,14 @@ std::uint64_t physical_memory_bytes();
 // `what` names the input (key, flag or file), so the message says what to change.
 void check_fits_in_memory(const std::string& what, double bytes, const std::string& how);
 
+// Free disk space of the file system holding `dir` (or its nearest existing parent), in bytes:
+// the environment variable ASPERITY_DISK_GIB if set (a positive number: for tests), otherwise
+// what statvfs gives an unprivileged writer (0 if it cannot be read).
+std::uint64_t free_disk_bytes(const std::string& dir);
+
+// Throws std::invalid_argument "<what> needs about X GiB of disk in <dir> (<how>), more than the
+// Y GiB free there" when `bytes` exceeds 95% of free_disk_bytes(dir).
+void check_fits_on_disk(const std::string& what, const std::string& dir, double bytes,
+                        const std::string& how);
+
 }  // namespace asperity::app

@@ -432,6 +432,10 @@ std::string common_fingerprint(const SlideScene& scene) {
   add("cycle_tolerance", exact(o.cycle_tolerance));
   add("path_frame_every", std::to_string(o.path_frame_every));
   add("max_path_frames", std::to_string(o.max_path_frames));
+  // A resumed run appends to the paths file it began: the same paths, in the same format.
+  add("path_frame_slips", std::to_string(o.path_frame_slips));
+  add("snapshot_precision", scene.snapshot_format.single_precision ? "float" : "double");
+  add("snapshot_deflate", std::to_string(scene.snapshot_format.deflate_level));
   add("solver", minimize::to_string(m.method));
   add("tolerance", exact(m.force_tolerance));
   add("max_iterations", std::to_string(m.max_iterations));

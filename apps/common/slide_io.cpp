@@ -8,9 +8,11 @@
 #include <numbers>
 
 #include "common/cli.hpp"
+#include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/snapshot_io.hpp"
+#include "common/snapshot_sink.hpp"
 #include "common/toml_reader.hpp"
 #include "explicit/alpha_path.hpp"
 
@@ -37,6 +39,14 @@ SlideScene read_slide_keys(SceneReader& r) {
   o.slips_to_stop = r.integer("slide.slips_to_stop", o.slips_to_stop, Range::closed(1, 1000));
   o.path_frame_every =
       r.integer("slide.path_frame_every", o.path_frame_every, Range::closed(0, 1000000));
+  o.path_frame_slips =
+      r.integer("output.path_frames", o.path_frame_slips, Range::closed(0, 1000000));
+  o.max_path_frames =
+      r.integer("output.max_path_frames", o.max_path_frames, Range::closed(2, 100000));
+  auto& f = s.snapshot_format;
+  f.single_precision = r.string("output.precision", f.single_precision ? "float" : "double",
+                                {"double", "float"}) == "float";
+  f.deflate_level = r.integer("output.deflate", f.deflate_level, Range::closed(0, 9));
   o.replay_cycle = r.boolean("slide.replay_cycle", o.replay_cycle);
   auto& m = o.minimizer;
   m.method = minimize::method_from_string(
@@ -193,7 +203,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
   written.push_back(dir / "trace.png");
 
   // Peak snapshot: stress profiles along the axes through the tip centre, and the map.
-  const auto& peak = r.snapshots.front();
+  const auto& peak = r.peak_snapshot;
   const auto& blk = peak.block;
   const double p0 = c.hertz().p0;
   Series along_x{.title = "tau_x, y = 0", .style = "points pt 7 ps 0.6"};
@@ -258,17 +268,31 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
   written.push_back(dir / "stress_map.png");
 }
 
-// snapshots/<label>.nc: one NetCDF file per label (relaxation paths hold their frames in order).
+// The frames a slide collected (no sink), through the sink the tools stream them to.
 void write_snapshot_files(const std::filesystem::path& dir, const SlideScene& scene,
                           const slide::SlideResult& r, const nlohmann::json& extra,
                           std::vector<std::filesystem::path>& written) {
+  SnapshotSink sink(dir / "snapshots", snapshot_attributes(scene, extra), scene.snapshot_format);
+  sink.start(std::nullopt);
+  for (const auto& snap : r.snapshots) {
+    if (snap.label.ends_with("_path")) {
+      sink.path_frame(snap);
+    } else {
+      sink.state(snap);
+    }
+  }
+  sink.finish();
+  written.insert(written.end(), sink.written().begin(), sink.written().end());
+}
+
+}  // namespace
+
+nlohmann::json snapshot_attributes(const SlideScene& scene, const nlohmann::json& extra) {
   const auto& c = scene.contact;
-  const double alpha = c.alpha;
-  const auto snap_dir = ensure_directory(dir / "snapshots");
   nlohmann::json attributes = {{"model", "lfm"},
                                {"a", c.a},
                                {"R", c.R},
-                               {"alpha", alpha},
+                               {"alpha", c.alpha},
                                {"G", c.material.G},
                                {"nu", c.material.nu},
                                {"a_over_bcore0", c.a_over_bcore0()},
@@ -278,19 +302,51 @@ void write_snapshot_files(const std::filesystem::path& dir, const SlideScene& sc
       if (!value.is_structured()) attributes[key] = value;
     }
   }
-  std::map<std::string, std::vector<slide::Snapshot>> groups;
-  std::vector<std::string> order;
-  for (const auto& snap : r.snapshots) {
-    if (!groups.contains(snap.label)) order.push_back(snap.label);
-    groups[snap.label].push_back(snap);
-  }
-  for (const auto& label : order) {
-    write_snapshots(snap_dir / (label + ".nc"), groups[label], attributes);
-    written.push_back(snap_dir / (label + ".nc"));
-  }
+  return attributes;
 }
 
-}  // namespace
+SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene) {
+  const double side = 2.0 * (std::ceil(scene.contact.a / scene.contact.d) + 2.0) + 1.0;
+  // 8 fields and in_contact per site; the NetCDF header and per-frame scalars are small.
+  const double per_site = 8.0 * (scene.snapshot_format.single_precision ? 4.0 : 8.0) + 1.0;
+  SnapshotBytes b;
+  b.frame = per_site * side * side + 4096.0;
+  b.slip = 2.0 * b.frame;
+  b.path = scene.options.path_frame_every > 0 && scene.options.path_frame_slips > 0
+               ? scene.options.max_path_frames * b.frame
+               : 0.0;
+  // current, previous, earlier, peak, runner-up and the cycle window: force and displacement,
+  // 2 components, as 8-byte values (CBOR byte strings), plus the trace (small).
+  b.checkpoint = (5.0 + static_cast<double>(slide::kCycleWindow)) * 32.0 * side * side + 65536.0;
+  return b;
+}
+
+double SnapshotBytes::run(int slips, int path_frame_slips) const {
+  const int paths = path == 0.0 || path_frame_slips <= 0 ? 0 : (slips - 1) / path_frame_slips + 1;
+  return frame + slips * slip + paths * path + checkpoint;
+}
+
+std::string check_output_fits(const SlideScene& scene, const std::string& out) {
+  const SnapshotBytes b = estimated_snapshot_bytes(scene);
+  const int slips = std::max(10, scene.options.slips_to_stop);
+  char how[200];
+  std::snprintf(how, sizeof how, "estimate for %d slip events, uncompressed: %.3g MB each%s", slips,
+                b.slip / 1e6, b.path > 0.0 ? ", and its path where one is recorded" : "");
+  check_fits_on_disk("the snapshots of contact.a = " + std::to_string(scene.contact.a) + " d", out,
+                     b.run(slips, scene.options.path_frame_slips), how);
+  char line[300];
+  if (b.path > 0.0) {
+    const int k = scene.options.path_frame_slips;
+    std::snprintf(line, sizeof line,
+                  "snapshots: at most %.3g MB per slip event, %.3g MB more for a relaxation path "
+                  "(slip events 1, %d, %d, ...; uncompressed)",
+                  b.slip / 1e6, b.path / 1e6, 1 + k, 1 + 2 * k);
+  } else {
+    std::snprintf(line, sizeof line, "snapshots: at most %.3g MB per slip event (uncompressed)",
+                  b.slip / 1e6);
+  }
+  return line;
+}
 
 std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::path& dir,
                                                        const SlideScene& scene,
@@ -308,7 +364,9 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
                    static_cast<long long>(row.replayed)});
   }
   if (options.figures) write_figures(dir, scene, r, written);
-  if (options.snapshots) write_snapshot_files(dir, scene, r, options.summary_extra, written);
+  if (options.snapshots && !r.snapshots.empty()) {
+    write_snapshot_files(dir, scene, r, options.summary_extra, written);
+  }
   trace.write(dir / "trace.csv");
   written.push_back(dir / "trace.csv");
   nlohmann::json summary = slide_summary(scene, r);

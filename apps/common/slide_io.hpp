@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/snapshot_io.hpp"
 #include "explicit/explicit_contact.hpp"
 #include "explicit/explicit_slide.hpp"
 #include "interface/lfm.hpp"
@@ -19,6 +20,7 @@ class SceneReader;
 struct SlideScene {
   interface::ContactScene contact;
   slide::SlideOptions options;
+  SnapshotFormat snapshot_format;  // [output] precision, deflate
 };
 
 // Reads a scene (data/scenes/default.toml documents every key); unknown keys, wrong types and
@@ -30,14 +32,40 @@ SlideScene read_slide_scene(const std::string& path);
 // their own (friction_sweep's [sweep]) reads those too before rejecting unknown keys.
 SlideScene read_slide_scene(SceneReader& reader);
 
+// The global attributes of a slide's snapshot files: model, a, R, alpha, G, nu, a/b_core^0,
+// tolerance, and the flat entries of `extra` (SlideOutputOptions::summary_extra).
+nlohmann::json snapshot_attributes(const SlideScene& scene, const nlohmann::json& extra);
+
+// Estimated size of the snapshot files of one slip event (bytes, uncompressed: an upper
+// bound): its "before" and "after" states, and, for the slips that record one, its relaxation
+// path (at most max_path_frames frames). For the disk check before a run.
+struct SnapshotBytes {
+  double frame = 0.0;       // one frame of the block
+  double slip = 0.0;        // a slip without its path
+  double path = 0.0;        // the path of a slip that records one
+  double checkpoint = 0.0;  // the checkpoint (the states the slide keeps, no frames)
+  // A slide through `slips` slip events: the peak, the slips, the paths of those that record
+  // one, and the checkpoint.
+  [[nodiscard]] double run(int slips, int path_frame_slips) const;
+};
+SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene);
+
+// Refuses (std::invalid_argument, naming the estimate) a slide whose outputs would not fit on
+// the disk of `out`: the estimate of SnapshotBytes::run for max(10, slips_to_stop) slip events.
+// Returns a line that says what a slip event writes.
+std::string check_output_fits(const SlideScene& scene, const std::string& out);
+
 // summary.json contents: parameters, results, cost and accuracy (tolerances, steps, grid).
 nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& result);
 
 // What write_slide_outputs writes besides trace.csv and summary.json. A sweep of many points
 // skips the figures (a gnuplot process each) and the snapshots (megabytes per point) by default.
 struct SlideOutputOptions {
-  bool figures = true;    // trace.png, stress_profiles.png, stress_map.png
-  bool snapshots = true;  // snapshots/<label>.nc, NetCDF field snapshots
+  bool figures = true;  // trace.png, stress_profiles.png, stress_map.png
+  // snapshots/<label>.nc and snapshots/paths.nc (snapshot_sink.hpp) from the frames the slide
+  // collected (SlideResult::snapshots); a slide whose frames went to a SnapshotSink has none,
+  // its files are written already.
+  bool snapshots = true;
   // Entries added to (or replacing those of) summary.json and the snapshots' attributes: the
   // explicit model's {"model": "explicit", G in eps/sigma^3, ...}. Null: none.
   nlohmann::json summary_extra;

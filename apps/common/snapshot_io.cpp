@@ -78,27 +78,10 @@ class Dataset {
 using Writer = Dataset<std::runtime_error>;
 using Reader = Dataset<std::invalid_argument>;
 
-void put_text(const Writer& out, int var, const std::string& name, const std::string& text) {
-  out.check(nc_put_att_text(out.id, var, name.c_str(), text.size(), text.c_str()),
+void put_text(const Writer& out, int id, int var, const std::string& name,
+              const std::string& text) {
+  out.check(nc_put_att_text(id, var, name.c_str(), text.size(), text.c_str()),
             "attribute '" + name + "'");
-}
-
-int define(const Writer& out, const std::string& name, nc_type type,
-           std::initializer_list<int> dims, const std::string& units,
-           const std::string& long_name) {
-  int var = -1;
-  out.check(
-      nc_def_var(out.id, name.c_str(), type, static_cast<int>(dims.size()), dims.begin(), &var),
-      "variable '" + name + "'");
-  put_text(out, var, "units", units);
-  put_text(out, var, "long_name", long_name);
-  return var;
-}
-
-int define_dim(const Writer& out, const std::string& name, std::size_t length) {
-  int dim = -1;
-  out.check(nc_def_dim(out.id, name.c_str(), length, &dim), "dimension '" + name + "'");
-  return dim;
 }
 
 void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attributes,
@@ -130,119 +113,332 @@ void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attribu
 
 }  // namespace
 
+// Reads the per-site fields of frame k (a block of n0 x n1 sites) into `frame`. Snapshots hold
+// converged, finite states (a failed run saves its last good one): a non-finite value means a
+// damaged file, which would otherwise pass as an empty frame.
+template <class Error>
+void read_fields(const Dataset<Error>& in, int id, const std::array<int, kFields.size()>& fields,
+                 int in_contact, int uz, std::size_t k, std::size_t n0, std::size_t n1,
+                 Snapshot& frame) {
+  const auto finite = [&](const std::vector<double>& values, const char* name) {
+    if (!std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
+      in.fail(std::string("non-finite values in '") + name + "' of frame " + std::to_string(k));
+  };
+  const std::size_t start[] = {k, 0, 0}, count[] = {1, n0, n1};
+  for (std::size_t f = 0; f < kFields.size(); ++f) {
+    std::vector<double>& values = frame.*kFields[f].values;
+    values.resize(n0 * n1);
+    in.check(nc_get_vara_double(id, fields[f], start, count, values.data()),
+             std::string("reading '") + kFields[f].name + "'");
+    finite(values, kFields[f].name);
+  }
+  frame.in_contact.resize(n0 * n1);
+  in.check(nc_get_vara_uchar(id, in_contact, start, count, frame.in_contact.data()),
+           "reading 'in_contact'");
+  if (uz >= 0) {
+    frame.uz.resize(n0 * n1);
+    in.check(nc_get_vara_double(id, uz, start, count, frame.uz.data()), "reading 'uz'");
+    finite(frame.uz, "uz");
+  }
+}
+
+// Frames are written and read as whole chunks, once each: HDF5's cache of chunks (16 MiB per
+// variable by default in netCDF 4.9, held dirty until evicted) would only hold memory, 160 MiB
+// for the ten fields of a file being written. With no cache, chunks go to disk directly.
+void no_chunk_cache(const Writer& out, int id, int var, const std::string& name) {
+  out.check(nc_set_var_chunk_cache(id, var, 0, 0, 0.75f), "chunk cache of '" + name + "'");
+}
+
+void SnapshotFormat::validate() const {
+  if (deflate_level < 0 || deflate_level > 9) {
+    throw std::invalid_argument("snapshot deflate level: got " + std::to_string(deflate_level) +
+                                ", allowed: 0 (none) .. 9");
+  }
+}
+
+// The variables of an open file, defined at the first frame (whose block shape and uz decide
+// them) or looked up in an existing file.
+struct SnapshotAppender::Layout {
+  int frame_dim = -1, x_dim = -1, y_dim = -1, label_dim = -1;
+  int label = -1, iteration = -1, origin_x = -1, origin_y = -1, in_contact = -1, uz = -1;
+  std::array<int, kScalars.size()> scalars{};
+  std::array<int, kFields.size()> fields{};
+  std::size_t n0 = 0, n1 = 0, label_length = 0;
+};
+
+SnapshotAppender::SnapshotAppender(fs::path nc, nlohmann::json attributes, SnapshotFormat format,
+                                   std::size_t label_length)
+    : nc_(std::move(nc)),
+      attributes_(std::move(attributes)),
+      format_(format),
+      label_length_(label_length) {
+  format_.validate();
+  if (!attributes_.is_null() && !attributes_.is_object()) {
+    throw std::invalid_argument("cannot write '" + nc_.string() +
+                                "': attributes must be an object");
+  }
+}
+
+SnapshotAppender SnapshotAppender::open(const fs::path& nc) {
+  SnapshotAppender a(nc, nullptr, {}, 0);
+  const Writer out("cannot append to '" + nc.string() + "': ");
+  if (!fs::exists(nc)) out.fail("no such file");
+  out.check(nc_open(nc.c_str(), NC_WRITE, &a.id_), "opening");
+  a.layout_ = std::make_unique<Layout>();
+  Layout& l = *a.layout_;
+  const auto dim = [&](const char* name, int& d) {
+    std::size_t length = 0;
+    out.check(nc_inq_dimid(a.id_, name, &d), std::string("dimension '") + name + "'");
+    out.check(nc_inq_dimlen(a.id_, d, &length), std::string("dimension '") + name + "'");
+    return length;
+  };
+  a.frames_ = dim("frame", l.frame_dim);
+  l.n0 = dim("x", l.x_dim);
+  l.n1 = dim("y", l.y_dim);
+  l.label_length = a.label_length_ = dim("label_length", l.label_dim);
+  const auto var = [&](const char* name) {
+    int v = -1;
+    out.check(nc_inq_varid(a.id_, name, &v), std::string("variable '") + name + "'");
+    return v;
+  };
+  l.label = var("label");
+  l.iteration = var("iteration");
+  l.origin_x = var("origin_x");
+  l.origin_y = var("origin_y");
+  l.in_contact = var("in_contact");
+  for (std::size_t s = 0; s < kScalars.size(); ++s)
+    l.scalars[s] = var(kScalars[s].name);
+  for (std::size_t f = 0; f < kFields.size(); ++f)
+    l.fields[f] = var(kFields[f].name);
+  if (nc_inq_varid(a.id_, "uz", &l.uz) != NC_NOERR) l.uz = -1;
+  for (const int v : l.fields)
+    no_chunk_cache(out, a.id_, v, "field");
+  no_chunk_cache(out, a.id_, l.in_contact, "in_contact");
+  if (l.uz >= 0) no_chunk_cache(out, a.id_, l.uz, "uz");
+  return a;
+}
+
+SnapshotAppender::SnapshotAppender(SnapshotAppender&& other) noexcept
+    : nc_(std::move(other.nc_)),
+      attributes_(std::move(other.attributes_)),
+      format_(other.format_),
+      label_length_(other.label_length_),
+      id_(std::exchange(other.id_, -1)),
+      frames_(other.frames_),
+      layout_(std::move(other.layout_)) {}
+
+SnapshotAppender::~SnapshotAppender() {
+  if (id_ >= 0) nc_close(id_);
+}
+
+void SnapshotAppender::close() {
+  if (id_ < 0) return;
+  const Writer out("cannot write '" + nc_.string() + "': ");
+  out.check(nc_close(std::exchange(id_, -1)), "closing");
+}
+
+void SnapshotAppender::sync() {
+  if (id_ < 0) return;
+  const Writer out("cannot write '" + nc_.string() + "': ");
+  out.check(nc_sync(id_), "flushing");
+}
+
+void SnapshotAppender::define(const Snapshot& first) {
+  const Writer out("cannot write '" + nc_.string() + "': ");
+  out.check(nc_create(nc_.c_str(), NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL, &id_), "creating");
+  layout_ = std::make_unique<Layout>();
+  Layout& l = *layout_;
+  l.n0 = static_cast<std::size_t>(first.block.shape.n0);
+  l.n1 = static_cast<std::size_t>(first.block.shape.n1);
+  l.label_length = label_length_ = std::max<std::size_t>(label_length_, first.label.size());
+  const Writer& o = out;
+  const auto dim = [&](const std::string& name, std::size_t length) {
+    int d = -1;
+    o.check(nc_def_dim(id_, name.c_str(), length, &d), "dimension '" + name + "'");
+    return d;
+  };
+  const auto define = [&](const std::string& name, nc_type type, std::initializer_list<int> dims,
+                          const std::string& units, const std::string& long_name) {
+    int v = -1;
+    o.check(nc_def_var(id_, name.c_str(), type, static_cast<int>(dims.size()), dims.begin(), &v),
+            "variable '" + name + "'");
+    put_text(o, id_, v, "units", units);
+    put_text(o, id_, v, "long_name", long_name);
+    return v;
+  };
+  // Fields: one chunk per frame (a frame is written and read whole), compressed with the
+  // shuffle filter, which groups the bytes of the values so that deflate finds their common
+  // exponents: the sites off the contact are zeros, and tau_max and pressure change slowly.
+  const auto field = [&](const std::string& name, nc_type type, const std::string& units,
+                         const std::string& long_name) {
+    const int v = define(name, type, {l.frame_dim, l.x_dim, l.y_dim}, units, long_name);
+    const std::size_t chunk[] = {1, l.n0, l.n1};
+    o.check(nc_def_var_chunking(id_, v, NC_CHUNKED, chunk), "chunking '" + name + "'");
+    no_chunk_cache(o, id_, v, name);
+    if (format_.deflate_level > 0) {
+      o.check(nc_def_var_deflate(id_, v, 1, 1, format_.deflate_level),
+              "compressing '" + name + "'");
+    }
+    return v;
+  };
+  l.frame_dim = dim("frame", NC_UNLIMITED);
+  l.x_dim = dim("x", l.n0);
+  l.y_dim = dim("y", l.n1);
+  l.label_dim = dim("label_length", l.label_length);
+  const int x_var = define("x", NC_DOUBLE, {l.x_dim}, "d", "x of the first frame's sites");
+  put_text(o, id_, x_var, "axis", "X");
+  const int y_var = define("y", NC_DOUBLE, {l.y_dim}, "d", "y of the first frame's sites");
+  put_text(o, id_, y_var, "axis", "Y");
+  l.label = define("label", NC_CHAR, {l.frame_dim, l.label_dim}, "1", "snapshot label");
+  put_text(o, id_, l.label, "_Encoding", "utf-8");
+  l.iteration = define("iteration", NC_INT, {l.frame_dim}, "1",
+                       "minimiser iteration of a relaxation-path frame, else -1");
+  l.origin_x = define("origin_x", NC_INT, {l.frame_dim}, "d",
+                      "lattice index along x of the block's first site");
+  l.origin_y = define("origin_y", NC_INT, {l.frame_dim}, "d",
+                      "lattice index along y of the block's first site");
+  for (std::size_t s = 0; s < kScalars.size(); ++s) {
+    l.scalars[s] = define(kScalars[s].name, NC_DOUBLE, {l.frame_dim}, kScalars[s].units,
+                          kScalars[s].long_name);
+  }
+  const nc_type value_type = format_.single_precision ? NC_FLOAT : NC_DOUBLE;
+  for (std::size_t f = 0; f < kFields.size(); ++f)
+    l.fields[f] = field(kFields[f].name, value_type, kFields[f].units, kFields[f].long_name);
+  // The normal displacement exists in the explicit model only (the LFM has none).
+  if (!first.uz.empty()) {
+    l.uz = field("uz", value_type, "d", "displacement along z (explicit model)");
+  }
+  l.in_contact = field("in_contact", NC_BYTE, "1", "site in contact (1) or not (0)");
+
+  if (attributes_.is_object()) {
+    for (const auto& [key, value] : attributes_.items()) {
+      if (value.is_boolean()) {
+        const int flag = value.get<bool>() ? 1 : 0;
+        o.check(nc_put_att_int(id_, NC_GLOBAL, key.c_str(), NC_INT, 1, &flag),
+                "attribute '" + key + "'");
+      } else if (value.is_number()) {
+        const auto number = value.get<double>();
+        o.check(nc_put_att_double(id_, NC_GLOBAL, key.c_str(), NC_DOUBLE, 1, &number),
+                "attribute '" + key + "'");
+      } else {
+        put_text(o, id_, NC_GLOBAL, key,
+                 value.is_string() ? value.get<std::string>() : value.dump());
+      }
+    }
+  }
+  put_text(o, id_, NC_GLOBAL, "title", "asperity sliding snapshots");
+  put_text(o, id_, NC_GLOBAL, "Conventions", "CF-1.8");
+  put_text(o, id_, NC_GLOBAL, "comment",
+           "x and y are the coordinates of the first frame's block; the block may follow the "
+           "tip: site (i, j) of frame k is at ((origin_x[k] + i) d, (origin_y[k] + j) d)");
+  put_text(o, id_, NC_GLOBAL, "label", first.label);
+  put_text(o, id_, NC_GLOBAL, "field_precision", format_.single_precision ? "float32" : "float64");
+  o.check(nc_enddef(id_), "ending definitions");
+
+  std::vector<double> x(l.n0), y(l.n1);
+  std::iota(x.begin(), x.end(), static_cast<double>(first.block.origin0));
+  std::iota(y.begin(), y.end(), static_cast<double>(first.block.origin1));
+  o.check(nc_put_var_double(id_, x_var, x.data()), "writing 'x'");
+  o.check(nc_put_var_double(id_, y_var, y.data()), "writing 'y'");
+}
+
+void SnapshotAppender::append(const Snapshot& frame) {
+  const std::string context = "cannot write '" + nc_.string() + "': ";
+  if (!layout_) {
+    validate({frame}, nullptr, context);
+    define(frame);
+  }
+  const Layout& l = *layout_;
+  const Writer out(context);
+  const auto invalid = [&](const std::string& problem) {
+    throw std::invalid_argument(context + "frame " + std::to_string(frames_) + ": " + problem);
+  };
+  if (static_cast<std::size_t>(frame.block.shape.n0) != l.n0 ||
+      static_cast<std::size_t>(frame.block.shape.n1) != l.n1) {
+    invalid("block shape differs from the file's");
+  }
+  if (frame.label.size() > l.label_length) {
+    invalid("label '" + frame.label + "' longer than the file's " + std::to_string(l.label_length) +
+            " characters");
+  }
+  const std::size_t sites = l.n0 * l.n1;
+  const auto sized = [&](const std::string& name, std::size_t size) {
+    if (size != sites) {
+      invalid("'" + name + "' has " + std::to_string(size) + " values, expected " +
+              std::to_string(sites));
+    }
+  };
+  for (const Field& f : kFields)
+    sized(f.name, (frame.*f.values).size());
+  sized("in_contact", frame.in_contact.size());
+  // uz (explicit model only): in every frame of a file or in none.
+  if (l.uz >= 0 || !frame.uz.empty()) sized("uz", frame.uz.size());
+
+  const std::size_t k = frames_;
+  const std::size_t at[] = {k, 0}, one_label[] = {1, l.label_length};
+  std::string label(l.label_length, '\0');
+  std::copy(frame.label.begin(), frame.label.end(), label.begin());
+  out.check(nc_put_vara_text(id_, l.label, at, one_label, label.data()), "writing 'label'");
+  const std::size_t one[] = {1};
+  out.check(nc_put_vara_int(id_, l.iteration, at, one, &frame.iteration), "writing 'iteration'");
+  out.check(nc_put_vara_int(id_, l.origin_x, at, one, &frame.block.origin0), "writing 'origin_x'");
+  out.check(nc_put_vara_int(id_, l.origin_y, at, one, &frame.block.origin1), "writing 'origin_y'");
+  for (std::size_t s = 0; s < kScalars.size(); ++s) {
+    out.check(nc_put_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
+              std::string("writing '") + kScalars[s].name + "'");
+  }
+  const std::size_t start[] = {k, 0, 0}, count[] = {1, l.n0, l.n1};
+  for (std::size_t f = 0; f < kFields.size(); ++f) {
+    out.check(nc_put_vara_double(id_, l.fields[f], start, count, (frame.*kFields[f].values).data()),
+              std::string("writing '") + kFields[f].name + "'");
+  }
+  out.check(nc_put_vara_uchar(id_, l.in_contact, start, count, frame.in_contact.data()),
+            "writing 'in_contact'");
+  if (l.uz >= 0) {
+    out.check(nc_put_vara_double(id_, l.uz, start, count, frame.uz.data()), "writing 'uz'");
+  }
+  ++frames_;
+}
+
+Snapshot SnapshotAppender::read(std::size_t k) const {
+  const Reader in("cannot read frame " + std::to_string(k) + " of '" + nc_.string() + "': ");
+  if (!layout_ || k >= frames_) in.fail("no such frame");
+  const Layout& l = *layout_;
+  Snapshot frame;
+  const std::size_t at[] = {k, 0}, one_label[] = {1, l.label_length}, one[] = {1};
+  std::string label(l.label_length, '\0');
+  in.check(nc_get_vara_text(id_, l.label, at, one_label, label.data()), "reading 'label'");
+  frame.label.assign(label.c_str());
+  int origin0 = 0, origin1 = 0;
+  in.check(nc_get_vara_int(id_, l.iteration, at, one, &frame.iteration), "reading 'iteration'");
+  in.check(nc_get_vara_int(id_, l.origin_x, at, one, &origin0), "reading 'origin_x'");
+  in.check(nc_get_vara_int(id_, l.origin_y, at, one, &origin1), "reading 'origin_y'");
+  frame.block = {{static_cast<int>(l.n0), static_cast<int>(l.n1)}, origin0, origin1};
+  for (std::size_t s = 0; s < kScalars.size(); ++s) {
+    in.check(nc_get_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
+             std::string("reading '") + kScalars[s].name + "'");
+  }
+  read_fields(in, id_, l.fields, l.in_contact, l.uz, k, l.n0, l.n1, frame);
+  return frame;
+}
+
 void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
-                     const nlohmann::json& attributes) {
+                     const nlohmann::json& attributes, const SnapshotFormat& format) {
   const std::string context = "cannot write '" + nc.string() + "': ";
   validate(frames, attributes, context);
-  const Snapshot& first = frames.front();
-  const std::size_t n = frames.size();
-  const auto n0 = static_cast<std::size_t>(first.block.shape.n0);
-  const auto n1 = static_cast<std::size_t>(first.block.shape.n1);
   std::size_t label_length = 1;
   for (const Snapshot& f : frames)
     label_length = std::max(label_length, f.label.size());
-
   // Named: HDF5 resolves the path it is given (realpath), which an unnamed file's /proc path
   // defeats. The write takes milliseconds; a kill within them leaves a hidden temporary, which
   // the next run removes (remove_stale_temporaries).
   TemporaryFile tmp(nc, TemporaryFile::Kind::named);
-  Writer out(context);
-  out.check(nc_create(tmp.path().c_str(), NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL, &out.id),
-            "creating");
-  const int frame_dim = define_dim(out, "frame", n);
-  const int x_dim = define_dim(out, "x", n0);
-  const int y_dim = define_dim(out, "y", n1);
-  const int label_dim = define_dim(out, "label_length", label_length);
-
-  const int x_var = define(out, "x", NC_DOUBLE, {x_dim}, "d", "x of the first frame's sites");
-  put_text(out, x_var, "axis", "X");
-  const int y_var = define(out, "y", NC_DOUBLE, {y_dim}, "d", "y of the first frame's sites");
-  put_text(out, y_var, "axis", "Y");
-  const int label_var =
-      define(out, "label", NC_CHAR, {frame_dim, label_dim}, "1", "snapshot label");
-  put_text(out, label_var, "_Encoding", "utf-8");
-  const int iteration_var = define(out, "iteration", NC_INT, {frame_dim}, "1",
-                                   "minimiser iteration of a relaxation-path frame, else -1");
-  const int origin_x_var = define(out, "origin_x", NC_INT, {frame_dim}, "d",
-                                  "lattice index along x of the block's first site");
-  const int origin_y_var = define(out, "origin_y", NC_INT, {frame_dim}, "d",
-                                  "lattice index along y of the block's first site");
-  std::vector<int> scalar_vars, field_vars;
-  for (const Scalar& s : kScalars)
-    scalar_vars.push_back(define(out, s.name, NC_DOUBLE, {frame_dim}, s.units, s.long_name));
-  for (const Field& f : kFields) {
-    field_vars.push_back(
-        define(out, f.name, NC_DOUBLE, {frame_dim, x_dim, y_dim}, f.units, f.long_name));
-  }
-  // The normal displacement exists in the explicit model only (the LFM has none).
-  const bool has_uz = !first.uz.empty();
-  const int uz_var = has_uz ? define(out, "uz", NC_DOUBLE, {frame_dim, x_dim, y_dim}, "d",
-                                     "displacement along z (explicit model)")
-                            : -1;
-  const int contact_var = define(out, "in_contact", NC_BYTE, {frame_dim, x_dim, y_dim}, "1",
-                                 "site in contact (1) or not (0)");
-
-  for (const auto& [key, value] : attributes.items()) {
-    if (value.is_boolean()) {
-      const int flag = value.get<bool>() ? 1 : 0;
-      out.check(nc_put_att_int(out.id, NC_GLOBAL, key.c_str(), NC_INT, 1, &flag),
-                "attribute '" + key + "'");
-    } else if (value.is_number()) {
-      const auto number = value.get<double>();
-      out.check(nc_put_att_double(out.id, NC_GLOBAL, key.c_str(), NC_DOUBLE, 1, &number),
-                "attribute '" + key + "'");
-    } else {
-      put_text(out, NC_GLOBAL, key, value.is_string() ? value.get<std::string>() : value.dump());
-    }
-  }
-  put_text(out, NC_GLOBAL, "title", "asperity sliding snapshots");
-  put_text(out, NC_GLOBAL, "Conventions", "CF-1.8");
-  put_text(out, NC_GLOBAL, "comment",
-           "x and y are the coordinates of the first frame's block; the block may follow the "
-           "tip: site (i, j) of frame k is at ((origin_x[k] + i) d, (origin_y[k] + j) d)");
-  put_text(out, NC_GLOBAL, "label", first.label);
-  out.check(nc_enddef(out.id), "ending definitions");
-
-  std::vector<double> x(n0), y(n1);
-  std::iota(x.begin(), x.end(), static_cast<double>(first.block.origin0));
-  std::iota(y.begin(), y.end(), static_cast<double>(first.block.origin1));
-  out.check(nc_put_var_double(out.id, x_var, x.data()), "writing 'x'");
-  out.check(nc_put_var_double(out.id, y_var, y.data()), "writing 'y'");
-
-  std::string labels(n * label_length, '\0');
-  std::vector<int> iteration, origin_x, origin_y;
-  for (std::size_t k = 0; k < n; ++k) {
-    std::copy(frames[k].label.begin(), frames[k].label.end(), labels.data() + k * label_length);
-    iteration.push_back(frames[k].iteration);
-    origin_x.push_back(frames[k].block.origin0);
-    origin_y.push_back(frames[k].block.origin1);
-  }
-  out.check(nc_put_var_text(out.id, label_var, labels.data()), "writing 'label'");
-  out.check(nc_put_var_int(out.id, iteration_var, iteration.data()), "writing 'iteration'");
-  out.check(nc_put_var_int(out.id, origin_x_var, origin_x.data()), "writing 'origin_x'");
-  out.check(nc_put_var_int(out.id, origin_y_var, origin_y.data()), "writing 'origin_y'");
-  for (std::size_t s = 0; s < kScalars.size(); ++s) {
-    std::vector<double> values;
+  {
+    SnapshotAppender out(tmp.path(), attributes, format, label_length);
     for (const Snapshot& f : frames)
-      values.push_back(f.*kScalars[s].value);
-    out.check(nc_put_var_double(out.id, scalar_vars[s], values.data()),
-              std::string("writing '") + kScalars[s].name + "'");
+      out.append(f);
+    out.close();
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t start[] = {k, 0, 0}, count[] = {1, n0, n1};
-    for (std::size_t v = 0; v < kFields.size(); ++v) {
-      out.check(nc_put_vara_double(out.id, field_vars[v], start, count,
-                                   (frames[k].*kFields[v].values).data()),
-                std::string("writing '") + kFields[v].name + "'");
-    }
-    out.check(nc_put_vara_uchar(out.id, contact_var, start, count, frames[k].in_contact.data()),
-              "writing 'in_contact'");
-    if (has_uz) {
-      out.check(nc_put_vara_double(out.id, uz_var, start, count, frames[k].uz.data()),
-                "writing 'uz'");
-    }
-  }
-  out.close();
   tmp.commit();
 }
 
@@ -251,7 +447,8 @@ namespace {
 // read_snapshots into `frames`, or with `frames` null only its checks of the header:
 // dimensions, sizes, the memory the frames need and every variable's presence and shape (no
 // field is read). Returns the number of frames.
-std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out) {
+std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
+                      const std::string& only_label = {}) {
   Reader in("cannot read '" + nc.string() + "': ");
   if (!fs::exists(nc)) in.fail("no such file");
   int id = -1;
@@ -298,12 +495,21 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out) {
               " bytes: the header claims more data than the file holds");
     }
   }
-  check_fits_in_memory(
-      "'" + nc.string() + "'",
-      static_cast<double>(n) * (sites * 8.0 * fields_per_site + static_cast<double>(label_length) +
-                                static_cast<double>(sizeof(Snapshot))),
-      std::to_string(n) + " frames of " + std::to_string(n0) + " x " + std::to_string(n1) +
-          " sites, as its header says");
+  // The labels and scalars of every frame are read to select frames (a few bytes each); the
+  // fields of the selected ones only.
+  const auto check_memory = [&](std::size_t frames, const std::string& which) {
+    check_fits_in_memory("'" + nc.string() + "'",
+                         static_cast<double>(frames) *
+                             (sites * 8.0 * fields_per_site + static_cast<double>(label_length) +
+                              static_cast<double>(sizeof(Snapshot))),
+                         std::to_string(frames) + " " + which + "frames of " + std::to_string(n0) +
+                             " x " + std::to_string(n1) + " sites, as its header says");
+  };
+  if (only_label.empty()) check_memory(n, "");
+  check_fits_in_memory("'" + nc.string() + "'",
+                       static_cast<double>(n) * (static_cast<double>(label_length) +
+                                                 static_cast<double>(sizeof(Snapshot))),
+                       std::to_string(n) + " frame labels, as its header says");
 
   // Looks up a variable and checks its dimensions, so that reads cannot overrun the buffers.
   const auto var = [&](const std::string& name, std::initializer_list<int> dims) {
@@ -335,8 +541,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out) {
     return values;
   };
 
-  std::vector<Snapshot>& frames = *out;
-  frames.assign(n, Snapshot{});
+  std::vector<Snapshot> frames(n);
   std::string labels(n * label_length, '\0');
   in.check(nc_get_var_text(in.id, var("label", {frame_dim, label_dim}), labels.data()),
            "reading 'label'");
@@ -356,44 +561,39 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out) {
     for (std::size_t k = 0; k < n; ++k)
       frames[k].*s.value = values[k];
   }
-  // Snapshots hold converged, finite states (a failed run saves its last good one): a
-  // non-finite value means a damaged file, which would otherwise pass as an empty frame.
-  const auto finite = [&](const std::vector<double>& values, const char* name, std::size_t k) {
-    if (!std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
-      in.fail(std::string("non-finite values in '") + name + "' of frame " + std::to_string(k));
-  };
   for (std::size_t k = 0; k < n; ++k) {
     if (!std::isfinite(frames[k].Dx)) in.fail("non-finite 'Dx' in frame " + std::to_string(k));
   }
-  const std::initializer_list<int> field_dims{frame_dim, x_dim, y_dim};
+  std::vector<std::size_t> selected;
   for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t start[] = {k, 0, 0}, count[] = {1, n0, n1};
-    for (const Field& f : kFields) {
-      std::vector<double>& values = frames[k].*f.values;
-      values.resize(n0 * n1);
-      in.check(nc_get_vara_double(in.id, var(f.name, field_dims), start, count, values.data()),
-               std::string("reading '") + f.name + "'");
-      finite(values, f.name, k);
-    }
-    frames[k].in_contact.resize(n0 * n1);
-    in.check(nc_get_vara_uchar(in.id, var("in_contact", field_dims), start, count,
-                               frames[k].in_contact.data()),
-             "reading 'in_contact'");
-    if (int uz = -1; nc_inq_varid(in.id, "uz", &uz) == NC_NOERR) {
-      frames[k].uz.resize(n0 * n1);
-      in.check(nc_get_vara_double(in.id, var("uz", field_dims), start, count, frames[k].uz.data()),
-               "reading 'uz'");
-      finite(frames[k].uz, "uz", k);
-    }
+    if (only_label.empty() || frames[k].label == only_label) selected.push_back(k);
+  }
+  if (!only_label.empty()) check_memory(selected.size(), "'" + only_label + "' ");
+  const std::initializer_list<int> field_dims{frame_dim, x_dim, y_dim};
+  std::array<int, kFields.size()> field_vars{};
+  for (std::size_t f = 0; f < kFields.size(); ++f)
+    field_vars[f] = var(kFields[f].name, field_dims);
+  const int contact_var = var("in_contact", field_dims);
+  int uz_var = -1;
+  if (nc_inq_varid(in.id, "uz", &uz_var) == NC_NOERR) {
+    uz_var = var("uz", field_dims);
+  } else {
+    uz_var = -1;
+  }
+  out->clear();
+  out->reserve(selected.size());
+  for (const std::size_t k : selected) {
+    read_fields(in, in.id, field_vars, contact_var, uz_var, k, n0, n1, frames[k]);
+    out->push_back(std::move(frames[k]));
   }
   return n;
 }
 
 }  // namespace
 
-std::vector<Snapshot> read_snapshots(const fs::path& nc) {
+std::vector<Snapshot> read_snapshots(const fs::path& nc, const std::string& label) {
   std::vector<Snapshot> frames;
-  read_file(nc, &frames);
+  read_file(nc, &frames, label);
   return frames;
 }
 

@@ -1,36 +1,92 @@
-// Field snapshots of a sliding run (slide::Snapshot) as one NetCDF-4 file (classic model), for
-// xarray and ParaView.
+// Field snapshots of a sliding run (slide::Snapshot) as NetCDF-4 files (classic model), for
+// xarray, ParaView and track_loops.
 //
-// Layout: dimensions frame, x (n0), y (n1), label_length. Per frame: label(frame,
-// label_length) (text), iteration, origin_x, origin_y (int), Dx, Fx, Fz, energy (double).
-// Fields (frame, x, y): ux, uy, sx, sy, tau_x, tau_y, tau_max, pressure (double), in_contact
-// (byte), and uz (double) when the frames carry it (explicit model). Coordinates x(x), y(y) in
-// units of d are those of the first frame's block; the block may follow the tip, so site (i, j) of
-// frame k is at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
-// stresses G, forces G d^2, energy G d^3) and `long_name`.
+// Layout: dimensions frame (unlimited: a file can grow frame by frame), x (n0), y (n1),
+// label_length. Per frame: label(frame, label_length) (text), iteration, origin_x, origin_y
+// (int), Dx, Fx, Fz, energy (double). Fields (frame, x, y): ux, uy, sx, sy, tau_x, tau_y,
+// tau_max, pressure (double, or float with SnapshotFormat::single_precision), in_contact (byte),
+// and uz when the frames carry it (explicit model); each chunked by frame and compressed
+// (shuffle + deflate). Coordinates x(x), y(y) in units of d are those of the first frame's
+// block; the block may follow the tip, so site (i, j) of frame k is at ((origin_x[k] + i) d,
+// (origin_y[k] + j) d). Every variable has `units` (lengths d, stresses G, forces G d^2, energy
+// G d^3) and `long_name`; the global attribute field_precision says float32 or float64.
 #pragma once
 
 #include <filesystem>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "slide/slider.hpp"
+#include "slide/frames.hpp"
 
 namespace asperity::app {
 
-// Writes atomically (temporary file renamed onto `nc`). Global attributes: every entry of the
-// flat JSON object `attributes` (numbers as double, strings as text, booleans as int 0/1, other
-// values as their JSON text), then title, Conventions, comment and label (the first frame's),
-// which replace entries of the same name. Throws std::invalid_argument if `frames` is empty, the
-// frames' block shapes differ or are empty, a field's size is not the block's site count, or
-// `attributes` is neither null nor an object; std::runtime_error naming the file if writing fails.
-void write_snapshots(const std::filesystem::path& nc, const std::vector<slide::Snapshot>& frames,
-                     const nlohmann::json& attributes);
+// How the per-site fields are stored.
+struct SnapshotFormat {
+  bool single_precision = false;  // fields as 32-bit floats (7 digits; half the size)
+  int deflate_level = 1;          // 0: uncompressed; 1 (fastest) .. 9 (smallest)
 
-// Reads a file written by write_snapshots. Throws std::invalid_argument naming the file and the
-// problem if it is missing, not a NetCDF file, truncated, or lacks a dimension or variable.
-std::vector<slide::Snapshot> read_snapshots(const std::filesystem::path& nc);
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+// A snapshot file written frame by frame: the relaxation paths of a whole run in one file. The
+// file is created at the first frame (whose block shape, label and uz decide its layout), so a
+// writer that never gets a frame leaves no file. Not atomic: the caller writes to a temporary
+// name and renames it when done. The NetCDF library is not thread-safe: one writer or reader at
+// a time in a process.
+class SnapshotAppender {
+ public:
+  // A new file at `nc` (replacing one there): global attributes as in write_snapshots, labels of
+  // up to max(label_length, the first frame's) characters.
+  SnapshotAppender(std::filesystem::path nc, nlohmann::json attributes, SnapshotFormat format,
+                   std::size_t label_length = 32);
+  // An existing file written by this class, to append to it. Throws std::runtime_error naming
+  // the file if it cannot be opened or lacks a dimension or variable.
+  static SnapshotAppender open(const std::filesystem::path& nc);
+  SnapshotAppender(SnapshotAppender&& other) noexcept;
+  SnapshotAppender& operator=(SnapshotAppender&&) = delete;
+  ~SnapshotAppender();  // closes the file (errors then are lost: call close() to see them)
+
+  // Throws std::invalid_argument (frame of another shape, field sizes, label too long) or
+  // std::runtime_error naming the file if writing fails.
+  void append(const slide::Snapshot& frame);
+  [[nodiscard]] slide::Snapshot read(std::size_t k) const;  // frame k, as written
+  [[nodiscard]] std::size_t frames() const { return frames_; }
+  [[nodiscard]] const std::filesystem::path& path() const { return nc_; }
+  void sync();   // to disk: a process killed after it leaves a readable file
+  void close();  // no more frames; the writer can only be destroyed
+
+ private:
+  struct Layout;
+  void define(const slide::Snapshot& first);
+
+  std::filesystem::path nc_;
+  nlohmann::json attributes_;
+  SnapshotFormat format_;
+  std::size_t label_length_ = 0;
+  int id_ = -1;
+  std::size_t frames_ = 0;
+  std::unique_ptr<Layout> layout_;
+};
+
+// Writes `frames` as one file, atomically (temporary file renamed onto `nc`). Global attributes:
+// every entry of the flat JSON object `attributes` (numbers as double, strings as text, booleans
+// as int 0/1, other values as their JSON text), then title, Conventions, comment, label (the
+// first frame's) and field_precision, which replace entries of the same name. Throws
+// std::invalid_argument if `frames` is empty, the frames' block shapes differ or are empty, a
+// field's size is not the block's site count, or `attributes` is neither null nor an object;
+// std::runtime_error naming the file if writing fails.
+void write_snapshots(const std::filesystem::path& nc, const std::vector<slide::Snapshot>& frames,
+                     const nlohmann::json& attributes, const SnapshotFormat& format = {});
+
+// Reads a file written by write_snapshots or SnapshotAppender: every frame, or with `label` only
+// the frames of that label (the path of one slip in a run's paths.nc). Fields stored as float
+// come back as double. Throws std::invalid_argument naming the file and the problem if it is
+// missing, not a NetCDF file, truncated, or lacks a dimension or variable.
+std::vector<slide::Snapshot> read_snapshots(const std::filesystem::path& nc,
+                                            const std::string& label = {});
 
 // The checks of read_snapshots that need no field data (the file opens, its dimensions, sizes
 // and variables are right, its frames fit in memory); returns the number of frames. For tools

@@ -27,6 +27,7 @@
 #include "common/output_files.hpp"
 #include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
+#include "common/snapshot_sink.hpp"
 
 using namespace asperity;
 
@@ -41,11 +42,13 @@ struct CheckpointedSlide {
 };
 
 // A slide of either model with checkpoints in <out>/checkpoint.cbor under `settings` (its
-// fingerprint), resumed from that file with `resume`. Stop handlers must be installed. An
-// interrupted slide prints how to continue; a finished one is the caller's to write out (it
-// removes the checkpoint after its outputs).
+// fingerprint), resumed from that file with `resume`, its frames streamed to <out>/snapshots
+// (snapshot_sink.hpp) as they are made. Stop handlers must be installed. An interrupted slide
+// prints how to continue; a finished one is the caller's to write out (it removes the checkpoint
+// after its outputs).
 CheckpointedSlide run_checkpointed(
     const std::string& out, const std::string& settings, bool resume, double checkpoint_every,
+    app::SnapshotSink& frames,
     const std::function<slide::SlideResult(const slide::SlideControl&)>& run, int argc,
     char** argv) {
   CheckpointedSlide c;
@@ -73,6 +76,11 @@ CheckpointedSlide run_checkpointed(
     std::fprintf(stderr, "contact_slide: removed %zu temporary file%s left by a killed run\n", n,
                  n > 1 ? "s" : "");
   }
+  if (const std::string warning =
+          frames.start(start ? std::optional(start->state.current.Dx) : std::nullopt);
+      !warning.empty()) {
+    std::fprintf(stderr, "contact_slide: %s\n", warning.c_str());
+  }
   if (start) {
     std::fprintf(stderr, "contact_slide: resuming from %s at Dx = %.4f d (%d steps done)\n",
                  c.checkpoint_file.c_str(), start->state.current.Dx, start->state.partial.steps);
@@ -87,6 +95,7 @@ CheckpointedSlide run_checkpointed(
       .checkpoint =
           [&](const slide::SlideState& state) {
             const auto t = std::chrono::steady_clock::now();
+            frames.flush();  // the checkpoint must not count frames that are not on disk
             app::write_checkpoint(c.checkpoint_file, {.settings = settings, .state = state});
             c.checkpoint_s +=
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -94,9 +103,15 @@ CheckpointedSlide run_checkpointed(
           },
       .checkpoint_every_s = checkpoint_every,
       .stop_requested = app::stop_requested,
-      .start = start ? &start->state : nullptr};
+      .start = start ? &start->state : nullptr,
+      .frames = &frames};
   c.result = run(control);
   if (tty) std::fprintf(stderr, "\n");
+  if (c.result.interrupted) {
+    frames.flush();  // the partial paths file, for the resumed run
+  } else {
+    frames.finish();
+  }
   if (c.result.interrupted) {
     std::fprintf(stderr,
                  "contact_slide: %s; state saved in %s (%d checkpoint%s, %.2f s)\n"
@@ -306,17 +321,21 @@ int main(int argc, char** argv) {
       }
       // A stop asked during the loading (which does not poll) is honoured at the slide's
       // first step, which checkpoints the loaded state: the run resumes from there.
+      const app::SlideScene as_slide = app::explicit_as_slide_scene(e, alpha_p);
+      app::SnapshotSink frames(
+          std::filesystem::path(out) / "snapshots",
+          app::snapshot_attributes(as_slide, app::explicit_summary_extra(e, alpha_p)),
+          e.slide.snapshot_format);
       const CheckpointedSlide run = run_checkpointed(
-          out, settings, resume, checkpoint_every,
+          out, settings, resume, checkpoint_every, frames,
           [&](const slide::SlideControl& control) {
             return app::slide_explicit_scene(e, alpha_p, control);
           },
           argc_, argv_);
       const slide::SlideResult& r = run.result;
       if (r.interrupted) return app::kInterrupted;
-      const auto files =
-          app::write_slide_outputs(out, app::explicit_as_slide_scene(e, alpha_p), r,
-                                   {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
+      const auto files = app::write_slide_outputs(
+          out, as_slide, r, {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
       finish_checkpoints(run);
       std::printf(
           "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
@@ -366,8 +385,10 @@ int main(int argc, char** argv) {
     s.options.validate();
     char a_text[64];
     std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
-    app::check_fits_in_memory(a_text, slide::estimated_slide_bytes(s.contact),
-                              "estimate: 260 bytes per point of the padded FFT grid of the block");
+    app::check_fits_in_memory(a_text, slide::estimated_slide_bytes(s.contact, s.options),
+                              "estimate: 260 bytes per point of the padded FFT grid of the block, "
+                              "and the frames of one relaxation path");
+    const std::string output_line = app::check_output_fits(s, out);
 
     std::fprintf(stderr,
                  "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
@@ -378,8 +399,11 @@ int main(int argc, char** argv) {
                  minimize::to_string(s.options.minimizer.method).c_str(),
                  minimize::to_string(s.options.minimizer.preconditioner).c_str(),
                  s.options.minimizer.force_tolerance);
+    std::fprintf(stderr, "contact_slide: %s\n", output_line.c_str());
+    app::SnapshotSink frames(std::filesystem::path(out) / "snapshots",
+                             app::snapshot_attributes(s, nullptr), s.snapshot_format);
     const CheckpointedSlide run = run_checkpointed(
-        out, app::slide_fingerprint(s), resume, checkpoint_every,
+        out, app::slide_fingerprint(s), resume, checkpoint_every, frames,
         [&](const slide::SlideControl& control) {
           return slide::slide(s.contact, s.options, control);
         },

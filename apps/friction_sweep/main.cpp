@@ -38,6 +38,7 @@
 #include "common/plot.hpp"
 #include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
+#include "common/snapshot_sink.hpp"
 #include "sweep.hpp"
 
 using namespace asperity;
@@ -389,7 +390,7 @@ int main(int argc, char** argv) {
         interface::ContactScene c = s.base.contact;
         c.a = points[k].a;
         c.R = points[k].R;
-        bytes.push_back(slide::estimated_slide_bytes(c));
+        bytes.push_back(slide::estimated_slide_bytes(c, s.base.options));
         a_max = std::max(a_max, c.a);
       }
       std::sort(bytes.rbegin(), bytes.rend());
@@ -523,27 +524,48 @@ int main(int argc, char** argv) {
                          app::describe_progress(info).c_str());
           };
         }
-        const slide::SlideControl control{.progress = progress,
-                                          .checkpoint =
-                                              [&](const slide::SlideState& state) {
-                                                app::ensure_directory(point_dir);
-                                                app::write_checkpoint(
-                                                    checkpoint_file,
-                                                    {.settings = point_settings, .state = state});
-                                              },
-                                          .checkpoint_every_s = checkpoint_every,
-                                          .stop_requested = app::stop_requested,
-                                          .start = start ? &start->state : nullptr};
+        // Frames go to the point's snapshots/ as they are made (with --figures), or nowhere:
+        // a point holds none, however many slips it takes.
+        slide::DiscardFrames no_frames;
+        std::optional<app::SnapshotSink> frames;
+        if (figures) {
+          frames.emplace(point_dir / "snapshots",
+                         app::snapshot_attributes(
+                             ps, job.x ? app::explicit_summary_extra(es, alpha_x) : nullptr),
+                         ps.snapshot_format, &output_mutex);
+          if (const std::string warning =
+                  frames->start(start ? std::optional(start->state.current.Dx) : std::nullopt);
+              !warning.empty()) {
+            const std::lock_guard lock(table_mutex);
+            std::fprintf(stderr, "friction_sweep: a = %.4g d, R = %g d: %s\n", point.a, point.R,
+                         warning.c_str());
+          }
+        }
+        const slide::SlideControl control{
+            .progress = progress,
+            .checkpoint =
+                [&](const slide::SlideState& state) {
+                  app::ensure_directory(point_dir);
+                  if (frames) frames->flush();
+                  app::write_checkpoint(checkpoint_file,
+                                        {.settings = point_settings, .state = state});
+                },
+            .checkpoint_every_s = checkpoint_every,
+            .stop_requested = app::stop_requested,
+            .start = start ? &start->state : nullptr,
+            .frames = frames ? static_cast<slide::FrameSink*>(&*frames) : &no_frames};
         const slide::SlideResult result = job.x ? app::slide_explicit_scene(es, alpha_x, control)
                                                 : slide::slide(ps.contact, ps.options, control);
         if (result.interrupted) {
+          if (frames) frames->flush();
           ++interrupted;  // no row: the next run continues from the checkpoint
           return;
         }
+        if (frames) frames->finish();
         {
           std::unique_lock lock(output_mutex, std::defer_lock);
           if (figures) lock.lock();
-          app::SlideOutputOptions oo{.figures = figures, .snapshots = figures};
+          app::SlideOutputOptions oo{.figures = figures};
           if (job.x) oo.summary_extra = app::explicit_summary_extra(es, alpha_x);
           app::write_slide_outputs(point_dir, ps, result, oo);
         }

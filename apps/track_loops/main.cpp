@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
@@ -171,6 +172,11 @@ int main(int argc, char** argv) {
         ->required()
         ->check(CLI::ExistingFile);
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    std::string label;
+    cli.add_option(
+        "--label", label,
+        "Only the frames with this label, e.g. slip_011_path: one slip's relaxation path "
+        "out of a run's paths.nc; files that hold none are skipped");
     cli.add_option("--min-length", detect.min_length, "Drop lines shorter than this (d)")
         ->check(app::non_negative())
         ->capture_default_str();
@@ -220,7 +226,8 @@ int main(int argc, char** argv) {
     for (const auto& file : files)
       app::check_snapshot_file(file);
     for (const auto& file : files) {
-      const std::vector<slide::Snapshot> snaps = app::read_snapshots(file);
+      const std::vector<slide::Snapshot> snaps = app::read_snapshots(file, label);
+      if (snaps.empty()) continue;  // no frame of --label
       const bool periodic = force_periodic || periodic_attribute(file);
       inputs.push_back({{"file", fs::absolute(file).string()},
                         {"frames", snaps.size()},
@@ -269,6 +276,9 @@ int main(int argc, char** argv) {
                                {"figure", plot ? nlohmann::json(name) : nullptr},
                                {"lines", lines}});
       }
+    }
+    if (info.empty()) {
+      throw std::invalid_argument("--label " + label + ": no frame with this label in the files");
     }
 
     app::CsvTable events({"frame", "file", "label", "iteration", "Dx", "type", "before_ids",

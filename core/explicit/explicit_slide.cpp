@@ -87,7 +87,7 @@ class ExplicitSlider {
     return s;
   }
 
-  minimize::MinimizeResult relax(State& s, double Dx, std::vector<slide::Snapshot>* /*frames*/,
+  minimize::MinimizeResult relax(State& s, double Dx, std::vector<slide::PathFrame>* /*frames*/,
                                  bool stop_on_slip = false) {
     const double d = scene_.d;
     // The active disk starts each step at the Hertz radius + margin (the atoms that carry a

@@ -6,8 +6,9 @@
 // A Model provides (State = SlideFields; its fields live on a block of sites that the model
 // chooses, identified by State::shift and the field size):
 //   State initial();                           the state the slide starts from (unrelaxed)
-//   MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames, bool stop_on_slip);
-//                                              move s to tip position Dx and minimise; with
+//   MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames, bool stop_on_slip);
+//                                              move s to tip position Dx and minimise (path
+//                                              frames, if it records them, to `frames`); with
 //                                              stop_on_slip, return Termination::interrupted as
 //                                              soon as a slip is certain (LFM: a site moved by
 //                                              3/4 d; explicit model: d/2)
@@ -21,6 +22,8 @@
 // and optionally std::function<bool(int)> heartbeat, called during relax() with the iteration
 // (progress reports from inside long relaxations); returning true abandons the relaxation (a stop
 // request acts within it, not after it).
+// Frames (snapshots) go to SlideControl::frames as they are made, or, without a sink, to
+// SlideResult::snapshots.
 // Include only from the .cpp files that instantiate it.
 #pragma once
 
@@ -37,6 +40,30 @@
 #include "slide/slider.hpp"
 
 namespace asperity::slide::detail {
+
+// The sink of a slide without SlideControl::frames: collects the frames in a vector (the
+// slide's result), as the library did before frames were streamed.
+class CollectFrames final : public FrameSink {
+ public:
+  explicit CollectFrames(std::vector<Snapshot>& out) : out_(out) {}
+  void state(const Snapshot& frame) override { out_.push_back(frame); }
+  void path_frame(const Snapshot& frame) override { out_.push_back(frame); }
+  void replayed_path(const std::string& source, int periods, double period,
+                     const std::string& label) override {
+    const std::size_t n = out_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (out_[i].label != source) continue;
+      Snapshot moved = out_[i];
+      moved.label = label;
+      moved.Dx += periods * period;
+      moved.block.origin0 += periods;
+      out_.push_back(std::move(moved));
+    }
+  }
+
+ private:
+  std::vector<Snapshot>& out_;
+};
 
 // What the protocol needs to know of the scene.
 struct ProtocolParams {
@@ -107,6 +134,8 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   }
   res.block = model.block_shape();
   res.fft_grid = model.fft_grid();
+  CollectFrames collect(res.snapshots);
+  FrameSink& sink = control.frames ? *control.frames : collect;
   res.Fz_continuum = params.Fz_continuum;
   const double d = params.d;
   const bool automatic = options.distance == 0.0;
@@ -363,19 +392,36 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   };
 
   const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
+  const auto slip_label = [](int event) {
+    char label[32];
+    std::snprintf(label, sizeof label, "slip_%03d", event);
+    return std::string(label);
+  };
+  // Slip events whose relaxation paths are recorded: 1, 1 + k, 1 + 2k, ...
+  const auto paths_of = [&](int event) {
+    return options.path_frame_every > 0 && options.path_frame_slips > 0 && sink.wants_paths() &&
+           (event - 1) % options.path_frame_slips == 0;
+  };
   // Takes the next state of the slide (computed, or replayed from the repeating cycle) into the
   // trace; true when the slide stops there.
+  // `frames`: the relaxation path of a computed step; `replay_of`: the slip event whose path a
+  // replayed slip repeats, `periods` on (0: none).
   const auto accept = [&](State&& next, int iterations, std::size_t gf, double max_force, bool slip,
-                          int sites, std::vector<Snapshot> frames, bool replayed) {
+                          int sites, std::vector<PathFrame> frames, bool replayed,
+                          int replay_of = 0, int periods = 0) {
     if (slip) {
       ++res.slip_events;
-      char label[32];
-      std::snprintf(label, sizeof label, "slip_%03d", res.slip_events);
-      res.snapshots.push_back(model.snapshot(state, std::string(label) + "_before"));
-      res.snapshots.push_back(model.snapshot(next, std::string(label) + "_after"));
-      for (auto& frame : frames) {
-        frame.label = std::string(label) + "_path";
-        res.snapshots.push_back(std::move(frame));
+      const std::string label = slip_label(res.slip_events);
+      sink.state(model.snapshot(state, label + "_before"));
+      sink.state(model.snapshot(next, label + "_after"));
+      // One Snapshot at a time: a path is held as displacements only (PathFrame).
+      for (PathFrame& frame : frames) {
+        sink.path_frame(model.snapshot(frame.fields, label + "_path", frame.iteration));
+        frame.fields = {};
+        ++res.path_frames;
+      }
+      if (replay_of > 0 && paths_of(res.slip_events)) {
+        sink.replayed_path(slip_label(replay_of) + "_path", periods, d, label + "_path");
       }
       // A slip that swept most of the contact (a Regime II loop, or several) may have brought
       // the state back to one of the last period: probe it. Not after the small slips of
@@ -513,8 +559,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
         trial.h += w * (state.h - p1.h);
       }
     }
-    std::vector<Snapshot> frames;
-    const bool want_frames = options.path_frame_every > 0 && !may_undo;
+    std::vector<PathFrame> frames;
+    // Only a relaxation that will not be undone can become a slip event with a path (the next
+    // one, if it slips).
+    const bool want_frames = !may_undo && paths_of(res.slip_events + 1);
     report(cycle_of                  ? SlidePhase::probe
            : !std::isfinite(slip_at) ? SlidePhase::step
            : may_undo                ? SlidePhase::bisection
@@ -538,7 +586,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
       if (control.checkpoint) control.checkpoint(capture(false));
       res.failed = true;
       res.stop_reason = why;
-      res.snapshots.push_back(model.snapshot(state, "last_good"));
+      sink.state(model.snapshot(state, "last_good"));
       break;
     }
     const int sites = model.slipped_sites(state, trial);
@@ -600,21 +648,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
           res.cycle_mismatch = cycle_mismatch;
         }
         // A replayed slip's relaxation path is the computed one's, carried on by k periods.
-        std::vector<Snapshot> path;
-        if (cycle_slip[e] > 0) {
-          char label[32];
-          std::snprintf(label, sizeof label, "slip_%03d_path", cycle_slip[e]);
-          for (const Snapshot& frame : res.snapshots) {
-            if (frame.label != label) continue;
-            Snapshot moved = frame;
-            moved.Dx += k * d;
-            moved.block.origin0 += k;
-            path.push_back(std::move(moved));
-          }
-        }
         const TraceRow& row = cycle_rows[e];
-        if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites,
-                   std::move(path), true)) {
+        if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites, {}, true,
+                   cycle_slip[e], k)) {
           done = true;
           break;
         }
@@ -769,7 +805,12 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     res.kinetic = span > 0.0 ? area / span : from->Fx / from->Fz;
     res.kinetic_over_static = res.kinetic / res.mu;
   }
-  res.snapshots.insert(res.snapshots.begin(), model.snapshot(*peak, "peak"));
+  res.peak_snapshot = model.snapshot(*peak, "peak");
+  if (control.frames) {
+    control.frames->state(res.peak_snapshot);
+  } else {
+    res.snapshots.insert(res.snapshots.begin(), res.peak_snapshot);
+  }
   res.gf_applications = gf_before + model.gf_applications() - gf_unused;
   res.wall_s = wall_before + elapsed();
   return res;

@@ -60,8 +60,8 @@ class Slider {
     return s;
   }
 
-  // Moves `s` to tip position Dx and relaxes it. Frames go to `frames` if given.
-  minimize::MinimizeResult relax(State& s, double Dx, std::vector<Snapshot>* frames,
+  // Moves `s` to tip position Dx and relaxes it. Path frames go to `frames` if given.
+  minimize::MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames,
                                  bool stop_on_slip = false) {
     const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
     // Rolled rows come in without displacements; u = G f below recomputes them.
@@ -106,20 +106,21 @@ class Slider {
             interval *= 2;
           }
           if (it % interval == 0) {
-            State frame = s;
-            scatter(uu, frame.u);
-            scatter(ff, frame.f);
+            // The displacement only (the snapshot follows from it); off the contact it is the
+            // start state's.
+            PathFrame frame{.iteration = it,
+                            .fields = {.Dx = s.Dx, .shift = s.shift, .f = {}, .u = s.u}};
+            scatter(uu, frame.fields.u);
             std::vector<double> fint(uu.size());
             const double v = lfm_.energy_and_force(uu, fint);
-            frame.Fx = 0.0;
             double fu = 0.0;
             for (std::size_t j = 0; j < m; ++j)
-              frame.Fx += fint[j];
+              frame.fields.Fx += fint[j];
             for (std::size_t j = 0; j < uu.size(); ++j)
               fu += ff[j] * uu[j];
-            frame.Fz = lfm_.load();
-            frame.energy = 0.5 * fu + v;
-            frames->push_back(snapshot(frame, "path", it));
+            frame.fields.Fz = lfm_.load();
+            frame.fields.energy = 0.5 * fu + v;
+            frames->push_back(std::move(frame));
           }
         }
         if (!stop_on_slip) return false;
@@ -327,6 +328,7 @@ void SlideOptions::validate() const {
   if (!(cycle_tolerance > 0.0) || !std::isfinite(cycle_tolerance))
     fail("cycle_tolerance", cycle_tolerance, "finite and > 0 (G d^2)");
   if (path_frame_every < 0) fail("path_frame_every", path_frame_every, ">= 0");
+  if (path_frame_slips < 0) fail("path_frame_slips", path_frame_slips, ">= 0 (0: none)");
   if (max_path_frames < 2) fail("max_path_frames", max_path_frames, ">= 2");
   minimizer.validate();
   fft.validate();
@@ -359,12 +361,14 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   return detail::run_protocol(slider, params, options, control, t0);
 }
 
-double estimated_slide_bytes(const interface::ContactScene& scene) {
+double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options) {
   const double n = 2.0 * block_half(scene) + 1.0;
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;
-  return 260.0 * grid * grid + 2.0 * static_cast<double>(kCycleWindow) * 32.0 * n * n;
+  const double path = options.path_frame_every > 0 ? options.max_path_frames * 16.0 : 0.0;
+  return 260.0 * grid * grid +
+         (2.0 * static_cast<double>(kCycleWindow) * 32.0 + path + 2.0 * 65.0) * n * n;
 }
 
 }  // namespace asperity::slide

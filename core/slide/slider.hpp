@@ -32,6 +32,7 @@
 #include "fft/fft_engine.hpp"
 #include "interface/lfm.hpp"
 #include "minimize/minimizer.hpp"
+#include "slide/frames.hpp"
 
 namespace asperity::slide {
 
@@ -64,7 +65,11 @@ struct SlideOptions {
   double cycle_tolerance = 1e-3;  // largest force difference of a site (G d^2) for equal states
   int path_frame_every = 0;       // relaxation-path frames through slip events every N iterations
                                   // (0: none)
-  int max_path_frames = 64;       // frames kept per slip event (the interval doubles when full)
+  int path_frame_slips = 10;      // ... of slip events 1, 1 + k, 1 + 2k, ... (1: every one; 0:
+                                  // none)
+  int max_path_frames = 32;       // frames kept per slip event (the interval doubles when full,
+                                  // so they stay evenly spread); held until the slip is accepted:
+                                  // 16 bytes per block site each (32: 540 MB at a = 510 d)
   // Tolerance, method, ...; sliding defaults: force tolerance 1e-5 G d^2 and a displacement cap
   // of 0.2 d per iteration (docs/benchmarks.md: mu within 3e-4 of converged at 1/7 of the
   // classic protocol's GF applications).
@@ -72,22 +77,6 @@ struct SlideOptions {
   fft::FFTOptions fft;  // threads and planning of the GF transforms
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
-};
-
-// One field snapshot of the contact (MODEL.md section 5), on the block of sites.
-struct Snapshot {
-  std::string label;   // "peak", "slip_001_before", "slip_001_after", "slip_001_path"
-  int iteration = -1;  // minimiser iteration of a relaxation-path frame, else -1
-  double Dx = 0.0, Fx = 0.0, Fz = 0.0, energy = 0.0;
-  LatticeBlock block;  // site (i0, i1) is at ((origin0 + i0) d, (origin1 + i1) d)
-  // Per block site, block-major (i0 * n1 + i1):
-  std::vector<double> ux, uy;             // displacement (d)
-  std::vector<double> sx, sy;             // relative position s = X + u - (Dx, 0) (d)
-  std::vector<double> tau_x, tau_y;       // local shear stress f / d^2 (G)
-  std::vector<double> tau_max, pressure;  // envelope and pressure (G): Hertz in the LFM; the
-                                          // explicit model's alpha p and p = -f_z / d^2
-  std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
-  std::vector<std::uint8_t> in_contact;
 };
 
 struct TraceRow {
@@ -137,6 +126,10 @@ struct SlideResult {
                              // are partial; the state went to SlideControl::checkpoint
   Shape2 block, fft_grid;
   std::size_t contact_sites = 0;  // unknown sites at Dx = 0
+  Snapshot peak_snapshot;         // the state at the peak (also handed to the sink as "peak");
+                                  // empty if the slide was interrupted
+  int path_frames = 0;            // relaxation-path frames made so far (replayed ones included)
+  // The frames of the slide ("peak" first), when no SlideControl::frames sink took them.
   std::vector<Snapshot> snapshots;
 };
 
@@ -199,7 +192,16 @@ struct SlideState {
   std::vector<SlideFields> window;  // cycle replay: accepted states of the last period
   std::vector<std::size_t> window_rows;  // and their rows in partial.trace
   bool cycle_check_due = false;          // a probe of the cycle is due at the next step
-  SlideResult partial;  // trace, counts, slip events, snapshots, stop reason so far
+  SlideResult partial;  // trace, counts, slip events, stop reason so far; the snapshots
+                        // only if no sink took them
+};
+
+// A frame of a relaxation path as the slide holds it until the relaxation is accepted as a slip:
+// the displacement field of the state at a minimiser iteration (fields.f is left empty), from
+// which Model::snapshot makes the Snapshot (8 fields) only when it is handed over.
+struct PathFrame {
+  int iteration = 0;
+  SlideFields fields;
 };
 
 // How a caller steers a slide besides its options: progress reports, checkpoints, a stop request,
@@ -217,6 +219,9 @@ struct SlideControl {
   // reads.
   std::function<bool()> stop_requested;
   const SlideState* start = nullptr;  // continue from this state instead of Dx = 0 (not owned)
+  // Takes the frames as they are made (not owned); null: they are collected in
+  // SlideResult::snapshots (and in the checkpoints' partial result).
+  FrameSink* frames = nullptr;
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
@@ -233,12 +238,14 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 // whose start went with them is computed instead of replayed.
 inline constexpr std::size_t kCycleWindow = 16;
 
-// Estimated peak memory of slide() on this scene (bytes), so that callers can refuse a contact
-// that cannot fit before allocating: the padded FFT grid of the block (the smallest 7-smooth
-// size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260 bytes per grid point, the
-// measured peak without the cycle replay (docs/benchmarks.md, scaling: 248-254 bytes for a = 256
-// and 512 d), plus the replay's window of kCycleWindow states (force and displacement, 2
-// components: 32 bytes per block site each), twice: a checkpoint copies it.
-double estimated_slide_bytes(const interface::ContactScene& scene);
+// Estimated peak memory of slide() on this scene (bytes), with a FrameSink taking the frames, so
+// that callers can refuse a contact that cannot fit before allocating: the padded FFT grid of
+// the block (the smallest 7-smooth size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260
+// bytes per grid point, the measured peak without the cycle replay (docs/benchmarks.md, scaling:
+// 248-254 bytes for a = 256 and 512 d), plus the replay's window of kCycleWindow states (force
+// and displacement, 2 components: 32 bytes per block site each), twice: a checkpoint copies it,
+// plus the path frames of one relaxation (max_path_frames x 16 bytes per block site) and two
+// snapshots (65 bytes per block site each) in flight. Independent of the number of slips.
+double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options);
 
 }  // namespace asperity::slide

@@ -93,6 +93,7 @@ TEST(SlideReplay, FixedDistanceReplaysPeriodAfterPeriod) {
   auto on = with_replay(true), off = with_replay(false);
   on.distance = off.distance = 4.5;
   on.path_frame_every = off.path_frame_every = 10;
+  on.path_frame_slips = off.path_frame_slips = 1;  // a path for every slip
   const auto replayed = slide::slide(scene, on);
   const auto computed = slide::slide(scene, off);
   ASSERT_FALSE(replayed.failed) << replayed.stop_reason;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -39,6 +40,7 @@ app::SlideScene scene(double a, double distance) {
   s.contact.alpha = 0.7;
   s.options.distance = distance;
   s.options.path_frame_every = 5;  // snapshots of the relaxation paths are part of the state
+  s.options.path_frame_slips = 1;  // of every slip
   return s;
 }
 
@@ -330,6 +332,115 @@ TEST(SlideCheckpoint, RejectsStatesAndFilesThatDoNotFit) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("nested deeper than"), std::string::npos) << e.what();
   }
+}
+
+// A sink that records what it is handed, in order (label, Dx, ux), and repeats replayed paths
+// as SlideResult::snapshots does.
+class RecordFrames final : public slide::FrameSink {
+ public:
+  struct Frame {
+    std::string label;
+    double Dx;
+    std::vector<double> ux;
+  };
+  void state(const slide::Snapshot& f) override { frames.push_back({f.label, f.Dx, f.ux}); }
+  void path_frame(const slide::Snapshot& f) override { frames.push_back({f.label, f.Dx, f.ux}); }
+  void replayed_path(const std::string& source, int periods, double period,
+                     const std::string& label) override {
+    const std::size_t n = frames.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (frames[i].label != source) continue;
+      Frame moved = frames[i];
+      moved.label = label;
+      moved.Dx += periods * period;
+      frames.push_back(std::move(moved));
+    }
+  }
+  std::vector<Frame> frames;
+};
+
+// Frames streamed to a sink are the frames a slide without one collects, in the same order (the
+// peak last instead of first), and a slide with a sink holds none: its result and every
+// checkpoint carry no snapshot, and a checkpoint is the size of the states it must keep (issue
+// 22: it held every frame of the slide, 434 MB at a = 50 d, R = 100 d).
+TEST(FrameSink, StreamsTheFramesAndHoldsNone) {
+  app::SlideScene s = scene(43.0, 0.0);  // automatic distance: two slips, the second replayed
+  s.options.fft.threads = 1;
+  const SlideResult collected = slide::slide(s.contact, s.options);
+  RecordFrames sink;
+  std::size_t checkpoints = 0;
+  const SlideResult streamed = slide::slide(
+      s.contact, s.options,
+      SlideControl{.checkpoint =
+                       [&](const SlideState& st) {
+                         ++checkpoints;
+                         EXPECT_TRUE(st.partial.snapshots.empty());
+                         std::size_t states = 2 + st.window.size() + (st.previous ? 1 : 0) +
+                                              (st.earlier ? 1 : 0) + (st.runner_up ? 1 : 0);
+                         // Two fields of 2 components per state, 8 bytes per value and 1 of
+                         // CBOR framing per byte string; 200 bytes per trace row.
+                         const double bound = static_cast<double>(states) * 2.0 *
+                                                  static_cast<double>(st.current.f.size()) * 9.0 +
+                                              200.0 * static_cast<double>(st.partial.trace.size()) +
+                                              65536.0;
+                         const auto bytes = app::encode_checkpoint(
+                             {.settings = app::slide_fingerprint(s), .state = st});
+                         EXPECT_LT(static_cast<double>(bytes.size()), bound);
+                       },
+                   .checkpoint_every_s = 0.0,
+                   .frames = &sink});
+  ASSERT_GT(checkpoints, 5u);
+  ASSERT_EQ(collected.slip_events, 2);
+  ASSERT_GT(collected.replayed_steps, 0);
+  EXPECT_TRUE(streamed.snapshots.empty());
+  SlideResult without_frames = collected;
+  without_frames.snapshots.clear();
+  expect_same(without_frames, streamed, "streamed");
+  ASSERT_EQ(sink.frames.size(), collected.snapshots.size());
+  // The collected peak comes first, the streamed one last.
+  std::vector<RecordFrames::Frame> expected;
+  for (std::size_t k = 1; k < collected.snapshots.size(); ++k) {
+    const auto& f = collected.snapshots[k];
+    expected.push_back({f.label, f.Dx, f.ux});
+  }
+  expected.push_back({"peak", collected.snapshots.front().Dx, collected.snapshots.front().ux});
+  int paths = 0;
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(sink.frames[k].label, expected[k].label) << "frame " << k;
+    EXPECT_EQ(sink.frames[k].Dx, expected[k].Dx) << "frame " << k;
+    EXPECT_EQ(sink.frames[k].ux, expected[k].ux) << "frame " << k;
+    paths += expected[k].label == "slip_002_path" ? 1 : 0;
+  }
+  EXPECT_GT(paths, 0);  // the replayed slip has its path
+  EXPECT_EQ(streamed.peak_snapshot.ux, collected.snapshots.front().ux);
+  EXPECT_EQ(streamed.path_frames, collected.path_frames);
+}
+
+// Relaxation paths of every k-th slip only (SlideOptions::path_frame_slips), and none at k = 0.
+TEST(FrameSink, PathsOfEveryKthSlip) {
+  app::SlideScene s = scene(24.0, 0.0);
+  s.contact.R = 40.0;  // Regime III: many small slips
+  s.options.fft.threads = 1;
+  s.options.path_frame_slips = 3;
+  const SlideResult r = slide::slide(s.contact, s.options);
+  ASSERT_GE(r.slip_events, 5);
+  int with_path = 0;
+  for (int event = 1; event <= r.slip_events; ++event) {
+    char label[32];
+    std::snprintf(label, sizeof label, "slip_%03d_path", event);
+    const bool has = std::any_of(r.snapshots.begin(), r.snapshots.end(),
+                                 [&](const auto& f) { return f.label == label; });
+    // A selected slip relaxed in fewer than path_frame_every iterations has no frame to show.
+    if ((event - 1) % 3 != 0) {
+      EXPECT_FALSE(has) << label;
+    }
+    with_path += has ? 1 : 0;
+  }
+  EXPECT_GE(with_path, 2);
+  s.options.path_frame_slips = 0;
+  const SlideResult none = slide::slide(s.contact, s.options);
+  EXPECT_EQ(none.path_frames, 0);
+  EXPECT_EQ(none.mu, r.mu);  // frames do not change the slide
 }
 
 }  // namespace

@@ -254,5 +254,90 @@ TEST_F(SnapshotIo, NcdumpReadsTheHeader) {
   EXPECT_NE(header.find("double ux(frame, x, y)"), std::string::npos) << header;
 }
 
+// The paths file of a run grows frame by frame (SnapshotAppender): frames read back as written,
+// bit for bit, also after the file was closed and opened again to append (a resumed run), and
+// read_snapshots can select one label (the path of one slip).
+TEST_F(SnapshotIo, AppenderGrowsTheFileFrameByFrame) {
+  const fs::path nc = dir_ / "paths.nc";
+  const std::vector<Snapshot> written = {frame(0, "slip_001_path", 5, -4, -6),
+                                         frame(1, "slip_001_path", 10, -4, -6),
+                                         frame(2, "slip_011_path", 5, 3, -6)};
+  {
+    SnapshotAppender out(nc, {{"a", 50.0}}, {});
+    EXPECT_FALSE(fs::exists(nc));  // created at the first frame
+    out.append(written[0]);
+    out.append(written[1]);
+    EXPECT_EQ(out.frames(), 2u);
+    EXPECT_EQ(bits(out.read(1).ux), bits(written[1].ux));
+    out.close();
+  }
+  {
+    SnapshotAppender out = SnapshotAppender::open(nc);
+    EXPECT_EQ(out.frames(), 2u);
+    out.append(written[2]);
+    // Another block shape cannot join the file.
+    Snapshot other = frame(3, "slip_021_path", 5, 0, 0);
+    other.block.shape = {4, 3};
+    EXPECT_THROW(out.append(other), std::invalid_argument);
+    EXPECT_EQ(out.frames(), 3u);
+  }
+  const std::vector<Snapshot> all = read_snapshots(nc);
+  ASSERT_EQ(all.size(), 3u);
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    EXPECT_EQ(all[k].label, written[k].label);
+    EXPECT_EQ(all[k].iteration, written[k].iteration);
+    EXPECT_EQ(all[k].block.origin0, written[k].block.origin0);
+    EXPECT_EQ(bits({all[k].Dx, all[k].energy}), bits({written[k].Dx, written[k].energy}));
+    EXPECT_EQ(bits(all[k].tau_x), bits(written[k].tau_x));
+    EXPECT_EQ(all[k].in_contact, written[k].in_contact);
+  }
+  const std::vector<Snapshot> first = read_snapshots(nc, "slip_001_path");
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[1].iteration, 10);
+  EXPECT_TRUE(read_snapshots(nc, "slip_999_path").empty());
+  int id = -1;
+  ASSERT_EQ(nc_open(nc.c_str(), NC_NOWRITE, &id), NC_NOERR);
+  int frame_dim = -1, unlimited = -2;
+  ASSERT_EQ(nc_inq_dimid(id, "frame", &frame_dim), NC_NOERR);
+  ASSERT_EQ(nc_inq_unlimdim(id, &unlimited), NC_NOERR);
+  EXPECT_EQ(unlimited, frame_dim);
+  nc_close(id);
+}
+
+// float storage: every field comes back as the float nearest to what was written (the reader
+// widens it to double); the scalars stay double. Deflate and shuffle leave the values alone and
+// shrink a frame that is mostly zeros, as a block is off the contact.
+TEST_F(SnapshotIo, SinglePrecisionAndCompression) {
+  Snapshot f = frame(1, "peak", -1, 0, 0);
+  f.sy = f.sx;  // no subnormals: they do not survive float
+  f.uy[1] = 1.0;
+  write_snapshots(dir_ / "float.nc", {f}, {}, {.single_precision = true, .deflate_level = 1});
+  const Snapshot g = read_snapshots(dir_ / "float.nc").front();
+  for (std::size_t i = 0; i < f.ux.size(); ++i) {
+    EXPECT_EQ(g.ux[i], static_cast<double>(static_cast<float>(f.ux[i])));
+    EXPECT_EQ(g.tau_max[i], static_cast<double>(static_cast<float>(f.tau_max[i])));
+  }
+  EXPECT_EQ(bits({g.Dx, g.Fz}), bits({f.Dx, f.Fz}));
+
+  Snapshot big;
+  big.label = "slip_001_before";
+  big.block = {{200, 200}, -100, -100};
+  const std::size_t n = big.block.shape.count();
+  for (auto field : {&Snapshot::ux, &Snapshot::uy, &Snapshot::sx, &Snapshot::sy, &Snapshot::tau_x,
+                     &Snapshot::tau_y, &Snapshot::tau_max, &Snapshot::pressure})
+    (big.*field).assign(n, 0.0);
+  big.in_contact.assign(n, 0);
+  for (std::size_t i = 0; i < n / 10; ++i)
+    big.ux[i] = std::sin(0.01 * static_cast<double>(i));
+  write_snapshots(dir_ / "plain.nc", {big}, {}, {.deflate_level = 0});
+  write_snapshots(dir_ / "deflated.nc", {big}, {}, {.deflate_level = 1});
+  EXPECT_GT(fs::file_size(dir_ / "plain.nc"), 8u * 8u * n);
+  EXPECT_LT(fs::file_size(dir_ / "deflated.nc"), fs::file_size(dir_ / "plain.nc") / 4);
+  EXPECT_EQ(bits(read_snapshots(dir_ / "deflated.nc").front().ux), bits(big.ux));
+  EXPECT_THROW(write_snapshots(dir_ / "bad.nc", {big}, {}, {.deflate_level = 10}),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace asperity::app

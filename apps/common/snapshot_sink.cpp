@@ -1,0 +1,152 @@
+#include "common/snapshot_sink.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "common/output_files.hpp"
+
+namespace asperity::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Holds the NetCDF mutex, if there is one, for a scope.
+std::unique_lock<std::mutex> hold(std::mutex* m) {
+  return m ? std::unique_lock<std::mutex>(*m) : std::unique_lock<std::mutex>();
+}
+
+}  // namespace
+
+SnapshotSink::SnapshotSink(fs::path dir, nlohmann::json attributes, SnapshotFormat format,
+                           std::mutex* netcdf, bool paths)
+    : dir_(std::move(dir)),
+      attributes_(std::move(attributes)),
+      format_(format),
+      netcdf_(netcdf),
+      paths_(paths) {
+  format_.validate();
+}
+
+SnapshotSink::~SnapshotSink() {
+  // An interrupted or failed slide leaves the partial file for its resumption, complete up to
+  // its last flush; closing it here writes the rest.
+  if (appender_) {
+    const auto lock = hold(netcdf_);
+    appender_.reset();
+  }
+}
+
+std::string SnapshotSink::start(std::optional<double> resume_Dx) {
+  ensure_directory(dir_);
+  const auto lock = hold(netcdf_);
+  std::error_code ec;
+  if (!resume_Dx) {
+    fs::remove(paths_file(), ec);
+    fs::remove(partial_file(), ec);
+    return {};
+  }
+  // The run being resumed was interrupted (paths.nc.partial) or ended in a failure whose last
+  // good state it continues from (paths.nc).
+  const fs::path found = fs::exists(partial_file()) ? partial_file() : paths_file();
+  if (!fs::exists(found)) return {};
+  // The frames up to the checkpoint are copied into a new partial file, one at a time: those
+  // after it belong to steps that the resumed slide repeats.
+  const fs::path old = dir_ / "paths.nc.resumed";
+  fs::rename(found, old);
+  std::string warning;
+  try {
+    SnapshotAppender in = SnapshotAppender::open(old);
+    for (std::size_t k = 0; k < in.frames(); ++k) {
+      slide::Snapshot frame = in.read(k);
+      if (frame.Dx > *resume_Dx + 1e-9) break;  // frames come in the order of the slide
+      if (!appender_) appender_.emplace(partial_file(), attributes_, format_);
+      path_frames_[frame.label].push_back(appender_->frames());
+      appender_->append(frame);
+    }
+    if (appender_) appender_->sync();
+  } catch (const std::exception& e) {
+    warning = std::string("the relaxation paths written before the interruption are lost (") +
+              e.what() + "); the resumed run writes those that follow";
+    appender_.reset();
+    path_frames_.clear();
+    fs::remove(partial_file(), ec);
+  }
+  fs::remove(old, ec);
+  return warning;
+}
+
+void SnapshotSink::count(const fs::path& file) {
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
+  if (!ec) bytes_ += size;
+}
+
+void SnapshotSink::state(const slide::Snapshot& frame) {
+  const fs::path file = dir_ / (frame.label + ".nc");
+  {
+    const auto lock = hold(netcdf_);
+    write_snapshots(file, {frame}, attributes_, format_);
+  }
+  count(file);
+  written_.push_back(file);
+  // A slip's path comes after its "after" state; the next state ends it: on disk now, so that
+  // a process killed later leaves it readable.
+  if (dirty_) flush();
+}
+
+void SnapshotSink::open_paths() {
+  if (appender_) return;
+  ensure_directory(dir_);
+  appender_.emplace(partial_file(), attributes_, format_);
+}
+
+void SnapshotSink::path_frame(const slide::Snapshot& frame) {
+  if (!paths_) return;
+  const auto lock = hold(netcdf_);
+  open_paths();
+  path_frames_[frame.label].push_back(appender_->frames());
+  appender_->append(frame);
+  dirty_ = true;
+}
+
+void SnapshotSink::replayed_path(const std::string& source, int periods, double period,
+                                 const std::string& label) {
+  if (!paths_) return;
+  const auto found = path_frames_.find(source);
+  if (found == path_frames_.end()) return;
+  const std::vector<std::size_t> frames = found->second;  // appending below adds to the map
+  const auto lock = hold(netcdf_);
+  for (const std::size_t k : frames) {
+    slide::Snapshot moved = appender_->read(k);
+    moved.label = label;
+    moved.Dx += periods * period;
+    moved.block.origin0 += periods;
+    path_frames_[label].push_back(appender_->frames());
+    appender_->append(moved);
+  }
+  dirty_ = true;
+}
+
+void SnapshotSink::flush() {
+  if (!appender_ || !dirty_) return;
+  const auto lock = hold(netcdf_);
+  appender_->sync();
+  dirty_ = false;
+}
+
+void SnapshotSink::finish() {
+  if (!appender_) return;
+  {
+    const auto lock = hold(netcdf_);
+    appender_->close();
+    appender_.reset();
+  }
+  fs::rename(partial_file(), paths_file());
+  count(paths_file());
+  written_.push_back(paths_file());
+  dirty_ = false;
+}
+
+}  // namespace asperity::app

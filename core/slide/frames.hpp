@@ -1,0 +1,71 @@
+// Field snapshots of a slide (MODEL.md section 5, "Snapshot of a state") and the sink that takes
+// them as they are made.
+//
+// A slide through hundreds of slips makes thousands of frames (each the size of the block of
+// sites: about 65 MB at a = 510 d). Holding them until the slide ends made the memory and the
+// checkpoints of a slide grow with the number of slips; instead the slide hands each frame to a
+// FrameSink when it is made, and the caller writes it and drops it (apps/common: NetCDF files).
+// Without a sink the frames are collected in SlideResult::snapshots, which suits short slides
+// and tests.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/shape.hpp"
+
+namespace asperity::slide {
+
+// One field snapshot of the contact (MODEL.md section 5), on the block of sites.
+struct Snapshot {
+  std::string label;   // "peak", "slip_001_before", "slip_001_after", "slip_001_path"
+  int iteration = -1;  // minimiser iteration of a relaxation-path frame, else -1
+  double Dx = 0.0, Fx = 0.0, Fz = 0.0, energy = 0.0;
+  LatticeBlock block;  // site (i0, i1) is at ((origin0 + i0) d, (origin1 + i1) d)
+  // Per block site, block-major (i0 * n1 + i1):
+  std::vector<double> ux, uy;             // displacement (d)
+  std::vector<double> sx, sy;             // relative position s = X + u - (Dx, 0) (d)
+  std::vector<double> tau_x, tau_y;       // local shear stress f / d^2 (G)
+  std::vector<double> tau_max, pressure;  // envelope and pressure (G): Hertz in the LFM; the
+                                          // explicit model's alpha p and p = -f_z / d^2
+  std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
+  std::vector<std::uint8_t> in_contact;
+};
+
+// Receives the frames of a slide as they are made (SlideControl::frames). Called from the
+// sliding thread. A slip's relaxation path comes once the relaxation is accepted as that slip
+// (a relaxation that is undone or that does not slip leaves no frames); until then the slide
+// holds it as displacements (PathFrame, slider.hpp). Implementations may throw (a full disk): the
+// slide then ends with the exception.
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  // A state: "peak" (at the end), "slip_NNN_before", "slip_NNN_after", "last_good".
+  virtual void state(const Snapshot& frame) = 0;
+  // A frame of the relaxation path of a computed slip ("slip_NNN_path"), in iteration order,
+  // after the slip's "before" and "after" states.
+  virtual void path_frame(const Snapshot& frame) = 0;
+  // A slip replayed from the repeating cycle (SlideOptions::replay_cycle): its path is the one
+  // handed over under `source`, carried on by `periods` lattice periods of length `period`
+  // (Dx + periods period, block origin0 + periods), under `label`. A sink that kept no such path
+  // ignores it.
+  virtual void replayed_path(const std::string& source, int periods, double period,
+                             const std::string& label) = 0;
+  // Whether relaxation paths are wanted at all: a sink that drops them spares the slide the
+  // work of making them.
+  [[nodiscard]] virtual bool wants_paths() const { return true; }
+};
+
+// A sink that keeps nothing: a slide whose frames are not wanted (a sweep point without
+// snapshots) holds none either.
+class DiscardFrames final : public FrameSink {
+ public:
+  void state(const Snapshot& /*frame*/) override {}
+  void path_frame(const Snapshot& /*frame*/) override {}
+  void replayed_path(const std::string& /*source*/, int /*periods*/, double /*period*/,
+                     const std::string& /*label*/) override {}
+  [[nodiscard]] bool wants_paths() const override { return false; }
+};
+
+}  // namespace asperity::slide
