@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "common/shape.hpp"
-#include "slide/slider.hpp"
+#include "slide/frames.hpp"
 
 namespace asperity::tracking {
 

@@ -372,7 +372,8 @@ void SnapshotAppender::append(const Snapshot& frame) {
     sized(f.name, (frame.*f.values).size());
   sized("in_contact", frame.in_contact.size());
   // uz (explicit model only): in every frame of a file or in none.
-  if (l.uz >= 0 || !frame.uz.empty()) sized("uz", frame.uz.size());
+  if (l.uz >= 0) sized("uz", frame.uz.size());
+  if (l.uz < 0 && !frame.uz.empty()) invalid("'uz' given, but the file's frames have none");
 
   const std::size_t k = frames_;
   const std::size_t at[] = {k, 0}, one_label[] = {1, l.label_length};
@@ -401,7 +402,8 @@ void SnapshotAppender::append(const Snapshot& frame) {
 }
 
 Snapshot SnapshotAppender::read(std::size_t k) const {
-  const Reader in("cannot read frame " + std::to_string(k) + " of '" + nc_.string() + "': ");
+  // A file this run writes: a failure to read it back is an I/O error, not bad input.
+  const Writer in("cannot read frame " + std::to_string(k) + " of '" + nc_.string() + "': ");
   if (!layout_ || k >= frames_) in.fail("no such frame");
   const Layout& l = *layout_;
   Snapshot frame;

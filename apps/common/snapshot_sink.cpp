@@ -43,37 +43,50 @@ std::string SnapshotSink::start(std::optional<double> resume_Dx) {
   const auto lock = hold(netcdf_);
   std::error_code ec;
   if (!resume_Dx) {
-    fs::remove(paths_file(), ec);
-    fs::remove(partial_file(), ec);
+    for (const char* name : {"paths.nc", "paths.nc.partial", "paths.nc.resumed", "paths.nc.copy"})
+      fs::remove(dir_ / name, ec);
     return {};
   }
-  // The run being resumed was interrupted (paths.nc.partial) or ended in a failure whose last
-  // good state it continues from (paths.nc).
-  const fs::path found = fs::exists(partial_file()) ? partial_file() : paths_file();
-  if (!fs::exists(found)) return {};
-  // The frames up to the checkpoint are copied into a new partial file, one at a time: those
-  // after it belong to steps that the resumed slide repeats.
-  const fs::path old = dir_ / "paths.nc.resumed";
-  fs::rename(found, old);
+  // The frames up to the checkpoint are copied, one at a time, into a new file: those after it
+  // belong to steps that the resumed slide repeats. The source is first renamed to
+  // paths.nc.resumed, and the copy (paths.nc.copy) becomes the partial file only when it is
+  // complete, so that a run killed during the copy leaves the source for the next --resume:
+  // an earlier resumption's source, else the interrupted run's partial file, else the paths of
+  // a run that ended in a failure and is continued from its last good state.
+  const fs::path source = dir_ / "paths.nc.resumed", copy = dir_ / "paths.nc.copy";
+  if (!fs::exists(source)) {
+    const fs::path found = fs::exists(partial_file()) ? partial_file() : paths_file();
+    if (!fs::exists(found)) return {};
+    fs::rename(found, source);
+  }
+  fs::remove(partial_file(), ec);
   std::string warning;
   try {
-    SnapshotAppender in = SnapshotAppender::open(old);
-    for (std::size_t k = 0; k < in.frames(); ++k) {
-      slide::Snapshot frame = in.read(k);
-      if (frame.Dx > *resume_Dx + 1e-9) break;  // frames come in the order of the slide
-      if (!appender_) appender_.emplace(partial_file(), attributes_, format_);
-      path_frames_[frame.label].push_back(appender_->frames());
-      appender_->append(frame);
+    {
+      SnapshotAppender in = SnapshotAppender::open(source);
+      std::optional<SnapshotAppender> out;
+      for (std::size_t k = 0; k < in.frames(); ++k) {
+        const slide::Snapshot frame = in.read(k);
+        if (frame.Dx > *resume_Dx + 1e-9) break;  // frames come in the order of the slide
+        if (!out) out.emplace(copy, attributes_, format_);
+        out->append(frame);
+        path_frames_[frame.label].push_back(out->frames() - 1);
+      }
+      if (out) out->close();
     }
-    if (appender_) appender_->sync();
+    if (fs::exists(copy)) {
+      fs::rename(copy, partial_file());
+      appender_.emplace(SnapshotAppender::open(partial_file()));
+    }
   } catch (const std::exception& e) {
     warning = std::string("the relaxation paths written before the interruption are lost (") +
               e.what() + "); the resumed run writes those that follow";
     appender_.reset();
     path_frames_.clear();
+    fs::remove(copy, ec);
     fs::remove(partial_file(), ec);
   }
-  fs::remove(old, ec);
+  fs::remove(source, ec);
   return warning;
 }
 
@@ -106,8 +119,8 @@ void SnapshotSink::path_frame(const slide::Snapshot& frame) {
   if (!paths_) return;
   const auto lock = hold(netcdf_);
   open_paths();
-  path_frames_[frame.label].push_back(appender_->frames());
   appender_->append(frame);
+  path_frames_[frame.label].push_back(appender_->frames() - 1);
   dirty_ = true;
 }
 
@@ -123,8 +136,8 @@ void SnapshotSink::replayed_path(const std::string& source, int periods, double 
     moved.label = label;
     moved.Dx += periods * period;
     moved.block.origin0 += periods;
-    path_frames_[label].push_back(appender_->frames());
     appender_->append(moved);
+    path_frames_[label].push_back(appender_->frames() - 1);
   }
   dirty_ = true;
 }

@@ -385,7 +385,8 @@ int main(int argc, char** argv) {
     s.options.validate();
     char a_text[64];
     std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
-    app::check_fits_in_memory(a_text, slide::estimated_slide_bytes(s.contact, s.options),
+    const double memory = slide::estimated_slide_bytes(s.contact, s.options);
+    app::check_fits_in_memory(a_text, memory,
                               "estimate: 260 bytes per point of the padded FFT grid of the block, "
                               "and the frames of one relaxation path");
     const std::string output_line = app::check_output_fits(s, out);
@@ -399,7 +400,8 @@ int main(int argc, char** argv) {
                  minimize::to_string(s.options.minimizer.method).c_str(),
                  minimize::to_string(s.options.minimizer.preconditioner).c_str(),
                  s.options.minimizer.force_tolerance);
-    std::fprintf(stderr, "contact_slide: %s\n", output_line.c_str());
+    std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
+                 memory / 1e6, output_line.c_str());
     app::SnapshotSink frames(std::filesystem::path(out) / "snapshots",
                              app::snapshot_attributes(s, nullptr), s.snapshot_format);
     const CheckpointedSlide run = run_checkpointed(

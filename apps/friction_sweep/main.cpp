@@ -390,7 +390,9 @@ int main(int argc, char** argv) {
         interface::ContactScene c = s.base.contact;
         c.a = points[k].a;
         c.R = points[k].R;
-        bytes.push_back(slide::estimated_slide_bytes(c, s.base.options));
+        slide::SlideOptions o = s.base.options;
+        if (!figures) o.path_frame_slips = 0;  // frames discarded: no path is held either
+        bytes.push_back(slide::estimated_slide_bytes(c, o));
         a_max = std::max(a_max, c.a);
       }
       std::sort(bytes.rbegin(), bytes.rend());
@@ -403,6 +405,19 @@ int main(int argc, char** argv) {
                     at_once, a_max);
       app::check_fits_in_memory(what, total,
                                 "estimate: 260 bytes per point of each block's padded FFT grid");
+    }
+    if (figures) {
+      // Every point writes its snapshots (and a checkpoint) as contact_slide does.
+      double disk = 0.0;
+      for (const Job& job : order) {
+        app::SlideScene ps = s.base;
+        ps.contact.a = point_of(job).a;
+        disk += app::estimated_snapshot_bytes(ps).run(std::max(10, ps.options.slips_to_stop),
+                                                      ps.options.path_frame_slips);
+      }
+      app::check_fits_on_disk(
+          "--figures: the snapshots of the sweep's " + std::to_string(order.size()) + " points",
+          dir.string(), disk, "estimate for 10 slip events per point, uncompressed");
     }
 
     std::fprintf(stderr,
@@ -487,8 +502,11 @@ int main(int argc, char** argv) {
       // this point (failed, the sweep goes on) if a contact_slide already writes there.
       const app::DirectoryLock point_lock(app::ensure_directory(point_dir));
       const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
+      // With --figures the point writes snapshots as it goes: a checkpoint of a run without
+      // them cannot continue one with them (the frames before it would be missing).
       const std::string point_settings =
-          job.x ? app::explicit_slide_fingerprint(es, alpha_x) : app::slide_fingerprint(ps);
+          (job.x ? app::explicit_slide_fingerprint(es, alpha_x) : app::slide_fingerprint(ps)) +
+          (figures ? " snapshots=1" : " snapshots=0");
       const std::string& row_settings = job.x ? settings_x : settings;
       std::optional<app::SlideCheckpoint> start;
       if (std::error_code ec; fs::exists(checkpoint_file, ec)) {

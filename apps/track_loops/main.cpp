@@ -173,10 +173,17 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     std::string label;
-    cli.add_option(
+    auto* label_option = cli.add_option(
         "--label", label,
-        "Only the frames with this label, e.g. slip_011_path: one slip's relaxation path "
-        "out of a run's paths.nc; files that hold none are skipped");
+        "Only the frames with this label, e.g. slip_011_path: one slip's relaxation path out of "
+        "a run's paths.nc; files that hold none are skipped");
+    int slip = 0;
+    cli.add_option("--slip", slip,
+                   "Only slip event N: its state before, its relaxation path and its state after "
+                   "(slip_NNN_before, slip_NNN_path, slip_NNN_after), in that order whatever the "
+                   "order of the files (e.g. snapshots/*.nc)")
+        ->check(CLI::Range(1, 999999))
+        ->excludes(label_option);
     cli.add_option("--min-length", detect.min_length, "Drop lines shorter than this (d)")
         ->check(app::non_negative())
         ->capture_default_str();
@@ -225,9 +232,23 @@ int main(int argc, char** argv) {
     // A bad file anywhere in the list stops the run before any work (fields are read later).
     for (const auto& file : files)
       app::check_snapshot_file(file);
-    for (const auto& file : files) {
-      const std::vector<slide::Snapshot> snaps = app::read_snapshots(file, label);
-      if (snaps.empty()) continue;  // no frame of --label
+    // What to read, in order: every file whole, or the frames of one label from each file, or
+    // those of a slip event's three labels, label by label.
+    std::vector<std::pair<std::string, std::string>> reads;  // file, label ("": all)
+    if (slip > 0) {
+      char prefix[32];
+      std::snprintf(prefix, sizeof prefix, "slip_%03d_", slip);
+      for (const char* part : {"before", "path", "after"}) {
+        for (const auto& file : files)
+          reads.emplace_back(file, std::string(prefix) + part);
+      }
+    } else {
+      for (const auto& file : files)
+        reads.emplace_back(file, label);
+    }
+    for (const auto& [file, only] : reads) {
+      const std::vector<slide::Snapshot> snaps = app::read_snapshots(file, only);
+      if (snaps.empty()) continue;  // no frame of the label
       const bool periodic = force_periodic || periodic_attribute(file);
       inputs.push_back({{"file", fs::absolute(file).string()},
                         {"frames", snaps.size()},
@@ -278,7 +299,9 @@ int main(int argc, char** argv) {
       }
     }
     if (info.empty()) {
-      throw std::invalid_argument("--label " + label + ": no frame with this label in the files");
+      throw std::invalid_argument(
+          slip > 0 ? "--slip " + std::to_string(slip) + ": no frame of this slip event in the files"
+                   : "--label " + label + ": no frame with this label in the files");
     }
 
     app::CsvTable events({"frame", "file", "label", "iteration", "Dx", "type", "before_ids",

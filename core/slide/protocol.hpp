@@ -418,7 +418,6 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
       for (PathFrame& frame : frames) {
         sink.path_frame(model.snapshot(frame.fields, label + "_path", frame.iteration));
         frame.fields = {};
-        ++res.path_frames;
       }
       if (replay_of > 0 && paths_of(res.slip_events)) {
         sink.replayed_path(slip_label(replay_of) + "_path", periods, d, label + "_path");

@@ -366,7 +366,9 @@ double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOp
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;
-  const double path = options.path_frame_every > 0 ? options.max_path_frames * 16.0 : 0.0;
+  const double path = options.path_frame_every > 0 && options.path_frame_slips > 0
+                          ? options.max_path_frames * 16.0
+                          : 0.0;
   return 260.0 * grid * grid +
          (2.0 * static_cast<double>(kCycleWindow) * 32.0 + path + 2.0 * 65.0) * n * n;
 }

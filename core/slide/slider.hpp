@@ -128,7 +128,6 @@ struct SlideResult {
   std::size_t contact_sites = 0;  // unknown sites at Dx = 0
   Snapshot peak_snapshot;         // the state at the peak (also handed to the sink as "peak");
                                   // empty if the slide was interrupted
-  int path_frames = 0;            // relaxation-path frames made so far (replayed ones included)
   // The frames of the slide ("peak" first), when no SlideControl::frames sink took them.
   std::vector<Snapshot> snapshots;
 };

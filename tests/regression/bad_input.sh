@@ -76,6 +76,13 @@ check $cs "ContactScene.R" --R 1e10
 # on the machine: a = 1000 d needs about 4 GiB, two contacts of 600-700 d at once about 3.6 GiB.
 ASPERITY_MEMORY_GIB=1 check $cs "contact.a = 1000 d needs about" --a 1000 --R 1e6
 ASPERITY_MEMORY_GIB=x check $cs "ASPERITY_MEMORY_GIB" --a 10
+# Disk: the snapshots of 10 slip events and the checkpoint, planned with ASPERITY_DISK_GIB (a
+# = 200 d: 10.7 MB per frame, about 0.7 GB with the path of slip 1, more than 0.1 GiB).
+ASPERITY_DISK_GIB=0.1 check $cs "GiB of disk" --a 200 --R 1e4
+ASPERITY_DISK_GIB=0 check $cs "ASPERITY_DISK_GIB" --a 10
+check $cs "output.path_frames" "$(scene o1 <<<$'[output]\npath_frames = -1')"
+check $cs "output.precision" "$(scene o2 <<<$'[output]\nprecision = "half"')"
+check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
 
 fs=friction_sweep
 check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
@@ -87,6 +94,7 @@ check $fs "--R" --R 535,nan
 check $fs "--jobs" --jobs 0
 check $fs "ContactScene.R" --R 1e308 --a 5
 ASPERITY_MEMORY_GIB=1 check $fs "GiB of memory" --R 1e6 --a 600,700 --jobs 2
+ASPERITY_DISK_GIB=0.1 check $fs "GiB of disk" --R 1e4 --a 100,200 --figures
 check $fs "sweep.model" "$(scene w6 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "atoms"')"
 check $fs "a/R < 0.1" "$(scene w7 <<<$'[sweep]\nR = [100]\na = [5, 12]\nmodel = "both"')"
 check $fs "raise R" "$(scene w8 <<<$'[sweep]\nR = [100]\na_over_bcore0 = [10]\nmodel = "explicit"')"

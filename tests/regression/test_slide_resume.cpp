@@ -3,13 +3,17 @@
 // determinism).
 //
 // - Determinism: two runs of the same scene with the same threads (2 FFT threads) write
-//   byte-identical trace.csv and NetCDF snapshots, and summary.json files that differ only in
-//   "run" (wall time, provenance).
-// - Resume: the default scene (two slip events) runs once to the end (duration T); then a run is
+//   byte-identical trace.csv, NetCDF snapshots with the same frames bit for bit, and
+//   summary.json files that differ only in "run" (wall time, provenance).
+// - Resume: the default scene with the relaxation paths of every slip (two slip events, the
+//   second replayed: its path is read back from paths.nc) runs once to the end (duration T);
+//   then a run is
 //   sent SIGTERM at a random moment in [0.2 T, 0.7 T) and must exit with status 3 having saved
 //   checkpoint.cbor and written no results; its resumption (with a checkpoint after every step)
-//   gets SIGINT likewise; the next resumption runs to the end. Its trace.csv and snapshots must
-//   be byte-identical to the uninterrupted run's, its summary.json the same but for "run", and
+//   gets SIGINT likewise; the next resumption runs to the end. Its trace.csv must be
+//   byte-identical to the uninterrupted run's, its snapshots hold the same frames bit for bit
+//   (paths.nc copied up to the checkpoint and appended to), its summary.json the same but for
+//   "run", and
 //   the checkpoint gone. ASPERITY_KILL_SEED=<n> repeats the moments of a run. The same for the
 //   explicit model (--model explicit --slide, a Regime II contact with two slips).
 // - Bad resumptions: --resume without a checkpoint, with other settings, or of the other model,
@@ -17,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <thread>
@@ -43,18 +48,42 @@ int run_to_end(const std::vector<std::string>& args) {
   return run.wait();
 }
 
-// The files two runs must agree on byte for byte, and the summaries less "run".
+// The same frames, bit for bit: labels, iterations, positions and every field. (Not the same
+// bytes: a resumed run copies paths.nc up to its checkpoint and appends, and HDF5 may lay the
+// file out differently.)
+void expect_same_frames(const fs::path& a, const fs::path& b) {
+  const auto x = asperity::app::read_snapshots(a), y = asperity::app::read_snapshots(b);
+  ASSERT_EQ(x.size(), y.size()) << a.filename();
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const auto &f = x[k], &g = y[k];
+    EXPECT_TRUE(f.label == g.label && f.iteration == g.iteration && f.Dx == g.Dx && f.Fx == g.Fx &&
+                f.energy == g.energy && f.block.origin0 == g.block.origin0 && f.ux == g.ux &&
+                f.uy == g.uy && f.sx == g.sx && f.tau_x == g.tau_x && f.tau_y == g.tau_y &&
+                f.tau_max == g.tau_max && f.in_contact == g.in_contact)
+        << a.filename() << ": frame " << k << " (" << f.label << ")";
+  }
+}
+
+// The files two runs must agree on byte for byte, the summaries less "run", and the frames of
+// the snapshots.
 void expect_same_results(const fs::path& a, const fs::path& b) {
   EXPECT_EQ(slurp(a / "trace.csv"), slurp(b / "trace.csv"));
   EXPECT_EQ(without_run(nlohmann::json::parse(slurp(a / "summary.json"))),
             without_run(nlohmann::json::parse(slurp(b / "summary.json"))));
-  std::size_t snapshots = 0;
+  std::size_t snapshots = 0, paths = 0;
   for (const auto& entry : fs::directory_iterator(a / "snapshots")) {
-    EXPECT_EQ(slurp(entry.path()), slurp(b / "snapshots" / entry.path().filename()))
-        << entry.path().filename();
+    const fs::path other = b / "snapshots" / entry.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    expect_same_frames(entry.path(), other);
     ++snapshots;
+    if (entry.path().filename() == "paths.nc") paths = asperity::app::read_snapshots(other).size();
   }
   EXPECT_GT(snapshots, 0u);
+  std::size_t files_b = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(b / "snapshots"))
+    ++files_b;
+  EXPECT_EQ(files_b, snapshots);  // no partial or leftover file in the resumed run's folder
+  std::printf("%zu snapshot files, %zu path frames\n", snapshots, paths);
 }
 
 std::string log_tail() {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -20,6 +21,7 @@
 
 #include "common/output_files.hpp"
 #include "common/snapshot_io.hpp"
+#include "common/snapshot_sink.hpp"
 
 namespace asperity::app {
 namespace {
@@ -337,6 +339,94 @@ TEST_F(SnapshotIo, SinglePrecisionAndCompression) {
   EXPECT_EQ(bits(read_snapshots(dir_ / "deflated.nc").front().ux), bits(big.ux));
   EXPECT_THROW(write_snapshots(dir_ / "bad.nc", {big}, {}, {.deflate_level = 10}),
                std::invalid_argument);
+}
+
+// The tools' sink (snapshot_sink.hpp): states as their own files, paths in one growing
+// paths.nc.partial (renamed at the end), replayed paths read back and moved on, and a resumed
+// run that keeps the path frames up to its checkpoint, also from the source a killed resumption
+// left, and starts over with a warning from a partial file it cannot read.
+TEST_F(SnapshotIo, SinkWritesResumesAndReplays) {
+  const fs::path dir = dir_ / "snapshots";
+  const auto at = [](Snapshot f, double Dx) {
+    f.Dx = Dx;
+    return f;
+  };
+  const auto labels = [](const fs::path& nc) {
+    std::vector<std::pair<std::string, double>> out;
+    for (const Snapshot& f : read_snapshots(nc))
+      out.emplace_back(f.label, f.Dx);
+    return out;
+  };
+  {
+    SnapshotSink sink(dir, {{"a", 3.0}}, {});
+    EXPECT_EQ(sink.start(std::nullopt), "");
+    sink.state(at(frame(0, "slip_001_before", -1, 0, 0), 1.0));
+    sink.state(at(frame(1, "slip_001_after", -1, 0, 0), 1.0));
+    for (int k = 0; k < 3; ++k)
+      sink.path_frame(at(frame(k, "slip_001_path", 5 * (k + 1), 0, 0), 1.0));
+    sink.state(at(frame(0, "slip_002_before", -1, 1, 0), 2.0));
+    sink.replayed_path("slip_001_path", 1, 1.0, "slip_002_path");
+    sink.replayed_path("slip_777_path", 1, 1.0, "slip_003_path");  // none kept: ignored
+    sink.flush();
+    EXPECT_TRUE(fs::exists(sink.partial_file()));
+    EXPECT_FALSE(fs::exists(sink.paths_file()));
+  }  // interrupted: the partial file stays for the resumption
+  const fs::path partial = dir / "paths.nc.partial";
+  const std::vector<std::pair<std::string, double>> six = {
+      {"slip_001_path", 1.0}, {"slip_001_path", 1.0}, {"slip_001_path", 1.0},
+      {"slip_002_path", 2.0}, {"slip_002_path", 2.0}, {"slip_002_path", 2.0}};
+  EXPECT_EQ(labels(partial), six);
+  const auto replayed = read_snapshots(partial, "slip_002_path");
+  ASSERT_EQ(replayed.size(), 3u);
+  EXPECT_EQ(replayed[2].block.origin0, 1);
+  EXPECT_EQ(bits(replayed[2].ux), bits(frame(2, "x", 0, 0, 0).ux));
+  EXPECT_EQ(read_snapshots(dir / "slip_001_before.nc").size(), 1u);
+  {
+    // Resumed from a checkpoint at Dx = 1.5: the replayed path (Dx = 2) is made again.
+    SnapshotSink sink(dir, {{"a", 3.0}}, {});
+    EXPECT_EQ(sink.start(1.5), "");
+    sink.replayed_path("slip_001_path", 1, 1.0, "slip_002_path");
+    sink.path_frame(at(frame(1, "slip_011_path", 5, 0, 0), 3.0));
+    sink.finish();
+    EXPECT_FALSE(fs::exists(partial));
+  }
+  std::vector<std::pair<std::string, double>> seven = six;
+  seven.emplace_back("slip_011_path", 3.0);
+  EXPECT_EQ(labels(dir / "paths.nc"), seven);
+  for (const char* left : {"paths.nc.resumed", "paths.nc.copy", "paths.nc.partial"})
+    EXPECT_FALSE(fs::exists(dir / left)) << left;
+  {
+    // A resumption killed during its copy left its source: the next one starts from it (a
+    // failed run's paths.nc is the source otherwise; here it is stale and must not be used).
+    fs::copy_file(dir / "paths.nc", dir / "paths.nc.resumed");
+    write_snapshots(dir / "paths.nc", {at(frame(0, "slip_999_path", 5, 0, 0), 0.5)}, {});
+    SnapshotSink sink(dir, {}, {});
+    EXPECT_EQ(sink.start(2.5), "");
+    sink.finish();
+    EXPECT_EQ(labels(dir / "paths.nc"), six);
+  }
+  {
+    // An unreadable partial file (a SIGKILL during a write): its paths are lost, said so.
+    std::ofstream(partial) << "not a NetCDF file";
+    SnapshotSink sink(dir, {}, {});
+    const std::string warning = sink.start(2.5);
+    EXPECT_NE(warning.find("lost"), std::string::npos) << warning;
+    sink.path_frame(at(frame(1, "slip_011_path", 5, 0, 0), 3.0));
+    sink.finish();
+    EXPECT_EQ(labels(dir / "paths.nc"),
+              (std::vector<std::pair<std::string, double>>{{"slip_011_path", 3.0}}));
+  }
+  {
+    // A fresh run removes the paths of an earlier one; a frame with uz cannot join a file of
+    // frames without.
+    SnapshotSink sink(dir, {}, {});
+    EXPECT_EQ(sink.start(std::nullopt), "");
+    EXPECT_FALSE(fs::exists(dir / "paths.nc"));
+    sink.path_frame(frame(1, "slip_001_path", 5, 0, 0));
+    Snapshot with_uz = frame(2, "slip_001_path", 10, 0, 0);
+    with_uz.uz = with_uz.ux;
+    EXPECT_THROW(sink.path_frame(with_uz), std::invalid_argument);
+  }
 }
 
 }  // namespace
