@@ -359,6 +359,9 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     double rho;
   };
   std::deque<Pair> memory;
+  // The storage of the next pair: the oldest pair's, once the memory is full, so that an
+  // iteration allocates no vector (three of 13 MB each per iteration at a = 510 d).
+  Pair spare;
   std::vector<double> du(n), df(n), q(n), z(n), alpha_coef;
   // H0 = G M with the interface filter M (quasi-Newton methods only: CG is the classic
   // reference, and FIRE's dynamics are defined by G).
@@ -590,17 +593,18 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       // actual one; slides at a / b_core^0 = 20 to 64 ran at gamma 0.2 to 5).
       const Pair& newest = memory.back();
       const double gamma = std::clamp(dot(newest.s, newest.df) * newest.rho, 0.1, 10.0);
-      view(std::span<double>(z)) *= gamma;
-      view(std::span<double>(zf)) *= gamma;
+      // Built negated, so that z and zf become the direction (du, df) without a pass to negate
+      // them: negation is exact and commutes with every product and sum here, so the result is
+      // bit for bit -(the recursion's z), and c is the recursion's c.
+      view(std::span<double>(z)) *= -gamma;
+      view(std::span<double>(zf)) *= -gamma;
       for (std::size_t k = 0; k < memory.size(); ++k) {
-        const double c = alpha_coef[k] - memory[k].rho * dot(memory[k].y, z);
-        axpy(z, c, memory[k].s);
-        axpy(zf, c, memory[k].df);
+        const double c = alpha_coef[k] + memory[k].rho * dot(memory[k].y, z);
+        axpy(z, -c, memory[k].s);
+        axpy(zf, -c, memory[k].df);
       }
-      for (std::size_t i = 0; i < n; ++i) {
-        du[i] = -z[i];
-        df[i] = -zf[i];
-      }
+      std::swap(du, z);
+      std::swap(df, zf);
     } else if (use_filter && !plain_next) {  // first step: filtered steepest descent
       q = x.r;
       apply_h0(q, z);
@@ -622,7 +626,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         du[i] = -z[i] + beta * du_prev[i];
         df[i] = -x.r[i] + beta * df_prev[i];
       }
-      z_prev = z;
+      if (options.method == Method::cg) z_prev = z;
       rz_prev = rz;
     }
     double d0 = dot(x.r, du);
@@ -658,20 +662,31 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     }
     restart = false;
     plain_next = false;
-    // Store the step for L-BFGS (s = du t, its K-image, y = dr) and CG.
-    Pair p{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
-    for (std::size_t i = 0; i < n; ++i) {
-      p.s[i] = trial.u[i] - x.u[i];
-      p.df[i] = trial.f[i] - x.f[i];
-      p.y[i] = trial.r[i] - x.r[i];
+    if (options.method == Method::cg) {
+      du_prev = du;  // CG continues from the direction, not the step
+      df_prev = df;
     }
-    const double sy = dot(p.s, p.y);
-    du_prev = du;  // CG continues from the direction, not the step
-    df_prev = df;
-    if (quasi_newton && sy > 1e-300) {  // keep only positive curvature
-      p.rho = 1.0 / sy;
-      memory.push_back(std::move(p));
-      if (static_cast<int>(memory.size()) > options.memory) memory.pop_front();
+    if (quasi_newton) {
+      // Store the step (s = du t, its K-image, y = dr).
+      Pair& p = spare;
+      p.s.resize(n);
+      p.df.resize(n);
+      p.y.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        p.s[i] = trial.u[i] - x.u[i];
+        p.df[i] = trial.f[i] - x.f[i];
+        p.y[i] = trial.r[i] - x.r[i];
+      }
+      const double sy = dot(p.s, p.y);
+      if (sy > 1e-300) {  // keep only positive curvature
+        p.rho = 1.0 / sy;
+        memory.push_back(std::move(p));
+        spare = Pair{};
+        if (static_cast<int>(memory.size()) > options.memory) {
+          spare = std::move(memory.front());
+          memory.pop_front();
+        }
+      }
     }
     std::swap(x, trial);
     if (observer && observer(it + 1, x.u, x.f)) {
