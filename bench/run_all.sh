@@ -7,6 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 bash bench/run_micro.sh "$build"
+bash bench/run_iteration.sh "$build"
+bash bench/run_memory.sh "$build"
 bash bench/run_tracking.sh "$build"
 bash bench/run_peierls.sh "$build"
 bash bench/run_scaling.sh "$build"
