@@ -143,10 +143,12 @@ void read_fields(const Dataset<Error>& in, int id, const std::array<int, kFields
 }
 
 // Frames are written and read as whole chunks, once each: HDF5's cache of chunks (16 MiB per
-// variable by default in netCDF 4.9, held dirty until evicted) would only hold memory, 160 MiB
-// for the ten fields of a file being written. With no cache, chunks go to disk directly.
+// variable by default in netCDF 4.9, kept after they are written) would only hold memory, up to
+// 160 MiB for the ten fields of a file being written (seen: 20 MB more per path written at
+// a = 50 d). A cache smaller than a chunk makes HDF5 write and read chunks directly. (Not 0
+// bytes: netCDF 4.9 takes 0 for "keep the default" when it creates the variable.)
 void no_chunk_cache(const Writer& out, int id, int var, const std::string& name) {
-  out.check(nc_set_var_chunk_cache(id, var, 0, 0, 0.75f), "chunk cache of '" + name + "'");
+  out.check(nc_set_var_chunk_cache(id, var, 1, 1, 1.0f), "chunk cache of '" + name + "'");
 }
 
 void SnapshotFormat::validate() const {
