@@ -6,7 +6,9 @@
 // loaded flat state, and the time of the FFT transforms the iteration needs, on the same grid,
 // planner and threads: per GF application and per filter pass, forward and inverse transforms of
 // two real fields (BM_BareFFTPair). The counter `over_floor` is the iteration's time over
-// (GF applications + filter passes per iteration) x one bare pair: 1 means nothing but FFTs.
+// (GF applications + filter passes per iteration) x one bare pair: 1 means nothing but FFTs;
+// `over_gf` is the iteration's time over one GF application and one filter pass as the GF
+// makes them (its transforms pruned to the non-zero rows of the padded grid).
 // Run with bench/run_iteration.sh, which records the figures in docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
@@ -74,6 +76,35 @@ void BM_BareFFTPair(benchmark::State& state) {
   state.counters["grid"] = grid;
 }
 
+// Seconds of one GF application plus one filter pass on the contact's block (the transforms an
+// iteration makes, as the GF makes them: pruned to the non-zero rows of the padded grid, with
+// the Fourier-space products and the copies in and out), per grid, threads and planner.
+std::map<std::array<std::int64_t, 3>, double>& gf_pair_seconds() {
+  static std::map<std::array<std::int64_t, 3>, double> seconds;
+  return seconds;
+}
+
+void BM_GFApplyAndFilter(benchmark::State& state) {
+  const int grid = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  const int H = static_cast<int>(std::ceil(contact_for(grid))) + 2;
+  elastic::FreeSurfaceGF gf(elastic::Material{}, elastic::Components::in_plane,
+                            {2 * H + 1, 2 * H + 1}, 1.0, fft_options(threads, state.range(2)));
+  std::vector<double> f(gf.size()), u(gf.size()), w(gf.size());
+  for (std::size_t i = 0; i < f.size(); ++i)
+    f[i] = std::sin(0.001 * static_cast<double>(i));
+  double total = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    gf.apply_filter(f, w, 0.5);
+    gf.apply(w, u);
+    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    benchmark::DoNotOptimize(u.data());
+  }
+  gf_pair_seconds()[{grid, threads, state.range(2)}] =
+      total / static_cast<double>(state.iterations());
+  state.counters["grid"] = gf.fft_shape().n0;
+}
+
 void BM_LbfgsIterationLarge(benchmark::State& state) {
   const int grid = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
   interface::ContactScene scene;
@@ -117,6 +148,11 @@ void BM_LbfgsIterationLarge(benchmark::State& state) {
     state.counters["ms_bare_pair"] = 1e3 * bare->second;
     state.counters["over_floor"] = per_iteration / (pairs_per_iteration * bare->second);
   }
+  if (const auto gfs = gf_pair_seconds().find({grid, threads, state.range(2)});
+      gfs != gf_pair_seconds().end()) {
+    state.counters["ms_gf_and_filter"] = 1e3 * gfs->second;
+    state.counters["over_gf"] = per_iteration / gfs->second;
+  }
 }
 
 // The memory bandwidth that bounds the vector work: x = a + t b over vectors of the size of the
@@ -141,6 +177,10 @@ void BM_VectorTriad(benchmark::State& state) {
 BENCHMARK(BM_VectorTriad)->Arg(1602000)->Unit(benchmark::kMillisecond)->UseRealTime();
 // The bare pair first: the iteration's ratio divides by it.
 BENCHMARK(BM_BareFFTPair)
+    ->ArgsProduct({{1024, 2048, 4096}, {2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_GFApplyAndFilter)
     ->ArgsProduct({{1024, 2048, 4096}, {2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
