@@ -388,7 +388,8 @@ int main(int argc, char** argv) {
     const double memory = slide::estimated_slide_bytes(s.contact, s.options);
     app::check_fits_in_memory(a_text, memory,
                               "estimate: 260 bytes per point of the padded FFT grid of the block, "
-                              "and the frames of one relaxation path");
+                              "the minimiser's vectors on the contact and the frames of one "
+                              "relaxation path");
     const std::string output_line = app::check_output_fits(s, out);
 
     std::fprintf(stderr,

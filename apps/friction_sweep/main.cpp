@@ -404,7 +404,8 @@ int main(int argc, char** argv) {
                     "--jobs)",
                     at_once, a_max);
       app::check_fits_in_memory(what, total,
-                                "estimate: 260 bytes per point of each block's padded FFT grid");
+                                "estimate: 260 bytes per point of each block's padded FFT grid "
+                                "and the minimiser's vectors on the contact");
     }
     if (figures) {
       // Every point writes its snapshots (and a checkpoint) as contact_slide does.

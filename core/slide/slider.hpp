@@ -243,8 +243,10 @@ inline constexpr std::size_t kCycleWindow = 16;
 // bytes per grid point, the measured peak without the cycle replay (docs/benchmarks.md, scaling:
 // 248-254 bytes for a = 256 and 512 d), plus the replay's window of kCycleWindow states (force
 // and displacement, 2 components: 32 bytes per block site each), twice: a checkpoint copies it,
-// plus the path frames of one relaxation (max_path_frames x 16 bytes per block site) and two
-// snapshots (65 bytes per block site each) in flight. Independent of the number of slips.
+// plus the path frames of one relaxation (max_path_frames x 16 bytes per block site), two
+// snapshots (65 bytes per block site each) in flight, the minimiser's vectors on the contact
+// sites (the L-BFGS pairs and about 18 working vectors) and 32 MB for the program itself.
+// Independent of the number of slips.
 double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options);
 
 }  // namespace asperity::slide
