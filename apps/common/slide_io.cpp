@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <numbers>
 
 #include "common/cli.hpp"
@@ -306,7 +305,7 @@ nlohmann::json snapshot_attributes(const SlideScene& scene, const nlohmann::json
 }
 
 SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene) {
-  const double side = 2.0 * (std::ceil(scene.contact.a / scene.contact.d) + 2.0) + 1.0;
+  const double side = slide::block_side(scene.contact);
   // 8 fields and in_contact per site; the NetCDF header and per-frame scalars are small.
   const double per_site = 8.0 * (scene.snapshot_format.single_precision ? 4.0 : 8.0) + 1.0;
   SnapshotBytes b;

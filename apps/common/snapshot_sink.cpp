@@ -20,12 +20,8 @@ std::unique_lock<std::mutex> hold(std::mutex* m) {
 }  // namespace
 
 SnapshotSink::SnapshotSink(fs::path dir, nlohmann::json attributes, SnapshotFormat format,
-                           std::mutex* netcdf, bool paths)
-    : dir_(std::move(dir)),
-      attributes_(std::move(attributes)),
-      format_(format),
-      netcdf_(netcdf),
-      paths_(paths) {
+                           std::mutex* netcdf)
+    : dir_(std::move(dir)), attributes_(std::move(attributes)), format_(format), netcdf_(netcdf) {
   format_.validate();
 }
 
@@ -116,7 +112,6 @@ void SnapshotSink::open_paths() {
 }
 
 void SnapshotSink::path_frame(const slide::Snapshot& frame) {
-  if (!paths_) return;
   const auto lock = hold(netcdf_);
   open_paths();
   appender_->append(frame);
@@ -126,7 +121,6 @@ void SnapshotSink::path_frame(const slide::Snapshot& frame) {
 
 void SnapshotSink::replayed_path(const std::string& source, int periods, double period,
                                  const std::string& label) {
-  if (!paths_) return;
   const auto found = path_frames_.find(source);
   if (found == path_frames_.end()) return;
   const std::vector<std::size_t> frames = found->second;  // appending below adds to the map

@@ -29,10 +29,10 @@ namespace asperity::app {
 class SnapshotSink final : public slide::FrameSink {
  public:
   // `netcdf`: held around every NetCDF call when several slides write at once (friction_sweep's
-  // points; the library is not thread-safe). `paths`: false drops relaxation paths (and spares
-  // the slide making them).
+  // points; the library is not thread-safe). A slide whose frames are not wanted at all takes
+  // slide::DiscardFrames instead.
   SnapshotSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
-               std::mutex* netcdf = nullptr, bool paths = true);
+               std::mutex* netcdf = nullptr);
   ~SnapshotSink() override;
   SnapshotSink(const SnapshotSink&) = delete;
   SnapshotSink& operator=(const SnapshotSink&) = delete;
@@ -48,7 +48,6 @@ class SnapshotSink final : public slide::FrameSink {
   void path_frame(const slide::Snapshot& frame) override;
   void replayed_path(const std::string& source, int periods, double period,
                      const std::string& label) override;
-  [[nodiscard]] bool wants_paths() const override { return paths_; }
 
   // Everything handed over so far is on disk (before a checkpoint is written).
   void flush();
@@ -70,7 +69,6 @@ class SnapshotSink final : public slide::FrameSink {
   nlohmann::json attributes_;
   SnapshotFormat format_;
   std::mutex* netcdf_;
-  bool paths_;
   std::optional<SnapshotAppender> appender_;
   std::map<std::string, std::vector<std::size_t>> path_frames_;  // label -> frames in the file
   bool dirty_ = false;  // frames appended since the last flush

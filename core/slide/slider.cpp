@@ -362,8 +362,12 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   return detail::run_protocol(slider, params, options, control, t0);
 }
 
+int block_side(const interface::ContactScene& scene) {
+  return 2 * block_half(scene) + 1;
+}
+
 double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options) {
-  const double n = 2.0 * block_half(scene) + 1.0;
+  const double n = block_side(scene);
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
       2.0 * n - 1.0 < 1e9 ? next_fft_size(static_cast<int>(2.0 * n - 1.0)) : 2.0 * n - 1.0;

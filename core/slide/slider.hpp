@@ -237,6 +237,10 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 // whose start went with them is computed instead of replayed.
 inline constexpr std::size_t kCycleWindow = 16;
 
+// Sites along each side of the block of unknowns that follows the tip: 2 H + 1, H = ceil(a/d) + 2
+// (the contact radius and two sites of margin). Snapshots are frames of this block.
+int block_side(const interface::ContactScene& scene);
+
 // Estimated peak memory of slide() on this scene (bytes), with a FrameSink taking the frames, so
 // that callers can refuse a contact that cannot fit before allocating: the padded FFT grid of
 // the block (the smallest 7-smooth size >= 2n - 1 per axis, n = 2 (ceil(a/d) + 2) + 1) times 260
