@@ -189,20 +189,25 @@ class Slider {
     return worst;
   }
 
-  // Sites of the contact at `after` whose x displacement changed by more than d/2 since
-  // `before` (same block alignment after rolling).
+  // Sites that slipped between `before` and `after` (MODEL.md 5): a site slipped if its
+  // registry index (round(s_x / d), round(s_y / d), s = X + u - (Dx, 0)) changed while it was
+  // in the contact at both tip positions, by a jump: its displacement changed by at least d/4
+  // in that component. An instability takes a site from one well to the next; a gliding core
+  // moves its sites across a half-period by less than d/2 (0.44 d at b_core = 1.87 d), which the
+  // former test (|du| > d/2) missed. The d/4 floor keeps out the smooth crossings that are not
+  // instabilities: weakly pinned edge sites creeping over their barriers (measured: up to 54
+  // sites moving 0.02-0.03 d per adaptive step before a slip at a = 43 d, R = 535 d) and, in
+  // Regime I, the whole contact sliding smoothly over the barrier top. A smooth crossing large
+  // enough to pass the floor at a coarse step is undone and bisected by the adaptive protocol;
+  // its displacement shrinks with the step, a jump's does not.
   int slipped_sites(const State& before, const State& after) const {
     State b = before;
     const int k = after.shift - b.shift;
     if (k != 0) roll_fields(b, k);
     // Rows that entered the block with the roll have no displacement in `before`.
-    const std::size_t first_new_row = static_cast<std::size_t>(block_shape_.n0 - std::max(k, 0));
-    int count = 0;
-    for (std::size_t i : lfm_.contact_sites()) {
-      if (i / static_cast<std::size_t>(block_shape_.n1) >= first_new_row) continue;
-      if (std::abs(after.u[i] - b.u[i]) > 0.5 * scene_.d) ++count;
-    }
-    return count;
+    const int entered_rows = std::max(k, 0);
+    return registry_jumps(scene_, block_at(after.shift), b.Dx, b.u, after.Dx, after.u,
+                          entered_rows);
   }
 
   Snapshot snapshot(const State& s, std::string label, int iteration = -1) {
@@ -360,6 +365,38 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
                                       .Fz_continuum = scene.hertz().load,
                                       .default_cap = 3.0 * scene.d + 3.0 * ramp};
   return detail::run_protocol(slider, params, options, control, t0);
+}
+
+int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& block,
+                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   std::span<const double> u_after, int entered_rows) {
+  const std::size_t n = block.shape.count();
+  if (u_before.size() != 2 * n || u_after.size() != 2 * n) {
+    throw std::invalid_argument("registry_jumps: fields of " + std::to_string(u_before.size()) +
+                                " and " + std::to_string(u_after.size()) + " values for " +
+                                std::to_string(2 * n) + " (2 per block site)");
+  }
+  interface::LateralForceModel at_after(scene, block), at_before = at_after;
+  at_after.set_tip(Dx_after);
+  at_before.set_tip(Dx_before);
+  const double d = scene.d;
+  const auto jumped = [&](double s_before, double s_after, double du) {
+    return std::lround(s_before / d) != std::lround(s_after / d) && std::abs(du) >= 0.25 * d;
+  };
+  const std::size_t first_new_row =
+      static_cast<std::size_t>(block.shape.n0 - std::clamp(entered_rows, 0, block.shape.n0));
+  int count = 0;
+  for (std::size_t i : at_after.contact_sites()) {
+    if (i / static_cast<std::size_t>(block.shape.n1) >= first_new_row) continue;
+    if (at_before.tau_max()[i] <= 0.0) continue;  // entered the contact in this step
+    if (jumped(at_before.sx(i, u_before[i]), at_after.sx(i, u_after[i]),
+               u_after[i] - u_before[i]) ||
+        jumped(at_before.sy(i, u_before[n + i]), at_after.sy(i, u_after[n + i]),
+               u_after[n + i] - u_before[n + i])) {
+      ++count;
+    }
+  }
+  return count;
 }
 
 int block_side(const interface::ContactScene& scene) {

@@ -11,8 +11,9 @@
 // - adaptive: steps up to max_step where the response is smooth; a step that produces a slip
 //   event is undone and bisected until the instability is bracketed to min_step, so the static
 //   peak (the last stable state before the slip) is located to min_step in Dx.
-// Slip event: a step after which some contact site has moved by more than d/2 in x (its
-// registry index relative to the substrate changed): the state jumped to another minimum.
+// Slip event: a step after which some contact site's registry index round(s/d) changed by a
+// jump (its displacement changed by d/4 or more; MODEL.md 5, slider.cpp): the state jumped to
+// another minimum. A gliding core counts; a smooth crossing of the barrier top does not.
 // Automatic distance: slide until the static peak is established, i.e. until it has held (not
 // been exceeded beyond the trace's resolution) over one period d with `slips_to_stop` slip
 // events after it, stopping at a slip (Regime II: the slips_to_stop-th slip, the cycle repeats
@@ -25,6 +26,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -240,6 +242,15 @@ inline constexpr std::size_t kCycleWindow = 16;
 // Sites along each side of the block of unknowns that follows the tip: 2 H + 1, H = ceil(a/d) + 2
 // (the contact radius and two sites of margin). Snapshots are frames of this block.
 int block_side(const interface::ContactScene& scene);
+
+// Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
+// positions whose registry index round(s/d) (x or y) changed between the two displacement fields
+// (2 per block site, x then y, both on this block) by a jump of at least d/4 in that component.
+// The last `entered_rows` rows along x came into the block between the two states (no
+// displacement before) and are skipped. Throws std::invalid_argument on fields of another size.
+int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& block,
+                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   std::span<const double> u_after, int entered_rows = 0);
 
 // Estimated peak memory of slide() on this scene (bytes), with a FrameSink taking the frames, so
 // that callers can refuse a contact that cannot fit before allocating: the padded FFT grid of
