@@ -448,6 +448,7 @@ std::string common_fingerprint(const SlideScene& scene) {
   add("max_escapes", std::to_string(m.max_escapes));
   add("escape_displacement", exact(m.escape_displacement));
   add("perturbation", exact(m.perturbation));
+  add("flow_tolerance", exact(m.flow_tolerance));
   add("fft_threads", std::to_string(o.fft.threads));
   add("fft_planner", fft::to_string(o.fft.planner));
   // Another build may round differently: its continuation would not be the same slide.

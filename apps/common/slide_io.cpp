@@ -48,11 +48,13 @@ SlideScene read_slide_keys(SceneReader& r) {
   f.deflate_level = r.integer("output.deflate", f.deflate_level, Range::closed(0, 9));
   o.replay_cycle = r.boolean("slide.replay_cycle", o.replay_cycle);
   auto& m = o.minimizer;
-  m.method = minimize::method_from_string(
-      r.string("solver.method", minimize::to_string(m.method), {"lbfgs", "cg", "fire", "newton"}));
+  m.method = minimize::method_from_string(r.string("solver.method", minimize::to_string(m.method),
+                                                   {"lbfgs", "cg", "fire", "newton", "flow"}));
   m.force_tolerance = r.number("solver.tolerance", m.force_tolerance, Range::open(0.0, 1.0));
   m.max_iterations = r.integer("solver.max_iterations", m.max_iterations, Range::at_least(1));
   m.memory = r.integer("solver.memory", m.memory, Range::closed(1, 100));
+  m.flow_tolerance =
+      r.number("solver.flow_tolerance", m.flow_tolerance, Range::open_closed(0.0, 0.1));
   m.max_displacement =
       r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
   m.stability = minimize::stability_from_string(r.string(
@@ -139,6 +141,9 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"gradient_evaluations", r.gradient_evaluations},
       {"tolerance", o.minimizer.force_tolerance},
       {"solver", minimize::to_string(o.minimizer.method)},
+      {"flow_tolerance", o.minimizer.method == minimize::Method::flow
+                             ? nlohmann::json(o.minimizer.flow_tolerance)
+                             : nlohmann::json()},
       {"preconditioner", minimize::to_string(o.minimizer.preconditioner)},
       {"interface_filter_used", r.filtered},
       {"stability_check", minimize::to_string(o.minimizer.stability)},

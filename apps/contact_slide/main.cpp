@@ -158,8 +158,9 @@ int main(int argc, char** argv) {
         ->check(app::non_negative());
     cli.add_option("--protocol", protocol, "adaptive | reference")
         ->check(CLI::IsMember({"adaptive", "reference"}));
-    cli.add_option("--solver", solver, "lbfgs | cg | fire | newton")
-        ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton"}));
+    cli.add_option("--solver", solver,
+                   "lbfgs | cg | fire | newton | flow (the reference path: slow, faithful)")
+        ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton", "flow"}));
     cli.add_option("--preconditioner", preconditioner,
                    "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
         ->check(CLI::IsMember({"auto", "elastic", "interface"}));

@@ -149,6 +149,7 @@ nlohmann::json scene_json(const app::SweepScene& s, int jobs) {
       {"max_iterations", m.max_iterations},
       {"memory", m.memory},
       {"max_displacement", m.max_displacement},
+      {"flow_tolerance", m.flow_tolerance},
       {"preconditioner", minimize::to_string(m.preconditioner)},
       {"fft_threads", o.fft.threads},
       {"fft_planner", fft::to_string(o.fft.planner)},

@@ -278,6 +278,7 @@ std::string settings_fingerprint(const SlideScene& scene) {
   add("iter", std::to_string(m.max_iterations));
   add("mem", std::to_string(m.memory));
   add("dmax", exact(m.max_displacement));
+  if (m.method == minimize::Method::flow) add("flowtol", exact(m.flow_tolerance));
   add("precond", minimize::to_string(m.preconditioner));
   add("stability", minimize::to_string(m.stability));
   add("alpha", exact(c.alpha));

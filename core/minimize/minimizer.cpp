@@ -227,6 +227,8 @@ std::string to_string(Method m) {
       return "fire";
     case Method::newton:
       return "newton";
+    case Method::flow:
+      return "flow";
   }
   return "lbfgs";
 }
@@ -276,8 +278,9 @@ Method method_from_string(const std::string& name) {
   if (name == "cg") return Method::cg;
   if (name == "fire") return Method::fire;
   if (name == "newton") return Method::newton;
+  if (name == "flow") return Method::flow;
   throw std::invalid_argument("minimizer method: got '" + name +
-                              "', allowed: lbfgs, cg, fire, newton");
+                              "', allowed: lbfgs, cg, fire, newton, flow");
 }
 
 void MinimizerOptions::validate() const {
@@ -292,6 +295,7 @@ void MinimizerOptions::validate() const {
   require_at_least("MinimizerOptions.max_escapes", max_escapes, 0);
   require_positive("MinimizerOptions.escape_displacement", escape_displacement);
   require_positive("MinimizerOptions.perturbation", perturbation);
+  require_positive("MinimizerOptions.flow_tolerance", flow_tolerance);
 }
 
 Stability lowest_mode(Problem& problem, std::span<const double> u) {
@@ -390,6 +394,10 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   // FIRE state.
   std::vector<double> vu(n, 0.0), vf(n, 0.0);
   double dt = 0.1, fire_alpha = 0.1;
+  // Flow state: G r at x (valid while flow_fresh) and the step size (0: not chosen yet).
+  std::vector<double> flow_p(options.method == Method::flow ? n : 0);
+  bool flow_fresh = false;
+  double flow_h = 0.0;
   int fire_positive = 0;
   constexpr double dt_max = 1.0, fire_alpha0 = 0.1;
 
@@ -500,6 +508,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       }
       memory.clear();
       restart = true;
+      flow_fresh = false;
       std::fill(vu.begin(), vu.end(), 0.0);
       std::fill(vf.begin(), vf.end(), 0.0);
       continue;
@@ -519,6 +528,63 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     if (it > 0 && it % options.refresh_interval == 0) {  // remove drift of the pair
       problem.compliance(x.f, x.u);
       x.e = eval(x.u, x.f, x.r);
+      flow_fresh = false;
+    }
+
+    if (options.method == Method::flow) {
+      // The reference path (minimizer.hpp): Euler steps of du/dt = -G r under error control.
+      if (!flow_fresh) {
+        problem.compliance(x.r, flow_p);
+        flow_fresh = true;
+      }
+      const double pmax = max_abs(flow_p);
+      if (!(pmax > 0.0)) {
+        res.termination = Termination::converged;  // r is numerically zero in the G metric
+        break;
+      }
+      // First step: the Euler error is about h^2/2 |d(G r)/dt| with d(G r)/dt = -G (K + H) G r,
+      // whose size is that of G r where the interface is soft; the control corrects the guess.
+      if (flow_h <= 0.0) flow_h = std::sqrt(2.0 * options.flow_tolerance / pmax);
+      const double h = std::min(flow_h, options.max_displacement / pmax);
+      axpy_into(trial.u, x.u, -h, flow_p);
+      axpy_into(trial.f, x.f, -h, x.r);
+      trial.e = eval(trial.u, trial.f, trial.r);
+      problem.compliance(trial.r, z);  // the slope at the new point: the next step's, if kept
+      double err = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+        err = std::max(err, std::abs(z[i] - flow_p[i]));
+      err *= 0.5 * h;
+      // A finite state with a non-finite energy or slope is a fault of the problem, not of the
+      // step size.
+      if (!std::isfinite(trial.e) || !std::isfinite(err)) {
+        res.termination = Termination::diverged;
+        break;
+      }
+      // Stability as well as accuracy: the energy must still fall along the step at its end
+      // (r_new . G r >= 0), as it does along the exact flow. Without this the control lets h grow
+      // past the explicit stability limit where G r is small, since the error estimate scales with
+      // |G r|, and the iterate hovers around the minimum instead of converging.
+      const bool overshoot = dot(trial.r, flow_p) < 0.0;
+      const bool accepted = err <= options.flow_tolerance && !overshoot;
+      const double factor = err > 0.0 ? 0.9 * std::sqrt(options.flow_tolerance / err) : 4.0;
+      if (!accepted) {
+        ++res.rejected_steps;
+        flow_h = h * std::clamp(overshoot ? std::min(factor, 0.5) : factor, 0.1, 0.5);
+        if (flow_h * pmax < 1e-14 * options.flow_tolerance) {
+          res.termination = Termination::diverged;  // the step control cannot proceed
+          break;
+        }
+        continue;
+      }
+      flow_h = h * std::clamp(factor, 0.2, 4.0);
+      std::swap(x, trial);
+      std::swap(flow_p, z);
+      if (observer && observer(it + 1, x.u, x.f)) {
+        res.termination = Termination::interrupted;
+        ++it;
+        break;
+      }
+      continue;
     }
 
     if (options.method == Method::fire) {

@@ -11,6 +11,16 @@
 // - newton: lbfgs down to newton_start, then a Newton-Krylov finish (KINSOL, solve/) on
 //   F(f) = f - f_int(G f) = 0 with J v = v + H_int G v (one GF application per product). Newton
 //   finds any stationary point, so the stability check below is what keeps it on minima.
+// - flow: the reference path of MODEL.md section 5, the overdamped gradient flow du/dt = -G r
+//   (df/dt = -r: the pair stays exact), integrated by explicit Euler with the embedded error
+//   estimate of ODE12r (Makri, Ortner & Kermode, J. Chem. Phys. 150, 094109, 2019): the local
+//   error of a step h is e = h/2 max_i |(G r)_i(new) - (G r)_i(old)| (the Euler-Heun difference),
+//   and a step is accepted only if e <= flow_tolerance; h then grows or shrinks as
+//   sqrt(tolerance / e). Unlike ODE12r no step is accepted on a falling residual alone: the
+//   flow is the answer, not a way to it. One GF application per step (the new G r is the next
+//   step's slope). Slow (tens of times the iterations of lbfgs through a slip), but it defines
+//   which minimum an instability falls into; the path tier (tests/path) holds the other methods
+//   to it.
 // Every method descends in energy (line searches accept no energy rise beyond round-off; FIRE
 // stops and restarts when the power turns negative) and caps the largest displacement of an
 // iteration, so that a state at an instability falls into the next minimum, not a distant one.
@@ -39,7 +49,7 @@
 
 namespace asperity::minimize {
 
-enum class Method { lbfgs, cg, fire, newton };
+enum class Method { lbfgs, cg, fire, newton, flow };
 enum class StabilityCheck { none, perturb, lanczos };
 // H0 of lbfgs (and of newton's lbfgs phase): elastic = G; interface = G M with M the problem's
 // interface filter (Problem::filter), if it has one; automatic = interface where the problem
@@ -67,6 +77,10 @@ struct MinimizerOptions {
   // Largest |du_i| of the random push of the perturb check (d); larger when needed for the
   // push to unbalance the state by 10x the force tolerance.
   double perturbation = 1e-5;
+  // flow: largest local error of one step, as a displacement of a site (d). Halving it must not
+  // change the end state (tests/path); 1e-3 d is far below a core width (>= 1 d) and the d/4
+  // distance from a well's bottom to its unstable half.
+  double flow_tolerance = 1e-3;
 
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
@@ -87,6 +101,7 @@ struct MinimizeResult {
   double energy = 0.0;                  // Pi at the end
   double max_force = 0.0;               // max |r_i| at the end
   int escapes = 0;                      // unstable states left
+  int rejected_steps = 0;               // flow: steps the error control rejected (in iterations)
   // Lowest eigenvalue of G + G H_int G at the final state if the Lanczos check ran, else NaN;
   // >= 0 means stable.
   double lowest_eigenvalue = 0.0;

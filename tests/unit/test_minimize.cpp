@@ -82,7 +82,8 @@ TEST(Minimizer, AllMethodsReachTheSameMinimum) {
   const std::pair<minimize::Method, P> cases[] = {
       {minimize::Method::lbfgs, P::automatic}, {minimize::Method::cg, P::automatic},
       {minimize::Method::fire, P::automatic},  {minimize::Method::newton, P::automatic},
-      {minimize::Method::lbfgs, P::interface}, {minimize::Method::newton, P::interface}};
+      {minimize::Method::lbfgs, P::interface}, {minimize::Method::newton, P::interface},
+      {minimize::Method::flow, P::automatic}};
   for (auto [method, precond] : cases) {
     Contact c(scene, 0.3);
     std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
@@ -206,4 +207,90 @@ TEST(Minimizer, InjectedNanStopsAtOnce) {
   const auto r = minimize::minimize(p, u, f, {});
   EXPECT_EQ(r.termination, Termination::diverged);
   EXPECT_LE(p.calls, 6);
+}
+
+namespace {
+
+// One unknown: a site on a spring of compliance g (elastic energy u^2 / (2 g)) in a periodic
+// potential V = A (1 - cos 2 pi u), tilted by a constant force F: E = u^2/(2g) + V - F u.
+struct Washboard final : minimize::Problem {
+  double g = 20.0, A = 0.05, F = 0.0;
+  [[nodiscard]] std::size_t size() const override { return 1; }
+  void compliance(std::span<const double> f, std::span<double> u) override {
+    u[0] = g * f[0];
+    ++applications;
+  }
+  double interface(std::span<const double> u, std::span<double> f) const override {
+    f[0] = -2.0 * M_PI * A * std::sin(2.0 * M_PI * u[0]) + F;
+    return A * (1.0 - std::cos(2.0 * M_PI * u[0])) - F * u[0];
+  }
+  void curvature(std::span<const double> u, std::span<double> h) const override {
+    h[0] = 4.0 * M_PI * M_PI * A * std::cos(2.0 * M_PI * u[0]);
+  }
+  [[nodiscard]] std::size_t gf_applications() const override { return applications; }
+  [[nodiscard]] double slope(double u) const {  // dE/du
+    return u / g + 2.0 * M_PI * A * std::sin(2.0 * M_PI * u) - F;
+  }
+  std::size_t applications = 0;
+};
+
+}  // namespace
+
+TEST(Minimizer, FlowEndsInTheMinimumOfItsBasin) {
+  // Analytic answer: a gradient flow in one dimension never crosses a maximum of E, so from u0
+  // it ends at the minimum between the maxima of E on either side of u0 (found here by
+  // bisection on the slope to 1e-12). The start sits just past a maximum, on a long steep
+  // descent (tilt F) that carries a large step over the next barriers: wells 2 and 3 lie
+  // downhill within 2 d. Tolerance on u: the force tolerance 1e-10 over the curvature at the
+  // minimum (about 2 + 1/g), 1e-9.
+  Washboard p;
+  p.F = 0.2;
+  const auto root = [&](double lo, double hi) {  // slope changes sign in [lo, hi]
+    for (int k = 0; k < 200; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      ((p.slope(lo) < 0.0) == (p.slope(mid) < 0.0) ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  // Stationary points on a fine grid; the start lies just past the maximum near u = 0.5.
+  std::vector<double> stationary;
+  for (double u = -1.0; u < 6.0; u += 1e-3) {
+    if ((p.slope(u) < 0.0) != (p.slope(u + 1e-3) < 0.0)) stationary.push_back(root(u, u + 1e-3));
+  }
+  ASSERT_GE(stationary.size(), 6u);
+  std::size_t top = 0;  // first maximum with u > 0: slope goes from + to -
+  while (!(stationary[top] > 0.0 && p.slope(stationary[top] - 1e-6) > 0.0))
+    ++top;
+  const double u0 = stationary[top] + 1e-3, expected = stationary[top + 1];
+  for (double tolerance : {1e-3, 1e-4}) {
+    std::vector<double> u{u0}, f{u0 / p.g};
+    minimize::MinimizerOptions o{.method = minimize::Method::flow, .force_tolerance = 1e-10};
+    o.flow_tolerance = tolerance;
+    o.max_iterations = 200000;
+    o.max_displacement = 0.5;
+    const auto r = minimize::minimize(p, u, f, o);
+    ASSERT_EQ(r.termination, Termination::converged);
+    EXPECT_NEAR(u[0], expected, 1e-9) << "flow tolerance " << tolerance;
+    EXPECT_EQ(r.gf_applications, p.applications);
+    p.applications = 0;
+    std::printf("flow tolerance %g: %d steps (%d rejected), u = %.12f\n", tolerance, r.iterations,
+                r.rejected_steps, u[0]);
+  }
+  // An unguarded Euler step of the size of the slope leaves the basin: the control is needed.
+  {
+    std::vector<double> u{u0}, f{u0 / p.g};
+    minimize::MinimizerOptions o{.method = minimize::Method::flow, .force_tolerance = 1e-10};
+    o.flow_tolerance = 1.0;  // no error control to speak of
+    o.max_displacement = 0.5;
+    o.max_iterations = 200000;
+    minimize::minimize(p, u, f, o);
+    std::printf("flow tolerance 1: u = %.6f (basin minimum %.6f)\n", u[0], expected);
+    EXPECT_GT(std::abs(u[0] - expected), 0.5);  // another well: the test above can fail
+  }
+}
+
+TEST(Minimizer, FlowRejectsBadTolerance) {
+  EXPECT_THROW(minimize::MinimizerOptions{.flow_tolerance = 0.0}.validate(), std::invalid_argument);
+  EXPECT_EQ(minimize::method_from_string("flow"), minimize::Method::flow);
+  EXPECT_EQ(minimize::to_string(minimize::Method::flow), "flow");
 }
