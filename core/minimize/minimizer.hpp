@@ -51,6 +51,12 @@ namespace asperity::minimize {
 
 enum class Method { lbfgs, cg, fire, newton, flow };
 enum class StabilityCheck { none, perturb, lanczos };
+// Integrator of the flow (minimizer.cpp): rkc (second-order Runge-Kutta-Chebyshev, stages chosen
+// for stability, steps limited by accuracy) or euler (explicit Euler, steps limited by the
+// fastest interface mode: the simplest scheme, the cross-check).
+enum class FlowScheme { rkc, euler };
+std::string to_string(FlowScheme s);
+FlowScheme flow_scheme_from_string(const std::string& name);  // throws std::invalid_argument
 // H0 of lbfgs (and of newton's lbfgs phase): elastic = G; interface = G M with M the problem's
 // interface filter (Problem::filter), if it has one; automatic = interface where the problem
 // judges that it pays, else elastic.
@@ -81,6 +87,7 @@ struct MinimizerOptions {
   // change the end state (tests/path); 1e-3 d is far below a core width (>= 1 d) and the d/4
   // distance from a well's bottom to its unstable half.
   double flow_tolerance = 1e-3;
+  FlowScheme flow_scheme = FlowScheme::rkc;  // flow: the integrator (see above)
 
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
