@@ -178,6 +178,7 @@ json result_json(const slide::SlideResult& r) {
           {"cycle_verified_at", r.cycle_verified_at},
           {"cycle_mismatch", r.cycle_mismatch},
           {"minimizations", r.minimizations},
+          {"slip_relaxations", r.slip_relaxations},
           {"gf_applications", r.gf_applications},
           {"gradient_evaluations", r.gradient_evaluations},
           {"filter_applications", r.filter_applications},
@@ -372,6 +373,8 @@ slide::SlideResult result_from(const json& j) {
   r.cycle_verified_at = number(j, "cycle_verified_at");
   r.cycle_mismatch = number(j, "cycle_mismatch");
   r.minimizations = int_value(j, "minimizations");
+  // Absent in checkpoints written before the slip minimiser existed.
+  if (j.contains("slip_relaxations")) r.slip_relaxations = int_value(j, "slip_relaxations");
   r.gf_applications = count_value(j, "gf_applications");
   r.gradient_evaluations = count_value(j, "gradient_evaluations");
   // Absent in checkpoints written before the interface filter existed.
@@ -449,6 +452,10 @@ std::string common_fingerprint(const SlideScene& scene) {
   add("escape_displacement", exact(m.escape_displacement));
   add("perturbation", exact(m.perturbation));
   add("flow_tolerance", exact(m.flow_tolerance));
+  add("flow_scheme", minimize::to_string(m.flow_scheme));
+  add("slip_solver", o.slip_minimizer ? minimize::to_string(o.slip_minimizer->method) + "/" +
+                                            minimize::to_string(o.slip_minimizer->preconditioner)
+                                      : std::string("same"));
   add("fft_threads", std::to_string(o.fft.threads));
   add("fft_planner", fft::to_string(o.fft.planner));
   // Another build may round differently: its continuation would not be the same slide.

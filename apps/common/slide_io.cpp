@@ -14,6 +14,7 @@
 #include "common/snapshot_sink.hpp"
 #include "common/toml_reader.hpp"
 #include "explicit/alpha_path.hpp"
+#include "slide/path.hpp"
 
 namespace asperity::app {
 
@@ -55,6 +56,8 @@ SlideScene read_slide_keys(SceneReader& r) {
   m.memory = r.integer("solver.memory", m.memory, Range::closed(1, 100));
   m.flow_tolerance =
       r.number("solver.flow_tolerance", m.flow_tolerance, Range::open_closed(0.0, 0.1));
+  m.flow_scheme = minimize::flow_scheme_from_string(
+      r.string("solver.flow_scheme", minimize::to_string(m.flow_scheme), {"rkc", "euler"}));
   m.max_displacement =
       r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
   m.stability = minimize::stability_from_string(r.string(
@@ -62,6 +65,18 @@ SlideScene read_slide_keys(SceneReader& r) {
   m.preconditioner = minimize::preconditioner_from_string(
       r.string("solver.preconditioner", minimize::to_string(m.preconditioner),
                {"auto", "elastic", "interface"}));
+  // The slip minimiser: the slide's minimiser with another method and preconditioner.
+  const std::string slips =
+      r.string("solver.slip_method", "same", {"same", "lbfgs", "cg", "fire", "newton", "flow"});
+  const std::string slip_pre =
+      r.string("solver.slip_preconditioner", "interface", {"auto", "elastic", "interface"});
+  if (slips != "same") {
+    o.slip_minimizer = m;
+    o.slip_minimizer->method = minimize::method_from_string(slips);
+    o.slip_minimizer->preconditioner = minimize::preconditioner_from_string(slip_pre);
+    // A relaxation through a slip takes the flow tens of times the iterations of lbfgs.
+    o.slip_minimizer->max_iterations = std::max(m.max_iterations, 2000000);
+  }
   o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
   o.fft.planner = fft::planner_from_string(
       r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
@@ -144,6 +159,9 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"flow_tolerance", o.minimizer.method == minimize::Method::flow
                              ? nlohmann::json(o.minimizer.flow_tolerance)
                              : nlohmann::json()},
+      {"slip_solver", o.slip_minimizer ? nlohmann::json(slide::solver_label(*o.slip_minimizer))
+                                       : nlohmann::json("same")},
+      {"slip_relaxations", r.slip_relaxations},
       {"preconditioner", minimize::to_string(o.minimizer.preconditioner)},
       {"interface_filter_used", r.filtered},
       {"stability_check", minimize::to_string(o.minimizer.stability)},

@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/contact_slide";
     std::optional<double> a, R, alpha, nu, distance, tolerance;
-    std::optional<std::string> protocol, solver, preconditioner;
+    std::optional<std::string> protocol, solver, preconditioner, slip_solver;
     std::optional<int> threads;
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
@@ -161,6 +161,11 @@ int main(int argc, char** argv) {
     cli.add_option("--solver", solver,
                    "lbfgs | cg | fire | newton | flow (the reference path: slow, faithful)")
         ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton", "flow"}));
+    cli.add_option("--slip-solver", slip_solver,
+                   "Relax again every step the solver calls a slip with this one (flow: the "
+                   "reference path, in the interface filter's metric unless "
+                   "solver.slip_preconditioner says otherwise) | same")
+        ->check(CLI::IsMember({"same", "lbfgs", "cg", "fire", "newton", "flow"}));
     cli.add_option("--preconditioner", preconditioner,
                    "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
         ->check(CLI::IsMember({"auto", "elastic", "interface"}));
@@ -193,6 +198,11 @@ int main(int argc, char** argv) {
     // One run per output directory, for the whole run (its checkpoint is read under the lock).
     const app::DirectoryLock dir_lock(app::ensure_directory(out));
 
+    if (model == "explicit" && slip_solver) {
+      throw std::invalid_argument(
+          "--slip-solver: not available with --model explicit yet (the path tier covers the "
+          "lateral force model)");
+    }
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(
           "--preconditioner: not available with --model explicit (the interface filter belongs "
@@ -374,6 +384,21 @@ int main(int argc, char** argv) {
     }
     if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
     if (threads) s.options.fft.threads = *threads;
+    if (slip_solver) {
+      if (*slip_solver == "same") {
+        s.options.slip_minimizer.reset();
+      } else {
+        const auto slip_pre = s.options.slip_minimizer ? s.options.slip_minimizer->preconditioner
+                                                       : minimize::Preconditioner::interface;
+        s.options.slip_minimizer = s.options.minimizer;
+        s.options.slip_minimizer->method = minimize::method_from_string(*slip_solver);
+        s.options.slip_minimizer->preconditioner = slip_pre;
+        s.options.slip_minimizer->max_iterations =
+            std::max(s.options.minimizer.max_iterations, 2000000);
+      }
+    } else if (s.options.slip_minimizer && tolerance) {
+      s.options.slip_minimizer->force_tolerance = *tolerance;
+    }
     const auto method = s.options.minimizer.method;
     if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
         (method == minimize::Method::cg || method == minimize::Method::fire)) {

@@ -279,6 +279,11 @@ std::string settings_fingerprint(const SlideScene& scene) {
   add("mem", std::to_string(m.memory));
   add("dmax", exact(m.max_displacement));
   if (m.method == minimize::Method::flow) add("flowtol", exact(m.flow_tolerance));
+  if (o.slip_minimizer) {
+    s.append(" slips ").append(minimize::to_string(o.slip_minimizer->method));
+    add("slipprecond", minimize::to_string(o.slip_minimizer->preconditioner));
+    add("slipflowtol", exact(o.slip_minimizer->flow_tolerance));
+  }
   add("precond", minimize::to_string(m.preconditioner));
   add("stability", minimize::to_string(m.stability));
   add("alpha", exact(c.alpha));

@@ -88,7 +88,8 @@ class ExplicitSlider {
   }
 
   minimize::MinimizeResult relax(State& s, double Dx, std::vector<slide::PathFrame>* /*frames*/,
-                                 bool stop_on_slip = false) {
+                                 bool stop_on_slip = false,
+                                 const minimize::MinimizerOptions* solver = nullptr) {
     const double d = scene_.d;
     // The active disk starts each step at the Hertz radius + margin (the atoms that carry a
     // force stay active anyway): a disk grown by a transient of an earlier step would otherwise
@@ -140,8 +141,8 @@ class ExplicitSlider {
     std::vector<double> branch_ux = x_displacements();
     total.termination = Termination::max_iterations;
     for (int step = 0; step < eo_.max_load_steps; ++step) {
-      const auto r =
-          contact_.relax(options_.minimizer, eo_.margin, eo_.max_growths, nullptr, observer);
+      const auto r = contact_.relax(solver ? *solver : options_.minimizer, eo_.margin,
+                                    eo_.max_growths, nullptr, observer);
       total.iterations += r.iterations;
       total.interface_evaluations += r.interface_evaluations;
       total.escapes += r.escapes;

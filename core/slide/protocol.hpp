@@ -6,8 +6,10 @@
 // A Model provides (State = SlideFields; its fields live on a block of sites that the model
 // chooses, identified by State::shift and the field size):
 //   State initial();                           the state the slide starts from (unrelaxed)
-//   MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames, bool stop_on_slip);
-//                                              move s to tip position Dx and minimise (path
+//   MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames, bool stop_on_slip,
+//                        const MinimizerOptions* solver = nullptr);
+//                                              move s to tip position Dx and minimise (with
+//                                              `solver`, or the slide's minimiser; path
 //                                              frames, if it records them, to `frames`); with
 //                                              stop_on_slip, return Termination::interrupted as
 //                                              soon as a slip is certain (LFM: a site moved by
@@ -569,10 +571,29 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
            Dx);
     const std::size_t gf_at_top = model.gf_applications();
     may_abandon = true;
-    const auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
+    auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
     may_abandon = false;
     if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
     count(r);
+    // A slip the minimiser would accept is relaxed again by the slip minimiser, if there is one
+    // (SlideOptions::slip_minimizer), from the state moved to Dx without the warm start: where the
+    // state goes after an instability, and whether the step is one, is the flow's to say
+    // (MODEL.md 5). Trials that are undone when they slip (the bisection) only place the
+    // bracket; the step that ends it is the one verified. If the slip minimiser finds it stable,
+    // it is accepted as a stable state (a premature slip avoided) and the stepping goes on from
+    // there. Probes of the cycle are dropped when they slip, so they are left alone.
+    if (options.slip_minimizer && !cycle_of && !may_undo &&
+        failure(r, trial, Dx, state.Dx).empty() && model.slipped_sites(state, trial) > 0) {
+      trial = state;
+      frames.clear();
+      report(SlidePhase::slip, Dx);
+      may_abandon = true;
+      r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false, &*options.slip_minimizer);
+      may_abandon = false;
+      if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
+      count(r);
+      ++res.slip_relaxations;
+    }
     // A probe that failed or slipped did not find the cycle (nor one that differs, below).
     if (cycle_of && !failure(r, trial, Dx, state.Dx).empty()) continue;
     if (may_undo && r.termination == Termination::interrupted) {

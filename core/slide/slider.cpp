@@ -63,7 +63,8 @@ class Slider {
 
   // Moves `s` to tip position Dx and relaxes it. Path frames go to `frames` if given.
   minimize::MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames,
-                                 bool stop_on_slip = false) {
+                                 bool stop_on_slip = false,
+                                 const minimize::MinimizerOptions* solver = nullptr) {
     const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
     // Rolled rows come in without displacements; u = G f below recomputes them.
     if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
@@ -133,7 +134,8 @@ class Slider {
         return false;
       };
     }
-    const auto r = minimize::minimize(problem_, u, f, options_.minimizer, observer);
+    const auto r =
+        minimize::minimize(problem_, u, f, solver ? *solver : options_.minimizer, observer);
     scatter(f, s.f);
     // The displacement off the contact follows from the new forces (slip detection and
     // snapshots compare it between states); on the contact it is the minimiser's.
@@ -337,6 +339,7 @@ void SlideOptions::validate() const {
   if (path_frame_slips < 0) fail("path_frame_slips", path_frame_slips, ">= 0 (0: none)");
   if (max_path_frames < 2) fail("max_path_frames", max_path_frames, ">= 2");
   minimizer.validate();
+  if (slip_minimizer) slip_minimizer->validate();
   fft.validate();
 }
 
@@ -397,6 +400,26 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
     }
   }
   return count;
+}
+
+StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
+                          const SlideFields& from, double Dx) {
+  scene.validate();
+  options.validate();
+  Slider model(scene, options);
+  if (const std::string why = model.check_fields(from); !why.empty()) {
+    throw std::invalid_argument("relax_step: the start state's fields do not fit this scene: " +
+                                std::to_string(from.f.size()) + " values, allowed: " + why);
+  }
+  StepRelaxation out;
+  out.state = from;
+  const std::size_t gf0 = model.gf_applications();
+  const auto t0 = std::chrono::steady_clock::now();
+  out.result = model.relax(out.state, Dx, nullptr);
+  out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.result.gf_applications = model.gf_applications() - gf0;
+  out.slipped_sites = model.slipped_sites(from, out.state);
+  return out;
 }
 
 int block_side(const interface::ContactScene& scene) {

@@ -76,6 +76,12 @@ struct SlideOptions {
   // of 0.2 d per iteration (docs/benchmarks.md: mu within 3e-4 of converged at 1/7 of the
   // classic protocol's GF applications).
   minimize::MinimizerOptions minimizer = slide_minimizer_defaults();
+  // Relaxes again every slip that `minimizer` would accept (the step that ends a bisection, or
+  // a slipping step of the reference protocol), from the state moved to the new Dx without the
+  // warm start, and takes its verdict and end state instead: a path-faithful solver (method
+  // flow) where the path matters, a fast one elsewhere (docs/solvers.md, "Path fidelity"). A slip
+  // it finds stable is accepted as a stable state. Empty: none (every step by `minimizer`).
+  std::optional<minimize::MinimizerOptions> slip_minimizer;
   fft::FFTOptions fft;  // threads and planning of the GF transforms
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
@@ -114,6 +120,7 @@ struct SlideResult {
                                     // from where the cycle was replayed (-1: never)
   double cycle_mismatch = -1.0;     // its largest force difference of a site (G d^2; -1: none)
   int minimizations = 0;            // including undone trial steps
+  int slip_relaxations = 0;         // steps relaxed again by SlideOptions::slip_minimizer
   std::size_t gf_applications = 0;
   std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
   std::size_t filter_applications = 0;   // interface filter passes (an FFT pair each, like a GF
@@ -242,6 +249,20 @@ inline constexpr std::size_t kCycleWindow = 16;
 // Sites along each side of the block of unknowns that follows the tip: 2 H + 1, H = ceil(a/d) + 2
 // (the contact radius and two sites of margin). Snapshots are frames of this block.
 int block_side(const interface::ContactScene& scene);
+
+// One relaxation of the lateral force model, as a step of a slide makes it: the state `from` (of
+// a slide on this scene) moved to tip position Dx and minimised with options.minimizer, without
+// warm-start extrapolation. What the path tier (tests/path) and path_check use to relax one
+// and the same step with several solvers. gf_applications counts those of the relaxation and of
+// bringing the state to Dx (u = G f); slipped_sites is registry_jumps(from, state).
+struct StepRelaxation {
+  SlideFields state;
+  minimize::MinimizeResult result;
+  int slipped_sites = 0;
+  double wall_s = 0.0;
+};
+StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
+                          const SlideFields& from, double Dx);
 
 // Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
 // positions whose registry index round(s/d) (x or y) changed between the two displacement fields

@@ -1,0 +1,164 @@
+// path_check: relaxes one bracketed instability of a slide with every production solver and with
+// the reference path, the overdamped flow (MODEL.md 5, core/slide/path.hpp), and says whether
+// each ends in the flow's minimum: the same registry index on every contact site and
+// |dFx|/Fx <= 1e-4. The flow is also run at half its tolerance (its step control's own check).
+// Prints a table and writes <out>/path_check.json.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include "common/cli.hpp"
+#include "common/cli_checks.hpp"
+#include "common/output_files.hpp"
+#include "common/slide_io.hpp"
+#include "slide/path.hpp"
+
+using namespace asperity;
+
+namespace {
+
+// "lbfgs/interface", "cg", ... into minimiser options on top of `base`.
+minimize::MinimizerOptions parse_solver(const std::string& label,
+                                        const minimize::MinimizerOptions& base) {
+  minimize::MinimizerOptions m = base;
+  const auto at = label.find('@');
+  const std::string name = label.substr(0, at);
+  const auto slash = name.find('/');
+  m.method = minimize::method_from_string(name.substr(0, slash));
+  m.preconditioner = slash == std::string::npos
+                         ? minimize::Preconditioner::automatic
+                         : minimize::preconditioner_from_string(name.substr(slash + 1));
+  if (at != std::string::npos) {
+    std::size_t used = 0;
+    const std::string value = label.substr(at + 1);
+    m.flow_tolerance = std::stod(value, &used);
+    if (used != value.size() || !(m.flow_tolerance > 0.0)) {
+      throw std::invalid_argument("--solvers: '" + label + "': the flow tolerance after @");
+    }
+  }
+  return m;
+}
+
+nlohmann::json step_json(const slide::StepRelaxation& s) {
+  return {{"iterations", s.result.iterations},
+          {"gf_applications", s.result.gf_applications},
+          {"filter_applications", s.result.filter_applications},
+          {"rejected_steps", s.result.rejected_steps},
+          {"termination", to_string(s.result.termination)},
+          {"max_force", s.result.max_force},
+          {"Fx", s.state.Fx},
+          {"slipped_sites", s.slipped_sites},
+          {"wall_s", s.wall_s}};
+}
+
+nlohmann::json comparison_json(const slide::StateComparison& c) {
+  return {{"sites", c.sites},
+          {"registry_differences", c.registry_differences},
+          {"relative_Fx", c.relative_Fx},
+          {"max_du", c.max_du},
+          {"same_minimum", c.same_minimum()}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+    CLI::App cli{"Relax one instability of a slide with every solver and with the reference flow"};
+    std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
+    std::string out = "results/path_check";
+    std::optional<double> a, R, alpha, tolerance, flow_tolerance;
+    int event = 1;
+    int max_iterations = 200000, flow_max_iterations = 2000000;
+    std::vector<std::string> solvers{"lbfgs/auto", "lbfgs/elastic", "cg", "fire", "newton/auto"};
+    cli.add_option("scene", scene_path, "Scene file (TOML)")
+        ->check(CLI::ExistingFile)
+        ->capture_default_str();
+    cli.add_option("--a", a, "Contact radius (d)")->check(app::finite_number(1.0, 4096.0));
+    cli.add_option("--R", R, "Sphere radius (d)")->check(app::positive());
+    cli.add_option("--alpha", alpha, "Local friction coefficient")
+        ->check(app::finite_number(0.0, 10.0, true));
+    cli.add_option("--slip", event, "Which slip event of the slide to check (1: the first)")
+        ->check(CLI::Range(1, 10000))
+        ->capture_default_str();
+    cli.add_option("--solvers", solvers,
+                   "Solvers to compare: method[/preconditioner][@flow tolerance], e.g. "
+                   "lbfgs/interface cg flow/interface@1e-2")
+        ->capture_default_str();
+    cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
+        ->check(app::finite_number(0.0, 1.0, true));
+    cli.add_option("--flow-tolerance", flow_tolerance, "Local error of a flow step (d)")
+        ->check(app::finite_number(0.0, 0.1, true));
+    cli.add_option("--max-iterations", max_iterations, "Iteration budget of the solvers compared")
+        ->check(CLI::Range(1, 1 << 30))
+        ->capture_default_str();
+    cli.add_option("--flow-max-iterations", flow_max_iterations, "Step budget of the flow")
+        ->check(CLI::Range(1, 1 << 30))
+        ->capture_default_str();
+    cli.add_option("--out", out, "Output directory")->capture_default_str();
+    if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+    app::SlideScene s = app::read_slide_scene(scene_path);
+    if (a) s.contact.a = *a;
+    if (R) s.contact.R = *R;
+    if (alpha) s.contact.alpha = *alpha;
+    if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
+    if (flow_tolerance) s.options.minimizer.flow_tolerance = *flow_tolerance;
+    s.options.minimizer.max_iterations = max_iterations;
+    s.contact.validate();
+    s.options.validate();
+    std::vector<minimize::MinimizerOptions> list;
+    for (const auto& label : solvers)
+      list.push_back(parse_solver(label, s.options.minimizer));
+    app::ensure_directory(out);
+
+    std::fprintf(stderr, "path_check: a = %g d, R = %g d, a/b_core^0 = %.2f; bracketing slip %d\n",
+                 s.contact.a, s.contact.R, s.contact.a_over_bcore0(), event);
+    const auto at = slide::bracket_slip(s.contact, s.options, event);
+    std::fprintf(stderr, "path_check: slip %d bracketed: stable at Dx = %.6f d, slips at %.6f d\n",
+                 event, at.stable.Dx, at.slip_Dx);
+    const auto check = slide::check_path(s.contact, s.options, at, list, flow_max_iterations);
+
+    std::printf("%-16s %9s %9s %-10s %8s %9s %12s %9s %6s\n", "solver", "iter", "GF+filter", "end",
+                "slipped", "reg.diff", "|dFx|/Fx", "max|du|", "same");
+    const auto line = [](const std::string& name, const slide::StepRelaxation& st,
+                         const slide::StateComparison* c) {
+      std::printf("%-16s %9d %9zu %-10s %8d %9s %12s %9s %6s\n", name.c_str(), st.result.iterations,
+                  st.result.gf_applications + st.result.filter_applications,
+                  to_string(st.result.termination).c_str(), st.slipped_sites,
+                  c ? std::to_string(c->registry_differences).c_str() : "-",
+                  c ? (std::ostringstream{} << c->relative_Fx).str().c_str() : "-",
+                  c ? (std::ostringstream{} << c->max_du).str().c_str() : "-",
+                  c ? (c->same_minimum() ? "yes" : "NO") : "ref");
+    };
+    line("flow", check.flow, nullptr);
+    line("flow (tol/2)", check.flow_half, &check.flow_self);
+    for (const auto& row : check.rows)
+      line(row.solver, row.step, &row.against_flow);
+
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& row : check.rows) {
+      rows.push_back({{"solver", row.solver},
+                      {"step", step_json(row.step)},
+                      {"against_flow", comparison_json(row.against_flow)}});
+    }
+    const nlohmann::json j{{"a", s.contact.a},
+                           {"R", s.contact.R},
+                           {"alpha", s.contact.alpha},
+                           {"a_over_bcore0", s.contact.a_over_bcore0()},
+                           {"slip_event", event},
+                           {"stable_Dx", at.stable.Dx},
+                           {"slip_Dx", at.slip_Dx},
+                           {"force_tolerance", s.options.minimizer.force_tolerance},
+                           {"flow_tolerance", s.options.minimizer.flow_tolerance},
+                           {"flow", step_json(check.flow)},
+                           {"flow_half_tolerance", step_json(check.flow_half)},
+                           {"flow_half_against_flow", comparison_json(check.flow_self)},
+                           {"solvers", rows},
+                           {"provenance", app::provenance_json()}};
+    const auto path = std::filesystem::path(out) / "path_check.json";
+    app::write_json(path, j);
+    std::fprintf(stderr, "path_check: wrote %s\n", path.c_str());
+    return 0;
+  });
+}

@@ -1,0 +1,115 @@
+// Path checks against the overdamped flow (path.hpp, MODEL.md 5).
+#include "slide/path.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+namespace asperity::slide {
+
+Instability bracket_slip(const interface::ContactScene& scene, SlideOptions options, int event) {
+  if (event < 1) throw std::invalid_argument("bracket_slip: event must be >= 1");
+  options.protocol = Protocol::adaptive;
+  options.replay_cycle = false;  // a replayed slip has no bracket
+  options.slips_to_stop = std::max(options.slips_to_stop, event);
+  std::optional<SlideState> bracket;
+  int slips = 0;
+  SlideControl control;
+  control.checkpoint_every_s = 0.0;  // after every step: the bracket is seen at the loop's top
+  control.checkpoint = [&](const SlideState& st) {
+    slips = st.partial.slip_events;
+    if (st.partial.slip_events == event - 1 && std::isfinite(st.slip_at) &&
+        st.slip_at - st.current.Dx <= options.min_step * (1.0 + 1e-9)) {
+      bracket = st;
+    }
+  };
+  control.stop_requested = [&] { return slips >= event; };
+  DiscardFrames discard;
+  control.frames = &discard;
+  SlideResult r = slide(scene, options, control);
+  if (r.slip_events < event || !bracket) {
+    throw std::runtime_error("bracket_slip: the slide reached " + std::to_string(r.slip_events) +
+                             " slip events (" + r.stop_reason + "), not slip " +
+                             std::to_string(event));
+  }
+  Instability out;
+  out.stable = bracket->current;
+  out.slip_Dx = bracket->slip_at;
+  out.event = event;
+  out.slide = std::move(r);
+  return out;
+}
+
+StateComparison compare_states(const interface::ContactScene& scene, const SlideFields& a,
+                               const SlideFields& b) {
+  const int side = block_side(scene), half = (side - 1) / 2;
+  const std::size_t n = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+  if (a.shift != b.shift || std::abs(a.Dx - b.Dx) > 1e-12 * scene.d || a.u.size() != 2 * n ||
+      b.u.size() != 2 * n) {
+    throw std::invalid_argument("compare_states: states at Dx " + std::to_string(a.Dx) + " and " +
+                                std::to_string(b.Dx) + " (shifts " + std::to_string(a.shift) +
+                                ", " + std::to_string(b.shift) +
+                                "): allowed: the same tip position and block of this scene");
+  }
+  interface::LateralForceModel lfm(scene, LatticeBlock{Shape2{side, side}, a.shift - half, -half});
+  lfm.set_tip(a.Dx);
+  StateComparison c;
+  c.Fx_a = a.Fx;
+  c.Fx_b = b.Fx;
+  c.relative_Fx = std::abs(a.Fx - b.Fx) / std::max(std::abs(b.Fx), 1e-300);
+  const double d = scene.d;
+  for (std::size_t i : lfm.contact_sites()) {
+    ++c.sites;
+    c.max_du = std::max({c.max_du, std::abs(a.u[i] - b.u[i]), std::abs(a.u[n + i] - b.u[n + i])});
+    if (std::lround(lfm.sx(i, a.u[i]) / d) != std::lround(lfm.sx(i, b.u[i]) / d) ||
+        std::lround(lfm.sy(i, a.u[n + i]) / d) != std::lround(lfm.sy(i, b.u[n + i]) / d)) {
+      ++c.registry_differences;
+    }
+  }
+  return c;
+}
+
+std::string solver_label(const minimize::MinimizerOptions& m) {
+  std::string s = minimize::to_string(m.method);
+  if (m.method == minimize::Method::lbfgs || m.method == minimize::Method::newton ||
+      m.method == minimize::Method::flow) {
+    s.push_back('/');
+    s.append(minimize::to_string(m.preconditioner));
+  }
+  if (m.method == minimize::Method::flow) {
+    char tol[32];
+    std::snprintf(tol, sizeof tol, "@%g", m.flow_tolerance);
+    s.append(tol);
+  }
+  return s;
+}
+
+PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& options,
+                     const Instability& at, const std::vector<minimize::MinimizerOptions>& solvers,
+                     int flow_max_iterations) {
+  PathCheck out;
+  out.instability = at;
+  SlideOptions flow = options;
+  flow.minimizer.method = minimize::Method::flow;
+  flow.minimizer.max_iterations = flow_max_iterations;
+  out.flow = relax_step(scene, flow, at.stable, at.slip_Dx);
+  flow.minimizer.flow_tolerance *= 0.5;
+  out.flow_half = relax_step(scene, flow, at.stable, at.slip_Dx);
+  out.flow_self = compare_states(scene, out.flow_half.state, out.flow.state);
+  for (const auto& m : solvers) {
+    SlideOptions o = options;
+    o.minimizer = m;
+    PathCheckRow row;
+    row.solver = solver_label(m);
+    row.step = relax_step(scene, o, at.stable, at.slip_Dx);
+    row.slipped = row.step.slipped_sites > 0;
+    row.against_flow = compare_states(scene, row.step.state, out.flow.state);
+    out.rows.push_back(std::move(row));
+  }
+  return out;
+}
+
+}  // namespace asperity::slide
