@@ -125,3 +125,41 @@ INSTANTIATE_TEST_SUITE_P(Cases, PathTierProduction,
                                            Case{"RegimeIII_a28_R40_third", 28.0, 40.0, 3},
                                            Case{"Crossover_a46_R100", 46.0, 100.0, 1}),
                          [](const auto& p) { return std::string(p.param.name); });
+
+// SlideOptions::slip_minimizer in a slide: the first slip the slide accepts ends where the slip
+// minimiser, relaxing the same bracketed step on its own, ends (the protocol takes its end state,
+// not the default solver's, which differs here by 20 sites: Regime III, a = 28 d, R = 40 d).
+TEST(SlipMinimizer, TheSlideTakesTheFaithfulEndState) {
+  const interface::ContactScene scene{.a = 28.0, .R = 40.0};
+  slide::SlideOptions options;
+  options.slip_minimizer = solver(M::flow, P::interface);
+  int slips = 0;
+  slide::SlideControl control;
+  control.progress = [&](const slide::SlideProgressInfo& p) { slips = p.slip_events; };
+  control.stop_requested = [&] { return slips >= 1; };
+  const auto r = slide::slide(scene, options, control);
+  ASSERT_GE(r.slip_events, 1);
+  EXPECT_GE(r.slip_relaxations, 1);
+  const slide::Snapshot* after = nullptr;
+  for (const auto& s : r.snapshots) {
+    if (s.label == "slip_001_after") after = &s;
+  }
+  ASSERT_NE(after, nullptr);
+  // The same bracket, found by the default solver's bisection, relaxed by the slip minimiser.
+  const auto at = slide::bracket_slip(scene, slide::SlideOptions{}, 1);
+  ASSERT_DOUBLE_EQ(at.slip_Dx, after->Dx);
+  slide::SlideOptions faithful;
+  faithful.minimizer = *options.slip_minimizer;
+  const auto alone = slide::relax_step(scene, faithful, at.stable, at.slip_Dx);
+  slide::SlideFields in_slide = alone.state;
+  std::copy(after->ux.begin(), after->ux.end(), in_slide.u.begin());
+  std::copy(after->uy.begin(), after->uy.end(),
+            in_slide.u.begin() + static_cast<std::ptrdiff_t>(after->ux.size()));
+  in_slide.Fx = after->Fx;
+  const auto c = slide::compare_states(scene, in_slide, alone.state);
+  EXPECT_EQ(c.registry_differences, 0);
+  EXPECT_LE(c.relative_Fx, 1e-9);
+  // And the default solver's own end state is another minimum: the test can tell them apart.
+  const auto fast = slide::relax_step(scene, slide::SlideOptions{}, at.stable, at.slip_Dx);
+  EXPECT_GT(slide::compare_states(scene, fast.state, alone.state).registry_differences, 0);
+}
