@@ -14,6 +14,7 @@
 #include "common/output_files.hpp"
 #include "common/slide_io.hpp"
 #include "slide/path.hpp"
+#include "tracking/lines.hpp"
 
 using namespace asperity;
 
@@ -51,6 +52,31 @@ nlohmann::json step_json(const slide::StepRelaxation& s) {
           {"Fx", s.state.Fx},
           {"slipped_sites", s.slipped_sites},
           {"wall_s", s.wall_s}};
+}
+
+// Dislocation lines of an end state (MODEL.md 7, tracking/): loops inside the contact and
+// lines open at its edge.
+struct Loops {
+  int loops = 0, open = 0;
+  double loop_area = 0.0;  // d^2
+};
+Loops loops_of(const interface::ContactScene& scene, const slide::SlideFields& state) {
+  const auto snap = slide::snapshot_of(scene, state, "end");
+  const auto lines = tracking::find_lines(tracking::view_of(snap));
+  Loops l;
+  for (const auto& line : lines.lines) {
+    if (line.kind == tracking::LineKind::loop) {
+      ++l.loops;
+      l.loop_area += line.area;
+    } else if (line.kind == tracking::LineKind::open) {
+      ++l.open;
+    }
+  }
+  return l;
+}
+
+nlohmann::json loops_json(const Loops& l) {
+  return {{"loops", l.loops}, {"loop_area", l.loop_area}, {"open_lines", l.open}};
 }
 
 nlohmann::json comparison_json(const slide::StateComparison& c) {
@@ -119,17 +145,19 @@ int main(int argc, char** argv) {
                  event, at.stable.Dx, at.slip_Dx);
     const auto check = slide::check_path(s.contact, s.options, at, list, flow_max_iterations);
 
-    std::printf("%-16s %9s %9s %-10s %8s %9s %12s %9s %6s\n", "solver", "iter", "GF+filter", "end",
-                "slipped", "reg.diff", "|dFx|/Fx", "max|du|", "same");
-    const auto line = [](const std::string& name, const slide::StepRelaxation& st,
-                         const slide::StateComparison* c) {
-      std::printf("%-16s %9d %9zu %-10s %8d %9s %12s %9s %6s\n", name.c_str(), st.result.iterations,
-                  st.result.gf_applications + st.result.filter_applications,
+    std::printf("%-16s %9s %9s %-10s %8s %9s %12s %9s %6s %s\n", "solver", "iter", "GF+filter",
+                "end", "slipped", "reg.diff", "|dFx|/Fx", "max|du|", "same",
+                "loops (area d^2), open lines");
+    const auto line = [&](const std::string& name, const slide::StepRelaxation& st,
+                          const slide::StateComparison* c) {
+      const Loops l = loops_of(s.contact, st.state);
+      std::printf("%-16s %9d %9zu %-10s %8d %9s %12s %9s %6s %d (%.0f), %d\n", name.c_str(),
+                  st.result.iterations, st.result.gf_applications + st.result.filter_applications,
                   to_string(st.result.termination).c_str(), st.slipped_sites,
                   c ? std::to_string(c->registry_differences).c_str() : "-",
                   c ? (std::ostringstream{} << c->relative_Fx).str().c_str() : "-",
                   c ? (std::ostringstream{} << c->max_du).str().c_str() : "-",
-                  c ? (c->same_minimum() ? "yes" : "NO") : "ref");
+                  c ? (c->same_minimum() ? "yes" : "NO") : "ref", l.loops, l.loop_area, l.open);
     };
     line("flow", check.flow, nullptr);
     line("flow (tol/2)", check.flow_half, &check.flow_self);
@@ -140,6 +168,7 @@ int main(int argc, char** argv) {
     for (const auto& row : check.rows) {
       rows.push_back({{"solver", row.solver},
                       {"step", step_json(row.step)},
+                      {"lines", loops_json(loops_of(s.contact, row.step.state))},
                       {"against_flow", comparison_json(row.against_flow)}});
     }
     const nlohmann::json j{{"a", s.contact.a},
@@ -152,6 +181,7 @@ int main(int argc, char** argv) {
                            {"force_tolerance", s.options.minimizer.force_tolerance},
                            {"flow_tolerance", s.options.minimizer.flow_tolerance},
                            {"flow", step_json(check.flow)},
+                           {"flow_lines", loops_json(loops_of(s.contact, check.flow.state))},
                            {"flow_half_tolerance", step_json(check.flow_half)},
                            {"flow_half_against_flow", comparison_json(check.flow_self)},
                            {"solvers", rows},

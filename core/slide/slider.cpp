@@ -402,6 +402,17 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
   return count;
 }
 
+Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& state,
+                     std::string label) {
+  scene.validate();
+  Slider model(scene, SlideOptions{});
+  if (const std::string why = model.check_fields(state); !why.empty()) {
+    throw std::invalid_argument("snapshot_of: the state's fields do not fit this scene: " +
+                                std::to_string(state.u.size()) + " values, allowed: " + why);
+  }
+  return model.snapshot(state, std::move(label));
+}
+
 StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
                           const SlideFields& from, double Dx) {
   scene.validate();

@@ -264,6 +264,11 @@ struct StepRelaxation {
 StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
                           const SlideFields& from, double Dx);
 
+// The snapshot (frames.hpp) of a state of a slide on this scene, as the slide would hand it
+// over: for path checks and tools that look at states made by relax_step.
+Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& state,
+                     std::string label);
+
 // Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
 // positions whose registry index round(s/d) (x or y) changed between the two displacement fields
 // (2 per block site, x then y, both on this block) by a jump of at least d/4 in that component.
