@@ -198,11 +198,24 @@ int main(int argc, char** argv) {
     // One run per output directory, for the whole run (its checkpoint is read under the lock).
     const app::DirectoryLock dir_lock(app::ensure_directory(out));
 
-    if (model == "explicit" && slip_solver) {
-      throw std::invalid_argument(
-          "--slip-solver: not available with --model explicit yet (the path tier covers the "
-          "lateral force model)");
-    }
+    // --slip-solver on a slide's options, after --solver and --tolerance: the slip minimiser is
+    // the slide's minimiser with another method (and the preconditioner the scene gave it).
+    const auto apply_slip_solver = [&](slide::SlideOptions& o) {
+      if (!slip_solver) {
+        if (o.slip_minimizer && tolerance) o.slip_minimizer->force_tolerance = *tolerance;
+        return;
+      }
+      if (*slip_solver == "same") {
+        o.slip_minimizer.reset();
+        return;
+      }
+      const auto pre =
+          o.slip_minimizer ? o.slip_minimizer->preconditioner : minimize::Preconditioner::interface;
+      o.slip_minimizer = o.minimizer;
+      o.slip_minimizer->method = minimize::method_from_string(*slip_solver);
+      o.slip_minimizer->preconditioner = pre;
+      o.slip_minimizer->max_iterations = std::max(o.minimizer.max_iterations, 2000000);
+    };
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(
           "--preconditioner: not available with --model explicit (the interface filter belongs "
@@ -213,7 +226,8 @@ int main(int argc, char** argv) {
       // only make sense for a slide are rejected rather than ignored.
       for (const auto& [flag, given] :
            {std::pair{"--alpha", alpha.has_value()}, std::pair{"--distance", distance.has_value()},
-            std::pair{"--protocol", protocol.has_value()}, std::pair{"--resume", resume}}) {
+            std::pair{"--protocol", protocol.has_value()}, std::pair{"--resume", resume},
+            std::pair{"--slip-solver", slip_solver.has_value()}}) {
         if (given) {
           throw std::invalid_argument(
               std::string(flag) +
@@ -289,6 +303,7 @@ int main(int argc, char** argv) {
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
+      apply_slip_solver(e.slide.options);
       c.validate();
       e.model.validate();
       e.slide.options.validate();
@@ -384,21 +399,7 @@ int main(int argc, char** argv) {
     }
     if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
     if (threads) s.options.fft.threads = *threads;
-    if (slip_solver) {
-      if (*slip_solver == "same") {
-        s.options.slip_minimizer.reset();
-      } else {
-        const auto slip_pre = s.options.slip_minimizer ? s.options.slip_minimizer->preconditioner
-                                                       : minimize::Preconditioner::interface;
-        s.options.slip_minimizer = s.options.minimizer;
-        s.options.slip_minimizer->method = minimize::method_from_string(*slip_solver);
-        s.options.slip_minimizer->preconditioner = slip_pre;
-        s.options.slip_minimizer->max_iterations =
-            std::max(s.options.minimizer.max_iterations, 2000000);
-      }
-    } else if (s.options.slip_minimizer && tolerance) {
-      s.options.slip_minimizer->force_tolerance = *tolerance;
-    }
+    apply_slip_solver(s.options);
     const auto method = s.options.minimizer.method;
     if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
         (method == minimize::Method::cg || method == minimize::Method::fire)) {

@@ -52,6 +52,12 @@ check $cs "solver.max_iterations" "$(scene s20 <<<$'[solver]\nmax_iterations = 0
 check $cs "solver.memory" "$(scene s21 <<<$'[solver]\nmemory = 0')"
 check $cs "solver.max_displacement" "$(scene s22 <<<$'[solver]\nmax_displacement = 1')"
 check $cs "solver.preconditioner" "$(scene s22b <<<$'[solver]\npreconditioner = "jacobi"')"
+check $cs "solver.flow_tolerance" "$(scene s22c <<<$'[solver]\nflow_tolerance = 0')"
+check $cs "solver.flow_scheme" "$(scene s22d <<<$'[solver]\nflow_scheme = "rk4"')"
+check $cs "solver.slip_method" "$(scene s22e <<<$'[solver]\nslip_method = "bfgs"')"
+check $cs "solver.slip_preconditioner" "$(scene s22f <<<$'[solver]\nslip_preconditioner = "x"')"
+check $cs "--slip-solver" --slip-solver bfgs
+check $cs "--slip-solver" --model explicit --slip-solver flow
 check $cs "fft.threads" "$(scene s23 <<<$'[fft]\nthreads = 0')"
 check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
 check $cs "s25.toml:2" "$(scene s25 <<<$'[contact]\na = = 3')"
