@@ -25,7 +25,12 @@ minimize::MinimizerOptions parse_solver(const std::string& label,
                                         const minimize::MinimizerOptions& base) {
   minimize::MinimizerOptions m = base;
   const auto at = label.find('@');
-  const std::string name = label.substr(0, at);
+  std::string name = label.substr(0, at);
+  // "+reset": lbfgs or newton with MinimizerOptions::curvature_reset (experimental).
+  if (const auto plus = name.find("+reset"); plus != std::string::npos) {
+    m.curvature_reset = true;
+    name.erase(plus);
+  }
   const auto slash = name.find('/');
   m.method = minimize::method_from_string(name.substr(0, slash));
   m.preconditioner = slash == std::string::npos

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -611,6 +612,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   // iteration allocates no vector (three of 13 MB each per iteration at a = 510 d).
   Pair spare;
   std::vector<double> du(n), df(n), q(n), z(n), alpha_coef;
+  std::vector<std::uint8_t> unstable_half;  // curvature_reset: sites in the unstable half
   // H0 = G M with the interface filter M (quasi-Newton methods only: CG is the classic
   // reference, and FIRE's dynamics are defined by G).
   const bool quasi_newton = options.method == Method::lbfgs || options.method == Method::newton;
@@ -965,6 +967,27 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       }
     }
     std::swap(x, trial);
+    if (quasi_newton && options.curvature_reset) {
+      // Experimental (issue 21): forget the pairs when a site enters or leaves the unstable half
+      // of its well, so that no curvature measured before a site snapped steers the steps after.
+      problem.curvature(x.u, z);
+      bool changed = false;
+      if (unstable_half.size() != n) {
+        unstable_half.assign(n, 0);
+        changed = true;
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint8_t neg = z[i] < 0.0 ? 1 : 0;
+        if (neg != unstable_half[i]) {
+          unstable_half[i] = neg;
+          changed = true;
+        }
+      }
+      if (changed) {
+        memory.clear();
+        ++res.memory_resets;
+      }
+    }
     if (observer && observer(it + 1, x.u, x.f)) {
       res.termination = Termination::interrupted;
       ++it;

@@ -88,6 +88,9 @@ struct MinimizerOptions {
   // distance from a well's bottom to its unstable half.
   double flow_tolerance = 1e-3;
   FlowScheme flow_scheme = FlowScheme::rkc;  // flow: the integrator (see above)
+  // lbfgs, newton: clear the pairs whenever a site enters or leaves the unstable half of its
+  // well (experimental, issue 21: measured by the path tier, docs/solvers.md).
+  bool curvature_reset = false;
 
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
@@ -109,6 +112,7 @@ struct MinimizeResult {
   double max_force = 0.0;               // max |r_i| at the end
   int escapes = 0;                      // unstable states left
   int rejected_steps = 0;               // flow: steps the error control rejected (in iterations)
+  int memory_resets = 0;                // curvature_reset: times the pairs were cleared
   // Lowest eigenvalue of G + G H_int G at the final state if the Lanczos check ran, else NaN;
   // >= 0 means stable.
   double lowest_eigenvalue = 0.0;

@@ -79,6 +79,7 @@ std::string solver_label(const minimize::MinimizerOptions& m) {
     s.push_back('/');
     s.append(minimize::to_string(m.preconditioner));
   }
+  if (m.curvature_reset) s.append("+reset");
   if (m.method == minimize::Method::flow) {
     char tol[32];
     std::snprintf(tol, sizeof tol, "@%g", m.flow_tolerance);
