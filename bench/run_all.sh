@@ -14,3 +14,5 @@ bash bench/run_peierls.sh "$build"
 bash bench/run_scaling.sh "$build"
 bash bench/run_work_precision.sh "$build"
 bash bench/run_explicit.sh "$build"
+# Not here: bench/run_path_tier.sh (every solver against the reference flow, about 2 hours and
+# more for the large scenes); it prints its table for docs/benchmarks.md and resumes.
