@@ -12,15 +12,16 @@
 //   F(f) = f - f_int(G f) = 0 with J v = v + H_int G v (one GF application per product). Newton
 //   finds any stationary point, so the stability check below is what keeps it on minima.
 // - flow: the reference path of MODEL.md section 5, the overdamped gradient flow du/dt = -G r
-//   (df/dt = -r: the pair stays exact), integrated by explicit Euler with the embedded error
-//   estimate of ODE12r (Makri, Ortner & Kermode, J. Chem. Phys. 150, 094109, 2019): the local
-//   error of a step h is e = h/2 max_i |(G r)_i(new) - (G r)_i(old)| (the Euler-Heun difference),
-//   and a step is accepted only if e <= flow_tolerance; h then grows or shrinks as
-//   sqrt(tolerance / e). Unlike ODE12r no step is accepted on a falling residual alone: the
-//   flow is the answer, not a way to it. One GF application per step (the new G r is the next
-//   step's slope). Slow (tens of times the iterations of lbfgs through a slip), but it defines
-//   which minimum an instability falls into; the path tier (tests/path) holds the other methods
-//   to it.
+//   (df/dt = -r: the pair stays exact), integrated under error control: a step is kept only if
+//   its local error (largest displacement of a site) is within flow_tolerance and the energy has
+//   not risen. flow_scheme rkc (default): second-order Runge-Kutta-Chebyshev, stages chosen for
+//   stability, steps for accuracy; euler: explicit Euler with the error estimate of ODE12r
+//   (Makri, Ortner & Kermode, J. Chem. Phys. 150, 094109, 2019), without ODE12r's acceptance on
+//   a falling residual: the flow is the answer, not a way to it (details in minimizer.cpp,
+//   class Flow). With preconditioner = interface the mobility is G M (the flow in the interface
+//   filter's metric): not the reference, but cheaper. Slower than lbfgs through a slip (3-10x
+//   the FFT passes, docs/solvers.md), it defines which minimum an instability falls into; the
+//   path tier (tests/path) holds the other methods to it.
 // Every method descends in energy (line searches accept no energy rise beyond round-off; FIRE
 // stops and restarts when the power turns negative) and caps the largest displacement of an
 // iteration, so that a state at an instability falls into the next minimum, not a distant one.

@@ -262,10 +262,14 @@ TEST(Minimizer, FlowEndsInTheMinimumOfItsBasin) {
   while (!(stationary[top] > 0.0 && p.slope(stationary[top] - 1e-6) > 0.0))
     ++top;
   const double u0 = stationary[top] + 1e-3, expected = stationary[top + 1];
-  for (double tolerance : {1e-3, 1e-4}) {
+  for (auto [scheme, tolerance] :
+       {std::pair{minimize::FlowScheme::rkc, 1e-3}, std::pair{minimize::FlowScheme::rkc, 1e-4},
+        std::pair{minimize::FlowScheme::euler, 1e-3},
+        std::pair{minimize::FlowScheme::euler, 1e-4}}) {
     std::vector<double> u{u0}, f{u0 / p.g};
     minimize::MinimizerOptions o{.method = minimize::Method::flow, .force_tolerance = 1e-10};
     o.flow_tolerance = tolerance;
+    o.flow_scheme = scheme;
     o.max_iterations = 200000;
     o.max_displacement = 0.5;
     const auto r = minimize::minimize(p, u, f, o);
@@ -273,8 +277,9 @@ TEST(Minimizer, FlowEndsInTheMinimumOfItsBasin) {
     EXPECT_NEAR(u[0], expected, 1e-9) << "flow tolerance " << tolerance;
     EXPECT_EQ(r.gf_applications, p.applications);
     p.applications = 0;
-    std::printf("flow tolerance %g: %d steps (%d rejected), u = %.12f\n", tolerance, r.iterations,
-                r.rejected_steps, u[0]);
+    std::printf("flow (%s) tolerance %g: %d steps (%d rejected), %zu GF, u = %.12f\n",
+                minimize::to_string(scheme).c_str(), tolerance, r.iterations, r.rejected_steps,
+                r.gf_applications, u[0]);
   }
   // An unguarded Euler step of the size of the slope leaves the basin: the control is needed.
   {
@@ -293,4 +298,7 @@ TEST(Minimizer, FlowRejectsBadTolerance) {
   EXPECT_THROW(minimize::MinimizerOptions{.flow_tolerance = 0.0}.validate(), std::invalid_argument);
   EXPECT_EQ(minimize::method_from_string("flow"), minimize::Method::flow);
   EXPECT_EQ(minimize::to_string(minimize::Method::flow), "flow");
+  for (auto scheme : {minimize::FlowScheme::rkc, minimize::FlowScheme::euler})
+    EXPECT_EQ(minimize::flow_scheme_from_string(minimize::to_string(scheme)), scheme);
+  EXPECT_THROW(minimize::flow_scheme_from_string("rk45"), std::invalid_argument);
 }
