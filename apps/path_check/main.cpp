@@ -139,8 +139,12 @@ int main(int argc, char** argv) {
     s.contact.validate();
     s.options.validate();
     std::vector<minimize::MinimizerOptions> list;
-    for (const auto& label : solvers)
+    for (const auto& label : solvers) {
       list.push_back(parse_solver(label, s.options.minimizer));
+      if (list.back().method == minimize::Method::flow) {
+        list.back().max_iterations = flow_max_iterations;
+      }
+    }
     app::ensure_directory(out);
 
     std::fprintf(stderr, "path_check: a = %g d, R = %g d, a/b_core^0 = %.2f; bracketing slip %d\n",

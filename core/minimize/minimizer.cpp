@@ -235,9 +235,11 @@ bool newton_finish(Problem& problem, Point& x, const MinimizerOptions& options) 
 //   filter: the Jacobian of df/dt) every 25 steps and after a rejection, with a margin of 1.2.
 //   Local error (their eq. 2.14): (12 (y_n - y_n+1) + 6 h (F_n + F_n+1)) / 15.
 // Both accept a step only if its local error (largest displacement of a site, d) is within the
-// tolerance and the energy has not risen (the flow descends); euler also requires that the energy
-// still falls at the end of the step, which keeps it below its stability limit near a minimum
-// (rkc damps there by construction).
+// tolerance. rkc also rejects a step that raises the energy (the flow descends); euler instead
+// requires that the energy still falls at the end of the step (r_new . G P r >= 0), which also
+// keeps it below its stability limit near a minimum (rkc damps there by construction). euler
+// caps a step's largest displacement at max_displacement; rkc does not: its error control bounds
+// a step.
 class Flow {
  public:
   enum class Outcome { accepted, rejected, stationary, failed };
@@ -273,7 +275,10 @@ class Flow {
     }
     const double pmax = max_abs(Fu_);
     if (!(pmax > 0.0)) return Outcome::stationary;
-    if (step_ <= 0.0) step_ = std::sqrt(2.0 * o_.flow_tolerance / pmax);
+    // First step: the Euler error h^2/2 |d(G r)/dt| with d(G r)/dt ~ G r; at most 1, the
+    // relaxation time of the half-space alone (flow time is dimensionless: G K = I), so that a
+    // start near equilibrium does not begin with hundreds of stages.
+    if (step_ <= 0.0) step_ = std::min(1.0, std::sqrt(2.0 * o_.flow_tolerance / pmax));
     return o_.flow_scheme == FlowScheme::euler ? euler(x, trial, pmax) : rkc(x, trial);
   }
 
@@ -414,7 +419,9 @@ class Flow {
       err = std::max(err, std::abs(12.0 * (x.u[i] - trial.u[i]) - 6.0 * h * (Fu_[i] + Fu_new_[i])));
     }
     err /= 15.0;
-    if (!std::isfinite(trial.e) || !std::isfinite(err)) return Outcome::failed;
+    // A non-finite stage is most likely an underestimated spectral radius (the stages then grow
+    // without bound): a rejected step, with rho estimated again.
+    if (!std::isfinite(trial.e) || !std::isfinite(err)) err = 1e300;
     const bool rises = trial.e > x.e + energy_slack(x.e);
     const bool accepted = err <= o_.flow_tolerance && !rises;
     const double factor = err > 0.0 ? 0.8 * std::cbrt(o_.flow_tolerance / err) : 10.0;
@@ -972,10 +979,8 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       // of its well, so that no curvature measured before a site snapped steers the steps after.
       problem.curvature(x.u, z);
       bool changed = false;
-      if (unstable_half.size() != n) {
-        unstable_half.assign(n, 0);
-        changed = true;
-      }
+      const bool first = unstable_half.size() != n;  // nothing to compare with yet
+      if (first) unstable_half.assign(n, 0);
       for (std::size_t i = 0; i < n; ++i) {
         const std::uint8_t neg = z[i] < 0.0 ? 1 : 0;
         if (neg != unstable_half[i]) {
@@ -983,7 +988,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
           changed = true;
         }
       }
-      if (changed) {
+      if (changed && !first) {
         memory.clear();
         ++res.memory_resets;
       }

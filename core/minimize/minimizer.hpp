@@ -24,7 +24,8 @@
 //   path tier (tests/path) holds the other methods to it.
 // Every method descends in energy (line searches accept no energy rise beyond round-off; FIRE
 // stops and restarts when the power turns negative) and caps the largest displacement of an
-// iteration, so that a state at an instability falls into the next minimum, not a distant one.
+// iteration (the flow with rkc: its error control instead), so that a state at an instability
+// falls into the next minimum, not a distant one.
 // After convergence the state is checked for stability, when some interface curvature is
 // negative (otherwise K + H_int > 0 holds trivially), in one of two ways:
 // - perturb (default): a random push of 1e-5 d (a force field f' with u' = G f') and a second

@@ -22,7 +22,7 @@ Instability bracket_slip(const interface::ContactScene& scene, SlideOptions opti
   control.checkpoint = [&](const SlideState& st) {
     slips = st.partial.slip_events;
     if (st.partial.slip_events == event - 1 && std::isfinite(st.slip_at) &&
-        st.slip_at - st.current.Dx <= options.min_step * (1.0 + 1e-9)) {
+        st.slip_at - st.current.Dx <= options.min_step * 1.0001) {
       bracket = st;
     }
   };
@@ -90,16 +90,19 @@ std::string solver_label(const minimize::MinimizerOptions& m) {
 
 PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& options,
                      const Instability& at, const std::vector<minimize::MinimizerOptions>& solvers,
-                     int flow_max_iterations) {
+                     int flow_max_iterations, bool halve) {
   PathCheck out;
   out.instability = at;
   SlideOptions flow = options;
   flow.minimizer.method = minimize::Method::flow;
+  flow.minimizer.preconditioner = minimize::Preconditioner::elastic;  // the reference: G
   flow.minimizer.max_iterations = flow_max_iterations;
   out.flow = relax_step(scene, flow, at.stable, at.slip_Dx);
-  flow.minimizer.flow_tolerance *= 0.5;
-  out.flow_half = relax_step(scene, flow, at.stable, at.slip_Dx);
-  out.flow_self = compare_states(scene, out.flow_half.state, out.flow.state);
+  if (halve) {
+    flow.minimizer.flow_tolerance *= 0.5;
+    out.flow_half = relax_step(scene, flow, at.stable, at.slip_Dx);
+    out.flow_self = compare_states(scene, out.flow_half.state, out.flow.state);
+  }
   for (const auto& m : solvers) {
     SlideOptions o = options;
     o.minimizer = m;

@@ -64,9 +64,10 @@ struct PathCheck {
 // flow_tolerance and flow_tolerance / 2, up to flow_max_iterations steps: through a slip the
 // flow takes tens of times the iterations of lbfgs) and with each of `solvers` (minimiser
 // settings; the other options as given), and compares each end state with the flow's.
+// halve = false skips the flow at half its tolerance (flow_half and flow_self stay empty).
 PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& options,
                      const Instability& at, const std::vector<minimize::MinimizerOptions>& solvers,
-                     int flow_max_iterations = 2'000'000);
+                     int flow_max_iterations = 2'000'000, bool halve = true);
 
 // "lbfgs/interface", "cg", ...: the method, and for lbfgs and newton the preconditioner.
 std::string solver_label(const minimize::MinimizerOptions& m);

@@ -213,7 +213,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // converge, or the relaxed state has non-finite forces or energy. Empty if it can. The message
   // names the step and the parameters needed to reproduce it.
   const auto failure = [&](const minimize::MinimizeResult& r, const State& s, double Dx,
-                           double from) -> std::string {
+                           double from,
+                           const minimize::MinimizerOptions* solver = nullptr) -> std::string {
+    const minimize::MinimizerOptions& m = solver ? *solver : options.minimizer;
     const char* what = nullptr;
     if (r.termination != Termination::converged) {
       what = "";
@@ -230,9 +232,8 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   "%d iterations, max force %.3g, energy %.9g; %s, tolerance %g, max "
                   "iterations %d)",
                   what, to_string(r.termination).c_str(), Dx, res.steps + 1, from, Dx - from,
-                  r.iterations, r.max_force, r.energy,
-                  minimize::to_string(options.minimizer.method).c_str(),
-                  options.minimizer.force_tolerance, options.minimizer.max_iterations);
+                  r.iterations, r.max_force, r.energy, minimize::to_string(m.method).c_str(),
+                  m.force_tolerance, m.max_iterations);
     return buf;
   };
 
@@ -574,7 +575,7 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
     may_abandon = false;
     if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
-    count(r);
+    const minimize::MinimizerOptions* solver = &options.minimizer;  // the one whose result is r
     // A slip the minimiser would accept is relaxed again by the slip minimiser, if there is one
     // (SlideOptions::slip_minimizer), from the state moved to Dx without the warm start: where the
     // state goes after an instability, and whether the step is one, is the flow's to say
@@ -584,23 +585,30 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // there. Probes of the cycle are dropped when they slip, so they are left alone.
     if (options.slip_minimizer && !cycle_of && !may_undo &&
         failure(r, trial, Dx, state.Dx).empty() && model.slipped_sites(state, trial) > 0) {
+      const auto fast = r;
       trial = state;
       frames.clear();
       report(SlidePhase::slip, Dx);
       may_abandon = true;
       r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false, &*options.slip_minimizer);
       may_abandon = false;
+      // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
       if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
-      count(r);
+      count(fast);
+      solver = &*options.slip_minimizer;
       ++res.slip_relaxations;
+      // The step's row carries the cost of both relaxations.
+      r.iterations += fast.iterations;
+      r.gf_applications += fast.gf_applications;
     }
+    count(r);
     // A probe that failed or slipped did not find the cycle (nor one that differs, below).
     if (cycle_of && !failure(r, trial, Dx, state.Dx).empty()) continue;
     if (may_undo && r.termination == Termination::interrupted) {
       slip_at = Dx;  // slipped: bisect towards the instability
       continue;
     }
-    if (const std::string why = failure(r, trial, Dx, state.Dx); !why.empty()) {
+    if (const std::string why = failure(r, trial, Dx, state.Dx, solver); !why.empty()) {
       // The trial is dropped; the last accepted state is kept as a checkpoint (resumable) and
       // as snapshot "last_good".
       if (control.checkpoint) control.checkpoint(capture(false));

@@ -86,10 +86,11 @@ class Slider {
     gather(s.u, u);
     gather(s.f, f);
     // A trial step that is to be undone if it slips is stopped as soon as a site has moved by
-    // 3/4 d: the slip is certain, and relaxing it fully would be wasted. Not d/2, the slip test
-    // on the relaxed state: the path of a relaxation may overshoot (seen after a 0.4 d step
-    // with the interface filter, which ended without a slip), and a false alarm costs a
-    // bisection.
+    // 3/4 d: the slip is certain, and relaxing it fully would be wasted. Not less (the former
+    // slip test was d/2): the path of a relaxation may overshoot (seen after a 0.4 d step with
+    // the interface filter, which ended without a slip), and a false alarm costs a bisection.
+    // A core gliding by a spacing moves no site that far: such a trial is relaxed fully and
+    // the slip test on the relaxed state (registry_jumps) catches it.
     const std::vector<double> u_start = u;
     const bool record = frames != nullptr && options_.path_frame_every > 0;
     minimize::Observer observer;
@@ -195,7 +196,8 @@ class Slider {
   // registry index (round(s_x / d), round(s_y / d), s = X + u - (Dx, 0)) changed while it was
   // in the contact at both tip positions, by a jump: its displacement changed by at least d/4
   // in that component. An instability takes a site from one well to the next; a gliding core
-  // moves its sites across a half-period by less than d/2 (0.44 d at b_core = 1.87 d), which the
+  // moves its sites across a half-period by less than d/2 (0.3-0.44 d at b_core = 1.87 d, by
+  // profile), which the
   // former test (|du| > d/2) missed. The d/4 floor keeps out the smooth crossings that are not
   // instabilities: weakly pinned edge sites creeping over their barriers (measured: up to 54
   // sites moving 0.02-0.03 d per adaptive step before a slip at a = 43 d, R = 535 d) and, in

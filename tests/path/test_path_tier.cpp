@@ -5,7 +5,8 @@
 // moves Fx by about 1e-6 relative).
 //
 // What each case asserts:
-// - the flow's step control: halving its tolerance leaves the end state in the same minimum;
+// - the flow's step control: halving its tolerance leaves the end state in the same minimum
+//   (not in the crossover case, whose halving and FIRE are in bench/run_path_tier.sh's table);
 // - the fold: the trial step that the slide's solver (L-BFGS, the default) called a slip is a
 //   slip for the flow too;
 // - the path-faithful solvers (`faithful` below) end in the flow's minimum.
@@ -14,6 +15,7 @@
 // `slow` label, and fails until they are made faithful or retired.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -28,7 +30,10 @@ namespace {
 struct Case {
   const char* name;
   double a, R;
-  int event;  // slip event of the default slide to check
+  int event;         // slip event of the default slide to check
+  bool full = true;  // also the flow at half its tolerance, and FIRE (the default suite's
+                     // crossover case leaves them to the other cases and to bench/: under the
+                     // sanitizers it took nine minutes)
 };
 // Test names, not bytes, in CTest's listing.
 [[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) {
@@ -61,23 +66,25 @@ void print(const slide::PathCheck& c) {
   std::printf("  slip %d: stable at Dx = %.6f d, slips at %.6f d\n", c.instability.event,
               c.instability.stable.Dx, c.instability.slip_Dx);
   line("flow/elastic", c.flow, nullptr);
-  line("flow tol/2", c.flow_half, &c.flow_self);
+  if (c.flow_half.result.iterations > 0) line("flow tol/2", c.flow_half, &c.flow_self);
   for (const auto& r : c.rows)
     line(r.solver, r.step, &r.against_flow);
 }
 
-void check(const Case& k, const std::vector<minimize::MinimizerOptions>& solvers,
-           bool expect_same) {
+void check(const Case& k, std::vector<minimize::MinimizerOptions> solvers, bool expect_same) {
+  if (!k.full) std::erase_if(solvers, [](const auto& m) { return m.method == M::fire; });
   const interface::ContactScene scene { .a = k.a, .R = k.R };
   std::printf("%s: a = %g d, R = %g d, a/b_core^0 = %.1f\n", k.name, k.a, k.R,
               scene.a_over_bcore0());
   const slide::SlideOptions options;
   const auto at = slide::bracket_slip(scene, options, k.event);
-  const auto c = slide::check_path(scene, options, at, solvers);
+  const auto c = slide::check_path(scene, options, at, solvers, 2'000'000, k.full);
   print(c);
   ASSERT_EQ(c.flow.result.termination, Termination::converged);
-  ASSERT_EQ(c.flow_half.result.termination, Termination::converged);
-  EXPECT_TRUE(c.flow_self.same_minimum()) << "the flow's end state depends on its tolerance";
+  if (k.full) {
+    ASSERT_EQ(c.flow_half.result.termination, Termination::converged);
+    EXPECT_TRUE(c.flow_self.same_minimum()) << "the flow's end state depends on its tolerance";
+  }
   EXPECT_GT(c.flow.slipped_sites, 0) << "the default solver slipped where the flow does not";
   for (const auto& r : c.rows) {
     EXPECT_EQ(r.step.result.termination, Termination::converged) << r.solver;
@@ -110,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, PathTier,
                          ::testing::Values(Case{"RegimeII_a43_R535", 43.0, 535.0, 1},
                                            Case{"RegimeIII_a28_R40_first", 28.0, 40.0, 1},
                                            Case{"RegimeIII_a28_R40_third", 28.0, 40.0, 3},
-                                           Case{"Crossover_a46_R100", 46.0, 100.0, 1}),
+                                           Case{"Crossover_a46_R100", 46.0, 100.0, 1, false}),
                          [](const auto& p) { return std::string(p.param.name); });
 
 class PathTierProduction : public ::testing::TestWithParam<Case> {};
@@ -130,7 +137,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, PathTierProduction,
 // minimiser, relaxing the same bracketed step on its own, ends (the protocol takes its end state,
 // not the default solver's, which differs here by 20 sites: Regime III, a = 28 d, R = 40 d).
 TEST(SlipMinimizer, TheSlideTakesTheFaithfulEndState) {
-  const interface::ContactScene scene{.a = 28.0, .R = 40.0};
+  const interface::ContactScene scene { .a = 28.0, .R = 40.0 };
   slide::SlideOptions options;
   options.slip_minimizer = solver(M::flow, P::interface);
   int slips = 0;
