@@ -71,11 +71,8 @@ SlideScene read_slide_keys(SceneReader& r) {
   const std::string slip_pre =
       r.string("solver.slip_preconditioner", "interface", {"auto", "elastic", "interface"});
   if (slips != "same") {
-    o.slip_minimizer = m;
-    o.slip_minimizer->method = minimize::method_from_string(slips);
-    o.slip_minimizer->preconditioner = minimize::preconditioner_from_string(slip_pre);
-    // A relaxation through a slip takes the flow tens of times the iterations of lbfgs.
-    o.slip_minimizer->max_iterations = std::max(m.max_iterations, 2000000);
+    o.slip_minimizer = slide::slip_minimizer_from(m, minimize::method_from_string(slips),
+                                                  minimize::preconditioner_from_string(slip_pre));
   }
   o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
   o.fft.planner = fft::planner_from_string(

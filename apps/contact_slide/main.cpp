@@ -211,10 +211,8 @@ int main(int argc, char** argv) {
       }
       const auto pre =
           o.slip_minimizer ? o.slip_minimizer->preconditioner : minimize::Preconditioner::interface;
-      o.slip_minimizer = o.minimizer;
-      o.slip_minimizer->method = minimize::method_from_string(*slip_solver);
-      o.slip_minimizer->preconditioner = pre;
-      o.slip_minimizer->max_iterations = std::max(o.minimizer.max_iterations, 2000000);
+      o.slip_minimizer =
+          slide::slip_minimizer_from(o.minimizer, minimize::method_from_string(*slip_solver), pre);
     };
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(

@@ -311,6 +311,16 @@ Protocol protocol_from_string(const std::string& name) {
   throw std::invalid_argument("slide protocol: got '" + name + "', allowed: reference, adaptive");
 }
 
+minimize::MinimizerOptions slip_minimizer_from(const minimize::MinimizerOptions& base,
+                                               minimize::Method method,
+                                               minimize::Preconditioner preconditioner) {
+  minimize::MinimizerOptions m = base;
+  m.method = method;
+  m.preconditioner = preconditioner;
+  m.max_iterations = std::max(base.max_iterations, 2'000'000);
+  return m;
+}
+
 minimize::MinimizerOptions slide_minimizer_defaults() {
   minimize::MinimizerOptions m;
   m.force_tolerance = 1e-5;

@@ -46,6 +46,13 @@ Protocol protocol_from_string(const std::string& name);  // throws std::invalid_
 // max_displacement = 0.2.
 minimize::MinimizerOptions slide_minimizer_defaults();
 
+// The slip minimiser (SlideOptions::slip_minimizer) made from the slide's minimiser `base`: the
+// same tolerances with another method and preconditioner, and an iteration budget of at least
+// 2 000 000 (a relaxation through a slip takes the flow tens of times the iterations of lbfgs).
+minimize::MinimizerOptions slip_minimizer_from(const minimize::MinimizerOptions& base,
+                                               minimize::Method method,
+                                               minimize::Preconditioner preconditioner);
+
 struct SlideOptions {
   Protocol protocol = Protocol::adaptive;  // see slider.hpp
   double step = 0.01;                      // reference protocol: tip step (d)

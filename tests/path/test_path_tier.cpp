@@ -105,6 +105,17 @@ const std::vector<minimize::MinimizerOptions> production{
     solver(M::lbfgs, P::automatic), solver(M::lbfgs, P::elastic), solver(M::cg, P::elastic),
     solver(M::newton, P::automatic)};
 
+// The states of the tier; crossover_full: the crossover case with its halving and FIRE too.
+std::vector<Case> cases(bool crossover_full) {
+  return {Case{"RegimeII_a43_R535", 43.0, 535.0, 1}, Case{"RegimeIII_a28_R40_first", 28.0, 40.0, 1},
+          Case{"RegimeIII_a28_R40_third", 28.0, 40.0, 3},
+          Case{"Crossover_a46_R100", 46.0, 100.0, 1, crossover_full}};
+}
+
+std::string case_name(const ::testing::TestParamInfo<Case>& p) {
+  return p.param.name;
+}
+
 }  // namespace
 
 class PathTier : public ::testing::TestWithParam<Case> {};
@@ -113,12 +124,7 @@ TEST_P(PathTier, FaithfulSolversEndInTheFlowsMinimum) {
   check(GetParam(), faithful, true);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PathTier,
-                         ::testing::Values(Case{"RegimeII_a43_R535", 43.0, 535.0, 1},
-                                           Case{"RegimeIII_a28_R40_first", 28.0, 40.0, 1},
-                                           Case{"RegimeIII_a28_R40_third", 28.0, 40.0, 3},
-                                           Case{"Crossover_a46_R100", 46.0, 100.0, 1, false}),
-                         [](const auto& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(Cases, PathTier, ::testing::ValuesIn(cases(false)), case_name);
 
 class PathTierProduction : public ::testing::TestWithParam<Case> {};
 
@@ -126,12 +132,7 @@ TEST_P(PathTierProduction, ProductionSolversEndInTheFlowsMinimum) {
   check(GetParam(), production, true);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PathTierProduction,
-                         ::testing::Values(Case{"RegimeII_a43_R535", 43.0, 535.0, 1},
-                                           Case{"RegimeIII_a28_R40_first", 28.0, 40.0, 1},
-                                           Case{"RegimeIII_a28_R40_third", 28.0, 40.0, 3},
-                                           Case{"Crossover_a46_R100", 46.0, 100.0, 1}),
-                         [](const auto& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(Cases, PathTierProduction, ::testing::ValuesIn(cases(true)), case_name);
 
 // SlideOptions::slip_minimizer in a slide: the first slip the slide accepts ends where the slip
 // minimiser, relaxing the same bracketed step on its own, ends (the protocol takes its end state,
