@@ -100,6 +100,16 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
     sx_ = build(0, 2, true);
     sy_ = build(1, 2, true);
   }
+  // Into the order in which convolve() visits the wave vectors (fft_engine.hpp): the products
+  // then read every kernel contiguously.
+  const std::vector<std::size_t> order = engine_->block_order();
+  for (auto* kernel : {&kxx_, &kxy_, &kyy_, &kzz_, &sx_, &sy_}) {
+    if (kernel->empty()) continue;
+    std::vector<double> permuted(order.size());
+    for (std::size_t p = 0; p < order.size(); ++p)
+      permuted[p] = (*kernel)[order[p]];
+    *kernel = std::move(permuted);
+  }
   // The input padding must be zero from here on: apply() writes only the region.
   for (int c = 0; c < ncomp(); ++c)
     std::fill(engine_->input(c).begin(), engine_->input(c).end(), 0.0);
@@ -110,35 +120,85 @@ double FreeSurfaceGF::coefficient(int k, int l, int o0, int o1) const {
                   o0 * d_, o1 * d_, d_);
 }
 
-// Zero-padded convolution of a region field: copy in, per_q(block, q, at) on every wave vector
-// of the fused transform, copy the region out. Shared by apply() and apply_filter().
-template <class PerQ>
-void FreeSurfaceGF::convolve_region(std::span<const double> in, std::span<double> out, PerQ per_q) {
+// Padded-grid position of each listed region site (row-major region indices). The walk needs
+// no division for increasing indices (a contact's site list); any order is accepted.
+void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
   const Shape2 padded = engine_->real_shape();
-  const std::size_t n = region_.count();
-  for (std::size_t c = 0; c < ncomp_; ++c) {
-    auto grid = engine_->input(static_cast<int>(c));
-    for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(in.data() + c * n + region_.index(i0, 0), region_.n1,
-                  grid.data() + padded.index(i0, 0));
+  const std::size_t n1 = static_cast<std::size_t>(region_.n1), n = region_.count();
+  positions_.resize(sites.size());
+  std::size_t row = 0, row_begin = 0;
+  for (std::size_t j = 0; j < sites.size(); ++j) {
+    const std::size_t s = sites[j];
+    if (s >= n) {
+      throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string(s) +
+                                  " outside the region of " + std::to_string(n) + " sites");
     }
+    if (s < row_begin) {  // not increasing: jump to the row
+      row = s / n1;
+      row_begin = row * n1;
+    }
+    while (s >= row_begin + n1)
+      ++row, row_begin += n1;
+    positions_[j] = padded.index(static_cast<int>(row), static_cast<int>(s - row_begin));
   }
-  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
-  engine_->convolve([nf1, &per_q](const fft::FourierBlock& b) {
-    for (int k0 = 0; k0 < b.rows; ++k0) {
-      const std::size_t q0 =
-          static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin);
-      const std::size_t at = static_cast<std::size_t>(k0) * static_cast<std::size_t>(b.width);
-      for (std::size_t j = 0; j < static_cast<std::size_t>(b.width); ++j) {
-        per_q(b, q0 + j, at + j);
+}
+
+// Zero-padded convolution: copy in, per_q(block, q, at) on every wave vector of the fused
+// transform (q: the kernels' index, in the engine's block order; at: the entry of the block),
+// copy out. On the whole region (sites == nullptr) or on a list of its sites (the rest carry
+// no force), whose fields hold the listed sites only. The engine's input is zero outside what
+// a call writes: a whole-region call leaves the region dirty, and a list call cleans it once
+// and clears its own sites after. Shared by apply() and apply_filter().
+template <class PerQ>
+void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
+                             std::span<double> out, PerQ per_q) {
+  const Shape2 padded = engine_->real_shape();
+  const std::size_t n = sites ? sites->size() : region_.count();
+  if (sites) {
+    if (region_dirty_) {
+      for (std::size_t c = 0; c < ncomp_; ++c) {
+        auto grid = engine_->input(static_cast<int>(c));
+        for (int i0 = 0; i0 < region_.n0; ++i0)
+          std::fill_n(grid.data() + padded.index(i0, 0), region_.n1, 0.0);
+      }
+      region_dirty_ = false;
+    }
+    map_sites(*sites);
+    for (std::size_t c = 0; c < ncomp_; ++c) {
+      double* grid = engine_->input(static_cast<int>(c)).data();
+      const double* src = in.data() + c * n;
+      for (std::size_t j = 0; j < n; ++j)
+        grid[positions_[j]] = src[j];
+    }
+  } else {
+    for (std::size_t c = 0; c < ncomp_; ++c) {
+      auto grid = engine_->input(static_cast<int>(c));
+      for (int i0 = 0; i0 < region_.n0; ++i0) {
+        std::copy_n(in.data() + c * n + region_.index(i0, 0), region_.n1,
+                    grid.data() + padded.index(i0, 0));
       }
     }
+    region_dirty_ = true;
+  }
+  // The kernels are in the engine's block order: wave vector `at` of a block is kernel entry
+  // b.offset + at.
+  engine_->convolve([&per_q](const fft::FourierBlock& b) {
+    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
+    for (std::size_t at = 0; at < count; ++at)
+      per_q(b, b.offset + at, at);
   });
   for (std::size_t c = 0; c < ncomp_; ++c) {
-    const auto grid = engine_->output(static_cast<int>(c));
-    for (int i0 = 0; i0 < region_.n0; ++i0) {
-      std::copy_n(grid.data() + padded.index(i0, 0), region_.n1,
-                  out.data() + c * n + region_.index(i0, 0));
+    const double* grid = engine_->output(static_cast<int>(c)).data();
+    double* dst = out.data() + c * n;
+    if (sites) {
+      double* input = engine_->input(static_cast<int>(c)).data();
+      for (std::size_t j = 0; j < n; ++j) {
+        dst[j] = grid[positions_[j]];
+        input[positions_[j]] = 0.0;
+      }
+    } else {
+      for (int i0 = 0; i0 < region_.n0; ++i0)
+        std::copy_n(grid + padded.index(i0, 0), region_.n1, dst + region_.index(i0, 0));
     }
   }
 }
@@ -146,15 +206,49 @@ void FreeSurfaceGF::convolve_region(std::span<const double> in, std::span<double
 void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {
   check_size(f, size(), "FreeSurfaceGF::apply (forces)");
   check_size(u, size(), "FreeSurfaceGF::apply (displacements)");
-  convolve_region(f, u, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
-    multiply(b, q, at);
-  });
+  apply_on(nullptr, f, u);
+}
+
+void FreeSurfaceGF::apply(std::span<const std::size_t> sites, std::span<const double> f,
+                          std::span<double> u) {
+  check_size(f, ncomp_ * sites.size(), "FreeSurfaceGF::apply (forces on the sites)");
+  check_size(u, ncomp_ * sites.size(), "FreeSurfaceGF::apply (displacements on the sites)");
+  apply_on(&sites, f, u);
+}
+
+void FreeSurfaceGF::apply_on(const std::span<const std::size_t>* sites, std::span<const double> f,
+                             std::span<double> u) {
+  if (components_ == Components::in_plane) {  // the slides' case, without multiply()'s branches
+    const double *kxx = kxx_.data(), *kxy = kxy_.data(), *kyy = kyy_.data();
+    convolve(sites, f, u,
+             [kxx, kxy, kyy](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
+               const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
+               b.field[0][at] = kxx[q] * fx + kxy[q] * fy;
+               b.field[1][at] = kxy[q] * fx + kyy[q] * fy;
+             });
+  } else {
+    convolve(sites, f, u, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
+      multiply(b, q, at);
+    });
+  }
   ++applications_;
 }
 
 void FreeSurfaceGF::apply_filter(std::span<const double> f, std::span<double> w, double c) {
   check_size(f, size(), "FreeSurfaceGF::apply_filter (forces)");
   check_size(w, size(), "FreeSurfaceGF::apply_filter (output)");
+  filter_on(nullptr, f, w, c);
+}
+
+void FreeSurfaceGF::apply_filter(std::span<const std::size_t> sites, std::span<const double> f,
+                                 std::span<double> w, double c) {
+  check_size(f, ncomp_ * sites.size(), "FreeSurfaceGF::apply_filter (forces on the sites)");
+  check_size(w, ncomp_ * sites.size(), "FreeSurfaceGF::apply_filter (output on the sites)");
+  filter_on(&sites, f, w, c);
+}
+
+void FreeSurfaceGF::filter_on(const std::span<const std::size_t>* sites, std::span<const double> f,
+                              std::span<double> w, double c) {
   if (components_ != Components::in_plane) {
     throw std::invalid_argument("FreeSurfaceGF::apply_filter: in-plane components only");
   }
@@ -187,10 +281,11 @@ void FreeSurfaceGF::apply_filter(std::span<const double> f, std::span<double> w,
     }
     filter_c_ = c;
   }
-  convolve_region(f, w, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
+  const double *mxx = mxx_.data(), *mxy = mxy_.data(), *myy = myy_.data();
+  convolve(sites, f, w, [mxx, mxy, myy](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
     const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
-    b.field[0][at] = mxx_[q] * fx + mxy_[q] * fy;
-    b.field[1][at] = mxy_[q] * fx + myy_[q] * fy;
+    b.field[0][at] = mxx[q] * fx + mxy[q] * fy;
+    b.field[1][at] = mxy[q] * fx + myy[q] * fy;
   });
   ++filter_applications_;
 }

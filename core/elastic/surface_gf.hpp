@@ -39,6 +39,11 @@ class FreeSurfaceGF {
 
   // u = G * f over the region; f and u have size() elements and may not alias.
   void apply(std::span<const double> f, std::span<double> u);
+  // The same for a force carried by some region sites only (`sites`: row-major region indices,
+  // fastest in increasing order): f and u hold, component-major, the values on those sites
+  // (ncomp() x sites.size()). Equal to apply() on the scattered field, read back on the sites,
+  // without apply()'s passes over the whole region.
+  void apply(std::span<const std::size_t> sites, std::span<const double> f, std::span<double> u);
 
   // w = R (I + c G~)^-1 R^T f: the in-plane force field f on the region, zero-padded, filtered
   // by the Fourier multiplier (I + c G(q))^-1 of the padded grid and restricted to the region
@@ -49,6 +54,9 @@ class FreeSurfaceGF {
   // (a restriction of an SPD multiplier). One FFT pair, counted by filter_applications(); the
   // kernel is rebuilt only when c changes. In-plane components only.
   void apply_filter(std::span<const double> f, std::span<double> w, double c);
+  // The same on a list of region sites, as apply(sites, f, u).
+  void apply_filter(std::span<const std::size_t> sites, std::span<const double> f,
+                    std::span<double> w, double c);
   [[nodiscard]] std::size_t filter_applications() const { return filter_applications_; }
 
   // Real-space coefficient: displacement of slot k at offset (o0, o1) sites per unit force of
@@ -69,7 +77,13 @@ class FreeSurfaceGF {
   // The Fourier-space product at wave vector q, on entry `at` of a block.
   void multiply(const fft::FourierBlock& b, std::size_t q, std::size_t at) const;
   template <class PerQ>
-  void convolve_region(std::span<const double> in, std::span<double> out, PerQ per_q);
+  void convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
+                std::span<double> out, PerQ per_q);
+  void map_sites(std::span<const std::size_t> sites);
+  void apply_on(const std::span<const std::size_t>* sites, std::span<const double> f,
+                std::span<double> u);
+  void filter_on(const std::span<const std::size_t>* sites, std::span<const double> f,
+                 std::span<double> w, double c);
 
   Material material_;
   Components components_;
@@ -85,6 +99,10 @@ class FreeSurfaceGF {
   std::vector<double> mxx_, mxy_, myy_;
   double filter_c_ = -1.0;
   std::size_t filter_applications_ = 0;
+  // Site-list calls: padded-grid position of each listed site; whether a whole-region call
+  // left values in the region of the engine's input.
+  std::vector<std::size_t> positions_;
+  bool region_dirty_ = false;
 };
 
 // The periodic cell's compliance block at one wave vector (q0, q1) (1/length), the lattice sum

@@ -72,24 +72,12 @@ void LoadOptions::validate() const {
 // ([x of each active site][y ...][z ...]).
 class ExplicitContact::Problem final : public minimize::Problem {
  public:
-  explicit Problem(ExplicitContact& c) : c_(c), fb_(c.f_.size(), 0.0), ub_(c.f_.size(), 0.0) {}
+  explicit Problem(ExplicitContact& c) : c_(c) {}
 
   [[nodiscard]] std::size_t size() const override { return 3 * c_.sites_.size(); }
 
   void compliance(std::span<const double> f, std::span<double> u) override {
-    const auto& s = c_.sites_;
-    const std::size_t m = s.size(), n = c_.block_.shape.count();
-    for (std::size_t k = 0; k < 3; ++k) {
-      for (std::size_t j = 0; j < m; ++j)
-        fb_[k * n + s[j]] = f[k * m + j];
-    }
-    c_.gf_->apply(fb_, ub_);
-    for (std::size_t k = 0; k < 3; ++k) {
-      for (std::size_t j = 0; j < m; ++j) {
-        u[k * m + j] = ub_[k * n + s[j]];
-        fb_[k * n + s[j]] = 0.0;  // the scratch stays zero off the call
-      }
-    }
+    c_.gf_->apply(c_.sites_, f, u);
   }
 
   double interface(std::span<const double> u, std::span<double> f_int) const override {
@@ -122,7 +110,6 @@ class ExplicitContact::Problem final : public minimize::Problem {
 
  private:
   ExplicitContact& c_;
-  std::vector<double> fb_, ub_;
 };
 
 ExplicitContact::ExplicitContact(const ExplicitScene& scene, const fft::FFTOptions& fft)

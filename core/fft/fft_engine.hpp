@@ -38,11 +38,14 @@ struct FFTOptions {
 // A block of columns of the Fourier half-grid, handed to a Fourier-space multiplier during
 // Engine::convolve: wave vector (k0, k1_begin + j) of field f is field[f][k0 * width + j],
 // for k0 < rows and j < width.
+// offset: where the block starts in Engine::block_order(), so that a multiplier whose
+// coefficients are stored in that order finds the one of entry (k0, j) at offset + k0 * width + j.
 struct FourierBlock {
   static constexpr int max_fields = 3;
   int k1_begin = 0;
   int width = 0;
   int rows = 0;
+  std::size_t offset = 0;
   std::complex<double>* field[max_fields] = {};
 };
 // Multiplies a block in place. It may be called concurrently on different blocks, and must not
@@ -78,6 +81,12 @@ class Engine {
   // Uses (and overwrites) the fourier buffers.
   virtual void convolve(const Multiplier& multiplier) = 0;
   [[nodiscard]] int support_rows() const { return support_rows_; }
+  // The order in which convolve() hands out the half-grid: entry p is the row-major index
+  // (k0 * (n1/2 + 1) + k1) of the p-th wave vector, block after block, each row by row.
+  // Coefficients stored in this order are read contiguously; in row-major order a block's
+  // entries lie a whole row apart, each on its own page (on 2048^2 grids the products cost
+  // more than the column transforms).
+  [[nodiscard]] virtual std::vector<std::size_t> block_order() const = 0;
   [[nodiscard]] virtual std::string backend() const = 0;
 
  protected:

@@ -141,6 +141,20 @@ class FFTWEngine final : public Engine {
 
   [[nodiscard]] std::string backend() const override { return "fftw3"; }
 
+  [[nodiscard]] std::vector<std::size_t> block_order() const override {
+    const Shape2 fs = fourier_shape();
+    std::vector<std::size_t> order;
+    order.reserve(fs.count());
+    for (int k1 = 0; k1 < fs.n1; k1 += block_width) {
+      const int w = std::min(block_width, fs.n1 - k1);
+      for (int k0 = 0; k0 < fs.n0; ++k0) {
+        for (int j = 0; j < w; ++j)
+          order.push_back(fs.index(k0, k1 + j));
+      }
+    }
+    return order;
+  }
+
  private:
   template <class T>
   static T* checked(T* p) {
@@ -255,7 +269,11 @@ class FFTWEngine final : public Engine {
     const int k1 = b * block_width;
     const int kind = k1 + widths_[0] <= fs.n1 ? 0 : 1;
     const int w = widths_[kind];
-    FourierBlock block{.k1_begin = k1, .width = w, .rows = fs.n0};
+    // Every block before this one is block_width wide: it starts at k1 * n0 in block_order().
+    FourierBlock block{.k1_begin = k1,
+                       .width = w,
+                       .rows = fs.n0,
+                       .offset = static_cast<std::size_t>(k1) * static_cast<std::size_t>(fs.n0)};
     for (int f = 0; f < fields(); ++f) {
       std::complex<double>* t = scratch + static_cast<std::size_t>(f) * fs.n0 * block_width;
       assert(fftw_alignment_of(reinterpret_cast<double*>(fourier_[f] + k1)) ==

@@ -886,7 +886,23 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       for (std::size_t k = 0; k < memory.size(); ++k) {
         const double c = alpha_coef[k] + memory[k].rho * dot(memory[k].y, z);
         axpy(z, -c, memory[k].s);
-        axpy(zf, -c, memory[k].df);
+        alpha_coef[k] = -c;  // zf's coefficient, applied below
+      }
+      // zf += -c_k df_k for every pair, in one pass over zf instead of one per pair (zf is not
+      // read in the loop above): per element the same additions in the same order as pair by
+      // pair, so bit for bit the same; blocks keep zf's block in cache across the pairs.
+      {
+        constexpr std::size_t block = 2048;
+        for (std::size_t i0 = 0; i0 < n; i0 += block) {
+          const std::size_t len = std::min(block, n - i0);
+          double* out = zf.data() + i0;
+          for (std::size_t k = 0; k < memory.size(); ++k) {
+            const double t = alpha_coef[k];
+            const double* b = memory[k].df.data() + i0;
+            for (std::size_t i = 0; i < len; ++i)
+              out[i] += t * b[i];
+          }
+        }
       }
       std::swap(du, z);
       std::swap(df, zf);

@@ -15,23 +15,12 @@ namespace asperity::slide {
 class LfmProblem final : public minimize::Problem {
  public:
   LfmProblem(elastic::FreeSurfaceGF& gf, const interface::LateralForceModel& lfm)
-      : gf_(gf), lfm_(lfm), f_(gf.size(), 0.0), u_(gf.size(), 0.0) {}
+      : gf_(gf), lfm_(lfm) {}
 
   [[nodiscard]] std::size_t size() const override { return 2 * lfm_.contact_sites().size(); }
 
   void compliance(std::span<const double> f, std::span<double> u) override {
-    const auto& sites = lfm_.contact_sites();
-    const std::size_t m = sites.size(), n = lfm_.block().shape.count();
-    for (std::size_t j = 0; j < m; ++j) {
-      f_[sites[j]] = f[j];
-      f_[n + sites[j]] = f[m + j];
-    }
-    gf_.apply(f_, u_);
-    for (std::size_t j = 0; j < m; ++j) {
-      u[j] = u_[sites[j]];
-      u[m + j] = u_[n + sites[j]];
-      f_[sites[j]] = f_[n + sites[j]] = 0.0;  // the scratch stays zero off the call
-    }
+    gf_.apply(lfm_.contact_sites(), f, u);
   }
 
   // The interface filter M = (I + c G)^-1 (FreeSurfaceGF::apply_filter) with c half the mean
@@ -56,22 +45,14 @@ class LfmProblem final : public minimize::Problem {
   }
   void filter(std::span<const double> r, std::span<double> w) override {
     const auto& sites = lfm_.contact_sites();
-    const std::size_t m = sites.size(), n = lfm_.block().shape.count();
+    const std::size_t m = sites.size();
     double tau = 0.0;
-    for (std::size_t j = 0; j < m; ++j) {
+    for (std::size_t j = 0; j < m; ++j)
       tau += lfm_.tau_max()[sites[j]];
-      f_[sites[j]] = r[j];
-      f_[n + sites[j]] = r[m + j];
-    }
     const double d = lfm_.scene().d;
     const double c =
         m > 0 ? filter_fraction * 2.0 * std::numbers::pi * d * tau / static_cast<double>(m) : 0.0;
-    gf_.apply_filter(f_, u_, c);
-    for (std::size_t j = 0; j < m; ++j) {
-      w[j] = u_[sites[j]];
-      w[m + j] = u_[n + sites[j]];
-      f_[sites[j]] = f_[n + sites[j]] = 0.0;  // the scratch stays zero off the call
-    }
+    gf_.apply_filter(sites, r, w, c);
   }
 
   double interface(std::span<const double> u, std::span<double> f_int) const override {
@@ -85,7 +66,6 @@ class LfmProblem final : public minimize::Problem {
  private:
   elastic::FreeSurfaceGF& gf_;
   const interface::LateralForceModel& lfm_;
-  std::vector<double> f_, u_;
 };
 
 }  // namespace asperity::slide

@@ -1,8 +1,11 @@
 // Unit tier: the FFT layer (round trip, conventions, planning options, sizes).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numbers>
+#include <vector>
 
 #include "common/shape.hpp"
 #include "fft/fft_engine.hpp"
@@ -67,6 +70,40 @@ TEST(FFTEngine, MeasurePlannerGivesSameResult) {
   b->forward();
   for (std::size_t i = 0; i < a->fourier(0).size(); ++i) {
     EXPECT_NEAR(std::abs(a->fourier(0)[i] - b->fourier(0)[i]), 0.0, 1e-11);
+  }
+}
+
+// Engine::block_order() is the order in which convolve() hands out the half-grid: a permutation
+// of it, and FourierBlock::offset + k0 * width + j is wave vector (k0, k1_begin + j) in it, for
+// every block (the free-surface GF stores its kernels in this order). Shapes with one block,
+// several, and a partial last one; one and two threads.
+TEST(FFTEngine, BlockOrderIsWhatConvolveVisits) {
+  for (const Shape2 s : {Shape2{6, 4}, Shape2{12, 30}, Shape2{10, 34}}) {
+    for (int threads : {1, 2}) {
+      auto e = fft::make_engine(s, 1, {.threads = threads}, s.n0 / 2);
+      const Shape2 fs = e->fourier_shape();
+      const auto order = e->block_order();
+      ASSERT_EQ(order.size(), fs.count());
+      std::vector<int> seen(fs.count(), 0);
+      for (std::size_t i : order) {
+        ASSERT_LT(i, fs.count());
+        ++seen[i];
+      }
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(fs.count()));
+      std::vector<int> visited(fs.count(), 0);
+      std::mutex m;
+      e->convolve([&](const fft::FourierBlock& b) {
+        std::lock_guard<std::mutex> lock(m);
+        for (int k0 = 0; k0 < b.rows; ++k0) {
+          for (int j = 0; j < b.width; ++j) {
+            const std::size_t p = b.offset + static_cast<std::size_t>(k0 * b.width + j);
+            if (p < order.size() && order[p] == fs.index(k0, b.k1_begin + j)) ++visited[p];
+          }
+        }
+      });
+      EXPECT_EQ(std::count(visited.begin(), visited.end(), 1), static_cast<long>(fs.count()))
+          << s.n0 << " x " << s.n1 << ", " << threads << " threads";
+    }
   }
 }
 

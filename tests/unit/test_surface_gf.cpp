@@ -3,6 +3,7 @@
 // coefficients against quadrature, and the periodic compliance/stiffness pair.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -181,6 +182,69 @@ TEST(FreeSurfaceGF, InterfaceFilter) {
   elastic::FreeSurfaceGF full(m, Components::full, {4, 4});
   std::vector<double> ff(full.size()), fw(full.size());
   EXPECT_THROW(full.apply_filter(ff, fw, 1.0), std::invalid_argument);
+}
+
+// apply(sites, ...) and apply_filter(sites, ...) (the slides' calls, on the contact sites only):
+// equal to the whole-region calls on the scattered field, read back on the sites, bit for bit
+// (the same transforms and products; only the copies differ). Interleaved with whole-region
+// calls, which leave values in the engine's input that a site call must clear first; with
+// sites in increasing and in scrambled order; bad sizes and indices rejected.
+TEST(FreeSurfaceGF, SiteListCallsEqualWholeRegionCalls) {
+  const Shape2 region{23, 19};
+  for (Components comps : {Components::in_plane, Components::full}) {
+    elastic::FreeSurfaceGF gf(Material{.G = 1.0, .nu = 0.3}, comps, region, 1.0, {.threads = 2});
+    const std::size_t n = region.count(), nc = static_cast<std::size_t>(gf.ncomp());
+    std::vector<std::size_t> sites;
+    for (std::size_t i = 0; i < n; ++i) {
+      if ((i * 7) % 5 != 0) sites.push_back(i);  // about four in five, gaps in every row
+    }
+    std::vector<std::size_t> scrambled = sites;
+    std::reverse(scrambled.begin(), scrambled.end());
+    std::swap(scrambled[3], scrambled[100]);
+    for (const auto* list : {&sites, &scrambled}) {
+      const std::size_t m = list->size();
+      for (unsigned seed = 1; seed <= 3; ++seed) {
+        const auto fs = random_field(nc * m, seed);
+        std::vector<double> full(gf.size(), 0.0), out_full(gf.size()), out(nc * m);
+        for (std::size_t c = 0; c < nc; ++c) {
+          for (std::size_t j = 0; j < m; ++j)
+            full[c * n + (*list)[j]] = fs[c * m + j];
+        }
+        // A whole-region call with another field first: the site call must not see it.
+        const auto other = random_field(gf.size(), 50 + seed);
+        gf.apply(other, out_full);
+        gf.apply(*list, fs, out);
+        gf.apply(full, out_full);
+        for (std::size_t c = 0; c < nc; ++c) {
+          for (std::size_t j = 0; j < m; ++j)
+            ASSERT_EQ(out[c * m + j], out_full[c * n + (*list)[j]]) << "apply, site " << j;
+        }
+        if (comps == Components::in_plane) {
+          gf.apply_filter(other, out_full, 2.0);
+          gf.apply_filter(*list, fs, out, 2.0);
+          gf.apply_filter(full, out_full, 2.0);
+          for (std::size_t c = 0; c < nc; ++c) {
+            for (std::size_t j = 0; j < m; ++j)
+              ASSERT_EQ(out[c * m + j], out_full[c * n + (*list)[j]]) << "filter, site " << j;
+          }
+        }
+        // Two site calls in a row: the first leaves nothing behind.
+        std::vector<double> again(nc * m);
+        const auto fs2 = random_field(nc * m, 70 + seed);
+        gf.apply(*list, fs2, again);
+        gf.apply(*list, fs, again);
+        gf.apply(full, out_full);
+        for (std::size_t c = 0; c < nc; ++c) {
+          for (std::size_t j = 0; j < m; ++j)
+            ASSERT_EQ(again[c * m + j], out_full[c * n + (*list)[j]]) << "repeat, site " << j;
+        }
+      }
+    }
+    std::vector<std::size_t> outside{0, n};
+    std::vector<double> f2(nc * 2), u2(nc * 2), u3(nc * 3);
+    EXPECT_THROW(gf.apply(outside, f2, u2), std::invalid_argument);
+    EXPECT_THROW(gf.apply(std::vector<std::size_t>{0, 1}, f2, u3), std::invalid_argument);
+  }
 }
 
 TEST(FreeSurfaceGF, RejectsBadInput) {
