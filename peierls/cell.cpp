@@ -171,6 +171,9 @@ PeierlsCell::PeierlsCell(const CellOptions& options) : options_(options) {
       }
     }
   }
+  // Read contiguously by convolve()'s blocks (fft::Engine::block_order).
+  stiffness_ = fft::to_block_order(*engine_, stiffness_, 4);
+  preconditioner_ = fft::to_block_order(*engine_, preconditioner_, 4);
 }
 
 void PeierlsCell::site_position(std::size_t site, int& X, int& Y) const {
@@ -206,18 +209,13 @@ void PeierlsCell::multiply(std::span<const double> in, std::span<double> out,
   assert(in.size() == size() && out.size() == size());
   for (int c = 0; c < 2; ++c)
     std::copy_n(in.data() + static_cast<std::size_t>(c) * sites_, sites_, engine_->input(c).data());
-  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
-  engine_->convolve([&kernel, nf1](const fft::FourierBlock& b) {
-    for (int k0 = 0; k0 < b.rows; ++k0) {
-      for (int j = 0; j < b.width; ++j) {
-        const std::size_t q =
-            static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin + j);
-        const std::size_t at = static_cast<std::size_t>(k0 * b.width + j);
-        const std::complex<double>* kq = kernel.data() + 4 * q;
-        const std::complex<double> vx = b.field[0][at], vy = b.field[1][at];
-        b.field[0][at] = kq[0] * vx + kq[1] * vy;
-        b.field[1][at] = kq[2] * vx + kq[3] * vy;
-      }
+  engine_->convolve([&kernel](const fft::FourierBlock& b) {
+    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
+    for (std::size_t at = 0; at < count; ++at) {
+      const std::complex<double>* kq = kernel.data() + 4 * (b.offset + at);  // block order
+      const std::complex<double> vx = b.field[0][at], vy = b.field[1][at];
+      b.field[0][at] = kq[0] * vx + kq[1] * vy;
+      b.field[1][at] = kq[2] * vx + kq[3] * vy;
     }
   });
   for (int c = 0; c < 2; ++c)

@@ -102,13 +102,8 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
   }
   // Into the order in which convolve() visits the wave vectors (fft_engine.hpp): the products
   // then read every kernel contiguously.
-  const std::vector<std::size_t> order = engine_->block_order();
   for (auto* kernel : {&kxx_, &kxy_, &kyy_, &kzz_, &sx_, &sy_}) {
-    if (kernel->empty()) continue;
-    std::vector<double> permuted(order.size());
-    for (std::size_t p = 0; p < order.size(); ++p)
-      permuted[p] = (*kernel)[order[p]];
-    *kernel = std::move(permuted);
+    if (!kernel->empty()) *kernel = fft::to_block_order(*engine_, *kernel);
   }
   // The input padding must be zero from here on: apply() writes only the region.
   for (int c = 0; c < ncomp(); ++c)
@@ -399,6 +394,9 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
       }
     }
   }
+  // Read contiguously by convolve()'s blocks (fft::Engine::block_order).
+  compliance_ = fft::to_block_order(*engine_, compliance_, block);
+  stiffness_ = fft::to_block_order(*engine_, stiffness_, block);
 }
 
 void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> out,
@@ -410,24 +408,19 @@ void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> o
     std::copy_n(in.data() + c * n, n, engine_->input(static_cast<int>(c)).data());
   }
   const std::vector<std::complex<double>>& kernel = stiffness ? stiffness_ : compliance_;
-  const std::size_t nf1 = static_cast<std::size_t>(engine_->fourier_shape().n1);
   const std::size_t nc = ncomp_;
-  engine_->convolve([&kernel, nf1, nc](const fft::FourierBlock& b) {
+  engine_->convolve([&kernel, nc](const fft::FourierBlock& b) {
     std::complex<double> v[fft::FourierBlock::max_fields];
-    for (int k0 = 0; k0 < b.rows; ++k0) {
-      for (int j = 0; j < b.width; ++j) {
-        const std::size_t q =
-            static_cast<std::size_t>(k0) * nf1 + static_cast<std::size_t>(b.k1_begin + j);
-        const std::size_t at = static_cast<std::size_t>(k0 * b.width + j);
-        const std::complex<double>* kq = kernel.data() + q * nc * nc;
-        for (std::size_t k = 0; k < nc; ++k)
-          v[k] = b.field[k][at];
-        for (std::size_t k = 0; k < nc; ++k) {
-          std::complex<double> acc{};
-          for (std::size_t l = 0; l < nc; ++l)
-            acc += kq[k * nc + l] * v[l];
-          b.field[k][at] = acc;
-        }
+    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
+    for (std::size_t at = 0; at < count; ++at) {
+      const std::complex<double>* kq = kernel.data() + (b.offset + at) * nc * nc;  // block order
+      for (std::size_t k = 0; k < nc; ++k)
+        v[k] = b.field[k][at];
+      for (std::size_t k = 0; k < nc; ++k) {
+        std::complex<double> acc{};
+        for (std::size_t l = 0; l < nc; ++l)
+          acc += kq[k * nc + l] * v[l];
+        b.field[k][at] = acc;
       }
     }
   });

@@ -102,6 +102,20 @@ class Engine {
   int support_rows_;
 };
 
+// A Fourier-space kernel with `per_q` values per wave vector, stored row-major over the
+// half-grid, rearranged into engine.block_order() (entry p's values at p * per_q ...).
+template <class T>
+std::vector<T> to_block_order(const Engine& engine, const std::vector<T>& natural,
+                              std::size_t per_q = 1) {
+  const std::vector<std::size_t> order = engine.block_order();
+  std::vector<T> out(natural.size());
+  for (std::size_t p = 0; p < order.size(); ++p) {
+    for (std::size_t e = 0; e < per_q; ++e)
+      out[p * per_q + e] = natural[order[p] * per_q + e];
+  }
+  return out;
+}
+
 // FFTW3 backend (threads as requested). support_rows: rows of the input that may be non-zero
 // in convolve() (0: all). At most FourierBlock::max_fields fields. Throws
 // std::invalid_argument on a bad shape or options, std::runtime_error if FFTW cannot plan.
