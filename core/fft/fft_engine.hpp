@@ -18,6 +18,8 @@
 
 namespace asperity::fft {
 
+// measure and patient choose among plans by timing them, so the plan (and the round-off of the
+// results) can differ from one run to the next; estimate repeats bit for bit.
 enum class Planner {
   estimate,  // heuristic plans: instant, a little slower to execute
   measure,   // time candidate plans once (seconds for large grids), fastest execution
