@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -86,8 +87,8 @@ class Engine {
   // The order in which convolve() hands out the half-grid: entry p is the row-major index
   // (k0 * (n1/2 + 1) + k1) of the p-th wave vector, block after block, each row by row.
   // Coefficients stored in this order are read contiguously; in row-major order a block's
-  // entries lie a whole row apart, each on its own page (on 2048^2 grids the products cost
-  // more than the column transforms).
+  // entries lie a whole row apart, each on its own page (on a 2048^2 grid the products then
+  // took a fifth of an L-BFGS iteration's CPU time).
   [[nodiscard]] virtual std::vector<std::size_t> block_order() const = 0;
   [[nodiscard]] virtual std::string backend() const = 0;
 
@@ -110,6 +111,11 @@ template <class T>
 std::vector<T> to_block_order(const Engine& engine, const std::vector<T>& natural,
                               std::size_t per_q = 1) {
   const std::vector<std::size_t> order = engine.block_order();
+  if (natural.size() != order.size() * per_q) {
+    throw std::invalid_argument("fft::to_block_order: " + std::to_string(natural.size()) +
+                                " values for " + std::to_string(order.size()) +
+                                " wave vectors of " + std::to_string(per_q));
+  }
   std::vector<T> out(natural.size());
   for (std::size_t p = 0; p < order.size(); ++p) {
     for (std::size_t e = 0; e < per_q; ++e)
