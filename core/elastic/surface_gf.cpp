@@ -53,6 +53,15 @@ double sinc(double x) {
   return std::abs(x) < 1e-8 ? 1.0 - x * x / 6.0 : std::sin(x) / x;
 }
 
+// The in-plane product at entry `at` of a block: (x, y) <- [[a, b], [b, c]] (x, y), a real
+// symmetric 2 x 2 kernel (the compliance, or the filter's multiplier).
+inline void symmetric_product(const fft::FourierBlock& blk, std::size_t at, double a, double b,
+                              double c) {
+  const std::complex<double> x = blk.field[0][at], y = blk.field[1][at];
+  blk.field[0][at] = a * x + b * y;
+  blk.field[1][at] = b * x + c * y;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -217,9 +226,7 @@ void FreeSurfaceGF::apply_on(const std::span<const std::size_t>* sites, std::spa
     const double *kxx = kxx_.data(), *kxy = kxy_.data(), *kyy = kyy_.data();
     convolve(sites, f, u,
              [kxx, kxy, kyy](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
-               const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
-               b.field[0][at] = kxx[q] * fx + kxy[q] * fy;
-               b.field[1][at] = kxy[q] * fx + kyy[q] * fy;
+               symmetric_product(b, at, kxx[q], kxy[q], kyy[q]);
              });
   } else {
     convolve(sites, f, u, [this](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
@@ -278,9 +285,7 @@ void FreeSurfaceGF::filter_on(const std::span<const std::size_t>* sites, std::sp
   }
   const double *mxx = mxx_.data(), *mxy = mxy_.data(), *myy = myy_.data();
   convolve(sites, f, w, [mxx, mxy, myy](const fft::FourierBlock& b, std::size_t q, std::size_t at) {
-    const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
-    b.field[0][at] = mxx[q] * fx + mxy[q] * fy;
-    b.field[1][at] = mxy[q] * fx + myy[q] * fy;
+    symmetric_product(b, at, mxx[q], mxy[q], myy[q]);
   });
   ++filter_applications_;
 }
@@ -291,8 +296,7 @@ void FreeSurfaceGF::multiply(const fft::FourierBlock& b, std::size_t q, std::siz
     return;
   }
   const std::complex<double> fx = b.field[0][at], fy = b.field[1][at];
-  b.field[0][at] = kxx_[q] * fx + kxy_[q] * fy;
-  b.field[1][at] = kxy_[q] * fx + kyy_[q] * fy;
+  symmetric_product(b, at, kxx_[q], kxy_[q], kyy_[q]);
   if (components_ == Components::full) {
     const std::complex<double> fz = b.field[2][at];
     b.field[2][at] = kzz_[q] * fz;
