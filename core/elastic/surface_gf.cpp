@@ -111,8 +111,9 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
   }
   // Into the order in which convolve() visits the wave vectors (fft_engine.hpp): the products
   // then read every kernel contiguously.
+  const std::vector<std::size_t> order = engine_->block_order();
   for (auto* kernel : {&kxx_, &kxy_, &kyy_, &kzz_, &sx_, &sy_}) {
-    if (!kernel->empty()) *kernel = fft::to_block_order(*engine_, *kernel);
+    if (!kernel->empty()) *kernel = fft::to_block_order(order, *kernel);
   }
   // The input padding must be zero from here on: apply() writes only the region.
   for (int c = 0; c < ncomp(); ++c)
@@ -168,6 +169,7 @@ void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::spa
       region_dirty_ = false;
     }
     map_sites(*sites);
+    region_dirty_ = true;  // until the sites are cleared below (a throw in between leaves it so)
     for (std::size_t c = 0; c < ncomp_; ++c) {
       double* grid = engine_->input(static_cast<int>(c)).data();
       const double* src = in.data() + c * n;
@@ -205,6 +207,7 @@ void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::spa
         std::copy_n(grid + padded.index(i0, 0), region_.n1, dst + region_.index(i0, 0));
     }
   }
+  if (sites) region_dirty_ = false;  // every written site is zero again
 }
 
 void FreeSurfaceGF::apply(std::span<const double> f, std::span<double> u) {

@@ -13,6 +13,7 @@
 #include <fftw3.h>
 #ifdef __linux__
 #include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 #include <algorithm>
@@ -168,12 +169,15 @@ class FFTWEngine final : public Engine {
   }
 
   // The column transforms and the products visit a block of a few columns on every row: on 4 KiB
-  // pages each row is a page of its own, and the TLB misses cost a large part of the column
+  // pages each row is a page of its own (in whatever heap the buffer came from: the hint is
+  // harmless there), and the TLB misses cost a large part of the column
   // pass on 2048^2 and 4096^2 grids. Transparent huge pages (2 MiB) are asked for where the
   // kernel grants them on request (THP "madvise" mode, Debian's default); a hint only.
   static void advise_huge_pages(void* p, std::size_t bytes) {
 #ifdef __linux__
-    constexpr std::uintptr_t page = 4096;
+    const long size = sysconf(_SC_PAGESIZE);
+    if (size <= 0) return;
+    const auto page = static_cast<std::uintptr_t>(size);
     const auto begin = (reinterpret_cast<std::uintptr_t>(p) + page - 1) & ~(page - 1);
     const auto end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(page - 1);
     if (end > begin && bytes >= (std::size_t{4} << 20)) {

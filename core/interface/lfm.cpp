@@ -4,6 +4,7 @@
 #include "common/validate.hpp"
 #include "interface/sincos.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>

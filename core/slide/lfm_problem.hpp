@@ -4,7 +4,6 @@
 #pragma once
 
 #include <numbers>
-#include <vector>
 
 #include "elastic/surface_gf.hpp"
 #include "interface/lfm.hpp"

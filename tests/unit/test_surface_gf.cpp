@@ -187,7 +187,8 @@ TEST(FreeSurfaceGF, InterfaceFilter) {
 // apply(sites, ...) and apply_filter(sites, ...) (the slides' calls, on the contact sites only):
 // equal to the whole-region calls on the scattered field, read back on the sites, bit for bit
 // (the same transforms and products; only the copies differ). Interleaved with whole-region
-// calls, which leave values in the engine's input that a site call must clear first; with
+// calls, which leave values in the engine's input that a site call must clear first; site
+// calls in a row whose list shrinks, where the first call's sites must be cleared after it;
 // sites in increasing and in scrambled order; bad sizes and indices rejected.
 TEST(FreeSurfaceGF, SiteListCallsEqualWholeRegionCalls) {
   const Shape2 region{23, 19};
@@ -228,15 +229,37 @@ TEST(FreeSurfaceGF, SiteListCallsEqualWholeRegionCalls) {
               ASSERT_EQ(out[c * m + j], out_full[c * n + (*list)[j]]) << "filter, site " << j;
           }
         }
-        // Two site calls in a row: the first leaves nothing behind.
-        std::vector<double> again(nc * m);
-        const auto fs2 = random_field(nc * m, 70 + seed);
-        gf.apply(*list, fs2, again);
-        gf.apply(*list, fs, again);
-        gf.apply(full, out_full);
+        // Site calls in a row with a shrinking list (a contact that loses sites), no
+        // whole-region call in between: the first must leave nothing behind on the sites the
+        // second no longer lists. The reference comes first, so that its whole-region call
+        // cleans nothing for the site calls after it.
+        std::vector<std::size_t> fewer;
+        for (std::size_t j = 0; j < m; j += 3)
+          fewer.push_back((*list)[j]);
+        const std::size_t k = fewer.size();
+        const auto fk = random_field(nc * k, 70 + seed);
+        std::vector<double> scattered(gf.size(), 0.0), reference(gf.size());
         for (std::size_t c = 0; c < nc; ++c) {
-          for (std::size_t j = 0; j < m; ++j)
-            ASSERT_EQ(again[c * m + j], out_full[c * n + (*list)[j]]) << "repeat, site " << j;
+          for (std::size_t j = 0; j < k; ++j)
+            scattered[c * n + fewer[j]] = fk[c * k + j];
+        }
+        gf.apply(scattered, reference);
+        if (comps == Components::in_plane) {
+          std::vector<double> filtered(gf.size()), wk(nc * k);
+          gf.apply_filter(scattered, filtered, 2.0);
+          gf.apply_filter(*list, fs, out, 2.0);
+          gf.apply_filter(fewer, fk, wk, 2.0);
+          for (std::size_t c = 0; c < nc; ++c) {
+            for (std::size_t j = 0; j < k; ++j)
+              ASSERT_EQ(wk[c * k + j], filtered[c * n + fewer[j]]) << "fewer, filter " << j;
+          }
+        }
+        std::vector<double> uk(nc * k);
+        gf.apply(*list, fs, out);
+        gf.apply(fewer, fk, uk);
+        for (std::size_t c = 0; c < nc; ++c) {
+          for (std::size_t j = 0; j < k; ++j)
+            ASSERT_EQ(uk[c * k + j], reference[c * n + fewer[j]]) << "fewer, site " << j;
         }
       }
     }
@@ -244,6 +267,11 @@ TEST(FreeSurfaceGF, SiteListCallsEqualWholeRegionCalls) {
     std::vector<double> f2(nc * 2), u2(nc * 2), u3(nc * 3);
     EXPECT_THROW(gf.apply(outside, f2, u2), std::invalid_argument);
     EXPECT_THROW(gf.apply(std::vector<std::size_t>{0, 1}, f2, u3), std::invalid_argument);
+    if (comps == Components::in_plane) {
+      EXPECT_THROW(gf.apply_filter(outside, f2, u2, 1.0), std::invalid_argument);
+      EXPECT_THROW(gf.apply_filter(std::vector<std::size_t>{0, 1}, f2, u3, 1.0),
+                   std::invalid_argument);
+    }
   }
 }
 
