@@ -172,8 +172,9 @@ PeierlsCell::PeierlsCell(const CellOptions& options) : options_(options) {
     }
   }
   // Read contiguously by convolve()'s blocks (fft::Engine::block_order).
-  stiffness_ = fft::to_block_order(*engine_, stiffness_, 4);
-  preconditioner_ = fft::to_block_order(*engine_, preconditioner_, 4);
+  const std::vector<std::size_t> order = engine_->block_order();
+  stiffness_ = fft::to_block_order(order, stiffness_, 4);
+  preconditioner_ = fft::to_block_order(order, preconditioner_, 4);
 }
 
 void PeierlsCell::site_position(std::size_t site, int& X, int& Y) const {

@@ -402,8 +402,9 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
     }
   }
   // Read contiguously by convolve()'s blocks (fft::Engine::block_order).
-  compliance_ = fft::to_block_order(*engine_, compliance_, block);
-  stiffness_ = fft::to_block_order(*engine_, stiffness_, block);
+  const std::vector<std::size_t> order = engine_->block_order();
+  compliance_ = fft::to_block_order(order, compliance_, block);
+  stiffness_ = fft::to_block_order(order, stiffness_, block);
 }
 
 void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> out,

@@ -107,7 +107,7 @@ class Engine {
 
 // A Fourier-space kernel with `per_q` values per wave vector, stored row-major over the
 // half-grid, rearranged into a block order (entry p's values at p * per_q ...): `order` as
-// returned by Engine::block_order() (computed once for several kernels), or the engine's.
+// returned by Engine::block_order(), computed once for all of an engine's kernels.
 template <class T>
 std::vector<T> to_block_order(const std::vector<std::size_t>& order, const std::vector<T>& natural,
                               std::size_t per_q = 1) {
@@ -122,11 +122,6 @@ std::vector<T> to_block_order(const std::vector<std::size_t>& order, const std::
       out[p * per_q + e] = natural[order[p] * per_q + e];
   }
   return out;
-}
-template <class T>
-std::vector<T> to_block_order(const Engine& engine, const std::vector<T>& natural,
-                              std::size_t per_q = 1) {
-  return to_block_order(engine.block_order(), natural, per_q);
 }
 
 // FFTW3 backend (threads as requested). support_rows: rows of the input that may be non-zero

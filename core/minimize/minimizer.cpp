@@ -895,13 +895,9 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         constexpr std::size_t block = 2048;
         for (std::size_t i0 = 0; i0 < n; i0 += block) {
           const std::size_t len = std::min(block, n - i0);
-          double* out = zf.data() + i0;
-          for (std::size_t k = 0; k < memory.size(); ++k) {
-            const double t = alpha_coef[k];
-            const double* b = memory[k].df.data() + i0;
-            for (std::size_t i = 0; i < len; ++i)
-              out[i] += t * b[i];
-          }
+          const std::span<double> out(zf.data() + i0, len);
+          for (std::size_t k = 0; k < memory.size(); ++k)
+            axpy(out, alpha_coef[k], std::span<const double>(memory[k].df.data() + i0, len));
         }
       }
       std::swap(du, z);
