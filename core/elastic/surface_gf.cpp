@@ -76,6 +76,7 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
   const Shape2 padded{next_fft_size(2 * region.n0 - 1),
                       next_fft_size(std::max(2, 2 * region.n1 - 1))};
   engine_ = fft::make_engine(padded, ncomp(), fft, region.n0);
+  threads_ = std::max(1, fft.threads);
 
   // Each kernel entry is the FFT of the wrapped real-space coefficients; even kernels are real,
   // the odd normal-lateral coupling is imaginary. One engine field at a time is enough here.

@@ -72,6 +72,8 @@ class FreeSurfaceGF {
   [[nodiscard]] double spacing() const { return d_; }
   // Number of apply() calls so far: the unit of cost reported by solvers.
   [[nodiscard]] std::size_t applications() const { return applications_; }
+  // Threads of the transforms (FFTOptions::threads), offered to the solvers' vector passes.
+  [[nodiscard]] int threads() const { return threads_; }
 
  private:
   // The Fourier-space product at wave vector q, on entry `at` of a block.
@@ -99,6 +101,7 @@ class FreeSurfaceGF {
   std::vector<double> mxx_, mxy_, myy_;
   double filter_c_ = -1.0;
   std::size_t filter_applications_ = 0;
+  int threads_ = 1;
   // Site-list calls: padded-grid position of each listed site; whether a whole-region call
   // left values in the region of the engine's input.
   std::vector<std::size_t> positions_;

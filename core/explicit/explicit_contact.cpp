@@ -107,6 +107,7 @@ class ExplicitContact::Problem final : public minimize::Problem {
   }
 
   [[nodiscard]] std::size_t gf_applications() const override { return c_.gf_->applications(); }
+  [[nodiscard]] int threads() const override { return c_.gf_->threads(); }
 
  private:
   ExplicitContact& c_;

@@ -59,8 +59,10 @@ class LateralForceModel {
   [[nodiscard]] double sy(std::size_t i, double uy) const;
 
   // On the contact sites, with u and f_int component-major ([x of each contact site][y ...]):
-  // returns V, writes the interface force.
-  double energy_and_force(std::span<const double> u, std::span<double> f_int) const;
+  // returns V, writes the interface force. threads: for the per-site terms of large contacts
+  // (V and f_int are bit for bit the same on any number; the sum runs in site order).
+  double energy_and_force(std::span<const double> u, std::span<double> f_int,
+                          int threads = 1) const;
   // Interface Hessian diagonal d2V/du2 = tau_max d^2 (2 pi/d) cos(2 pi s/d).
   void curvature(std::span<const double> u, std::span<double> h) const;
 

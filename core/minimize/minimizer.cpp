@@ -1,6 +1,7 @@
 // Minimisers of SOLVERS.md in the pair representation; see minimizer.hpp for the methods.
 #include "minimize/minimizer.hpp"
 
+#include "common/parallel.hpp"
 #include "common/validate.hpp"
 #include "solve/newton_krylov.hpp"
 
@@ -33,19 +34,57 @@ double dot(std::span<const double> a, std::span<const double> b) {
   return view(a).dot(view(b));
 }
 
+// Threads for the element-wise passes of the minimisation running on this thread: set by
+// minimize() from Problem::threads() for its duration (a thread of its own per caller, so
+// minimisations on different threads do not share it). Dot products stay serial (par::).
+thread_local int pass_threads = 1;
+
+class PassThreads {
+ public:
+  explicit PassThreads(int threads) : saved_(pass_threads) { pass_threads = std::max(1, threads); }
+  ~PassThreads() { pass_threads = saved_; }
+  PassThreads(const PassThreads&) = delete;
+  PassThreads& operator=(const PassThreads&) = delete;
+
+ private:
+  int saved_;
+};
+
+// f(i) for every i in [0, n), on the pass threads.
+template <class F>
+void each(std::size_t n, F&& f) {
+  par::for_ranges(n, pass_threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      f(i);
+  });
+}
+
 double max_abs(std::span<const double> a) {
-  return a.empty() ? 0.0 : view(a).lpNorm<Eigen::Infinity>();
+  if (a.empty()) return 0.0;
+  return par::max_over_ranges(a.size(), pass_threads, [&](std::size_t b, std::size_t e) {
+    return view(a.subspan(b, e - b)).lpNorm<Eigen::Infinity>();
+  });
 }
 
 // x = a + t b
 void axpy_into(std::span<double> x, std::span<const double> a, double t,
                std::span<const double> b) {
-  view(x) = view(a) + t * view(b);
+  par::for_ranges(x.size(), pass_threads, [&](std::size_t i, std::size_t e) {
+    view(x.subspan(i, e - i)) = view(a.subspan(i, e - i)) + t * view(b.subspan(i, e - i));
+  });
 }
 
 // x += t b
 void axpy(std::span<double> x, double t, std::span<const double> b) {
-  view(x) += t * view(b);
+  par::for_ranges(x.size(), pass_threads, [&](std::size_t i, std::size_t e) {
+    view(x.subspan(i, e - i)) += t * view(b.subspan(i, e - i));
+  });
+}
+
+// x *= t
+void scale(std::span<double> x, double t) {
+  par::for_ranges(x.size(), pass_threads,
+                  [&](std::size_t i, std::size_t e) { view(x.subspan(i, e - i)) *= t; });
 }
 
 // Energy and gradient at a pair, with the bookkeeping of evaluations.
@@ -55,8 +94,7 @@ class Evaluator {
 
   double operator()(std::span<const double> u, std::span<const double> f, std::span<double> r) {
     const double v = p_.interface(u, fint_);
-    for (std::size_t i = 0; i < r.size(); ++i)
-      r[i] = f[i] - fint_[i];
+    each(r.size(), [&](std::size_t i) { r[i] = f[i] - fint_[i]; });
     ++evaluations;
     return 0.5 * dot(f, u) + v;
   }
@@ -604,6 +642,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   const std::size_t gf0 = problem.gf_applications();
   MinimizeResult res;
   res.lowest_eigenvalue = std::numeric_limits<double>::quiet_NaN();
+  const PassThreads pass_threads_guard(problem.threads());
   Evaluator eval(problem);
   Point x{u, f, std::vector<double>(n), 0.0};
   Point trial{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
@@ -862,11 +901,16 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
 
     // Search direction (du, df) with df = K du.
     if (quasi_newton && !memory.empty()) {
-      q = x.r;
       alpha_coef.assign(memory.size(), 0.0);
       for (std::size_t k = memory.size(); k-- > 0;) {
-        alpha_coef[k] = memory[k].rho * dot(memory[k].s, q);
-        axpy(q, -alpha_coef[k], memory[k].y);
+        // The newest pair reads r itself and writes q = r - alpha y in one pass: the same
+        // values as copying r into q first (a + t b either way), without the copy.
+        const bool newest_pair = k + 1 == memory.size();
+        alpha_coef[k] = memory[k].rho * dot(memory[k].s, newest_pair ? x.r : q);
+        if (newest_pair)
+          axpy_into(q, x.r, -alpha_coef[k], memory[k].y);
+        else
+          axpy(q, -alpha_coef[k], memory[k].y);
       }
       apply_h0(q, z);
       std::vector<double>& zf = q;  // K-image of z, built in place
@@ -881,8 +925,8 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       // Built negated, so that z and zf become the direction (du, df) without a pass to negate
       // them: negation is exact and commutes with every product and sum here, so the result is
       // bit for bit -(the recursion's z), and c is the recursion's c.
-      view(std::span<double>(z)) *= -gamma;
-      view(std::span<double>(zf)) *= -gamma;
+      scale(z, -gamma);
+      scale(zf, -gamma);
       for (std::size_t k = 0; k < memory.size(); ++k) {
         const double c = alpha_coef[k] + memory[k].rho * dot(memory[k].y, z);
         axpy(z, -c, memory[k].s);
@@ -891,24 +935,24 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       // zf += -c_k df_k for every pair, in one pass over zf instead of one per pair (zf is not
       // read in the loop above): per element the same additions in the same order as pair by
       // pair, so bit for bit the same; blocks keep zf's block in cache across the pairs.
-      {
+      par::for_ranges(n, pass_threads, [&](std::size_t b, std::size_t e) {
         constexpr std::size_t block = 2048;
-        for (std::size_t i0 = 0; i0 < n; i0 += block) {
-          const std::size_t len = std::min(block, n - i0);
-          const std::span<double> out(zf.data() + i0, len);
+        for (std::size_t i0 = b; i0 < e; i0 += block) {
+          const std::size_t len = std::min(block, e - i0);
+          auto out = view(std::span<double>(zf.data() + i0, len));
           for (std::size_t k = 0; k < memory.size(); ++k)
-            axpy(out, alpha_coef[k], std::span<const double>(memory[k].df.data() + i0, len));
+            out += alpha_coef[k] * view(std::span<const double>(memory[k].df.data() + i0, len));
         }
-      }
+      });
       std::swap(du, z);
       std::swap(df, zf);
     } else if (use_filter && !plain_next) {  // first step: filtered steepest descent
       q = x.r;
       apply_h0(q, z);
-      for (std::size_t i = 0; i < n; ++i) {
+      each(n, [&](std::size_t i) {
         du[i] = -z[i];
         df[i] = -q[i];
-      }
+      });
     } else {
       problem.compliance(x.r, z);
       const double rz = dot(x.r, z);
@@ -919,10 +963,10 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
           num += x.r[i] * (z[i] - z_prev[i]);
         beta = std::max(0.0, num / rz_prev);  // Polak-Ribiere+
       }
-      for (std::size_t i = 0; i < n; ++i) {
+      each(n, [&](std::size_t i) {
         du[i] = -z[i] + beta * du_prev[i];
         df[i] = -x.r[i] + beta * df_prev[i];
-      }
+      });
       if (options.method == Method::cg) z_prev = z;
       rz_prev = rz;
     }
@@ -930,10 +974,10 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
     if (!(d0 < 0.0)) {  // not a descent direction: fall back to preconditioned steepest descent
       memory.clear();
       problem.compliance(x.r, z);  // G alone: G r . r > 0 whatever the filter does
-      for (std::size_t i = 0; i < n; ++i) {
+      each(n, [&](std::size_t i) {
         du[i] = -z[i];
         df[i] = -x.r[i];
-      }
+      });
       d0 = dot(x.r, du);
       z_prev = z;
       rz_prev = -d0;
@@ -969,11 +1013,11 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
       p.s.resize(n);
       p.df.resize(n);
       p.y.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
+      each(n, [&](std::size_t i) {
         p.s[i] = trial.u[i] - x.u[i];
         p.df[i] = trial.f[i] - x.f[i];
         p.y[i] = trial.r[i] - x.r[i];
-      }
+      });
       const double sy = dot(p.s, p.y);
       if (sy > 1e-300) {  // keep only positive curvature
         p.rho = 1.0 / sy;

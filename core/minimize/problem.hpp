@@ -45,6 +45,10 @@ class Problem {
 
   // Green's function applications so far (the unit of cost).
   [[nodiscard]] virtual std::size_t gf_applications() const = 0;
+
+  // Threads the solver may use for its element-wise vector passes (those are bit for bit the
+  // same on any number of threads; its sums stay serial): the threads of the problem's FFTs.
+  [[nodiscard]] virtual int threads() const { return 1; }
 };
 
 }  // namespace asperity::minimize

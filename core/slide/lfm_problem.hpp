@@ -55,12 +55,13 @@ class LfmProblem final : public minimize::Problem {
   }
 
   double interface(std::span<const double> u, std::span<double> f_int) const override {
-    return lfm_.energy_and_force(u, f_int);
+    return lfm_.energy_and_force(u, f_int, gf_.threads());
   }
   void curvature(std::span<const double> u, std::span<double> h) const override {
     lfm_.curvature(u, h);
   }
   [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
+  [[nodiscard]] int threads() const override { return gf_.threads(); }
 
  private:
   elastic::FreeSurfaceGF& gf_;
