@@ -3,6 +3,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -10,6 +11,10 @@
 namespace asperity::par {
 
 namespace {
+
+// Set on the threads running a job: a pass started from inside a job runs serially there (the
+// caller holds the pool, and a worker cannot wait on its own pool).
+thread_local bool inside_job = false;
 
 // Workers wait on a condition variable (they sleep, so FFTW's threads keep the cores between
 // passes). One job at a time: a generation counter tells a worker that a new job is posted, and
@@ -30,16 +35,20 @@ class Pool {
       w.join();
   }
 
-  void run(int t, Job job, void* context) {
+  void run(int t, Job job, void* context) noexcept {
     std::unique_lock running(run_mutex_, std::try_to_lock);
     if (!running.owns_lock()) {  // another caller's job is on the workers: do it all here
-      for (int k = 0; k < t; ++k)
-        job(context, k, t);
+      serial(t, job, context);
       return;
     }
-    while (static_cast<int>(workers_.size()) < t - 1) {
-      const int k = static_cast<int>(workers_.size()) + 1;
-      workers_.emplace_back([this, k] { work(k); });
+    try {
+      while (static_cast<int>(workers_.size()) < t - 1) {
+        const int k = static_cast<int>(workers_.size()) + 1;
+        workers_.emplace_back([this, k] { work(k); });
+      }
+    } catch (const std::exception&) {  // no thread to be had: the same ranges, here
+      serial(t, job, context);
+      return;
     }
     {
       const std::lock_guard lock(m_);
@@ -55,8 +64,14 @@ class Pool {
     done_.wait(lock, [this] { return pending_ == 0; });
   }
 
+  static void serial(int t, Job job, void* context) noexcept {
+    for (int k = 0; k < t; ++k)
+      job(context, k, t);
+  }
+
  private:
   void work(int k) {
+    inside_job = true;
     std::uint64_t seen = 0;
     std::unique_lock lock(m_);
     for (;;) {
@@ -87,13 +102,15 @@ class Pool {
 
 }  // namespace
 
-void run(int t, Job job, void* context) {
+void run(int t, Job job, void* context) noexcept {
   static Pool pool;
-  if (t <= 1) {
-    job(context, 0, 1);
+  if (t <= 1 || inside_job) {
+    Pool::serial(t, job, context);
     return;
   }
+  inside_job = true;
   pool.run(t, job, context);
+  inside_job = false;
 }
 
 }  // namespace asperity::par

@@ -29,13 +29,15 @@ inline constexpr int max_threads = 256;
 }
 
 // job(context, k, t) for k = 0 .. t-1, k = 0 on the calling thread and the others on workers
-// of the pool, returning when all are done. If the pool is running another caller's job, this
-// caller runs every k itself (same ranges, same results). job must not throw.
+// of the pool, returning when all are done. If the pool is running another caller's job, or
+// this is called from inside a job, this caller runs every k itself (same ranges, same
+// results). job must not throw (a throw terminates).
 using Job = void (*)(void* context, int k, int t);
-void run(int t, Job job, void* context);
+void run(int t, Job job, void* context) noexcept;
 
-// Start of range k of t over [0, n): multiples of 8 elements (a cache line of doubles), so that
-// no two threads write one line.
+// Start of range k of t over [0, n): multiples of 8 elements (a cache line of doubles on
+// 64-byte aligned data; at worst the lines at the edges are shared, which costs time, not
+// correctness).
 [[nodiscard]] inline std::size_t range_start(std::size_t n, int k, int t) {
   return k >= t ? n : (n * static_cast<std::size_t>(k) / static_cast<std::size_t>(t)) / 8 * 8;
 }
@@ -48,7 +50,7 @@ void for_ranges(std::size_t n, int threads, F&& f) {
     f(std::size_t{0}, n);
     return;
   }
-  auto body = [&](int k) { f(range_start(n, k, t), range_start(n, k + 1, t)); };
+  auto body = [&](int k) noexcept { f(range_start(n, k, t), range_start(n, k + 1, t)); };
   run(
       t, [](void* c, int k, int) { (*static_cast<decltype(body)*>(c))(k); }, &body);
 }
@@ -60,7 +62,7 @@ template <class G>
   const int t = threads_for(n, threads);
   if (t <= 1) return g(std::size_t{0}, n);
   double best[max_threads];
-  auto body = [&](int k) { best[k] = g(range_start(n, k, t), range_start(n, k + 1, t)); };
+  auto body = [&](int k) noexcept { best[k] = g(range_start(n, k, t), range_start(n, k + 1, t)); };
   run(
       t, [](void* c, int k, int) { (*static_cast<decltype(body)*>(c))(k); }, &body);
   double m = best[0];

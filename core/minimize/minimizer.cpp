@@ -59,10 +59,12 @@ void each(std::size_t n, F&& f) {
   });
 }
 
+// Largest |a_i|; a NaN anywhere is returned (Eigen's default maximum keeps whichever operand
+// its comparison favours, so a NaN would show or not depending on where the ranges split).
 double max_abs(std::span<const double> a) {
   if (a.empty()) return 0.0;
   return par::max_over_ranges(a.size(), pass_threads, [&](std::size_t b, std::size_t e) {
-    return view(a.subspan(b, e - b)).lpNorm<Eigen::Infinity>();
+    return view(a.subspan(b, e - b)).cwiseAbs().maxCoeff<Eigen::PropagateNaN>();
   });
 }
 
