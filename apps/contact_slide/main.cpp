@@ -171,7 +171,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "elastic", "interface"}));
     cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
         ->check(app::finite_number(0.0, 1.0, true));
-    cli.add_option("--threads", threads, "FFT threads (also the solvers' vector passes on large contacts)")->check(CLI::Range(1, 1024));
+    cli.add_option("--threads", threads,
+                   "FFT threads (also the solvers' vector passes on large contacts)")
+        ->check(CLI::Range(1, 1024));
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     bool resume = false;
     double checkpoint_every = 300.0;
