@@ -42,6 +42,14 @@ void run(int t, Job job, void* context) noexcept;
   return k >= t ? n : (n * static_cast<std::size_t>(k) / static_cast<std::size_t>(t)) / 8 * 8;
 }
 
+// f(k, begin, end) for the ranges k = 0 .. t-1 of [0, n), on t threads.
+template <class F>
+void run_ranges(std::size_t n, int t, F&& f) {
+  auto body = [&](int k) noexcept { f(k, range_start(n, k, t), range_start(n, k + 1, t)); };
+  run(
+      t, [](void* c, int k, int) { (*static_cast<decltype(body)*>(c))(k); }, &body);
+}
+
 // f(begin, end) on contiguous ranges that cover [0, n), one per thread. f must not throw.
 template <class F>
 void for_ranges(std::size_t n, int threads, F&& f) {
@@ -50,9 +58,7 @@ void for_ranges(std::size_t n, int threads, F&& f) {
     f(std::size_t{0}, n);
     return;
   }
-  auto body = [&](int k) noexcept { f(range_start(n, k, t), range_start(n, k + 1, t)); };
-  run(
-      t, [](void* c, int k, int) { (*static_cast<decltype(body)*>(c))(k); }, &body);
+  run_ranges(n, t, [&](int, std::size_t b, std::size_t e) { f(b, e); });
 }
 
 // Largest value of g(begin, end) over the ranges of for_ranges (g returns its range's maximum):
@@ -62,9 +68,7 @@ template <class G>
   const int t = threads_for(n, threads);
   if (t <= 1) return g(std::size_t{0}, n);
   double best[max_threads];
-  auto body = [&](int k) noexcept { best[k] = g(range_start(n, k, t), range_start(n, k + 1, t)); };
-  run(
-      t, [](void* c, int k, int) { (*static_cast<decltype(body)*>(c))(k); }, &body);
+  run_ranges(n, t, [&](int k, std::size_t b, std::size_t e) { best[k] = g(b, e); });
   double m = best[0];
   for (int k = 1; k < t; ++k)
     if (best[k] > m || best[k] != best[k]) m = best[k];
