@@ -941,9 +941,9 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         constexpr std::size_t block = 2048;
         for (std::size_t i0 = b; i0 < e; i0 += block) {
           const std::size_t len = std::min(block, e - i0);
-          auto out = view(std::span<double>(zf.data() + i0, len));
-          for (std::size_t k = 0; k < memory.size(); ++k)
-            out += alpha_coef[k] * view(std::span<const double>(memory[k].df.data() + i0, len));
+          const std::span<double> out(zf.data() + i0, len);
+          for (std::size_t k = 0; k < memory.size(); ++k)  // a block: axpy stays on this thread
+            axpy(out, alpha_coef[k], std::span<const double>(memory[k].df.data() + i0, len));
         }
       });
       std::swap(du, z);

@@ -55,7 +55,7 @@ class LfmProblem final : public minimize::Problem {
   }
 
   double interface(std::span<const double> u, std::span<double> f_int) const override {
-    return lfm_.energy_and_force(u, f_int, gf_.threads());
+    return lfm_.energy_and_force(u, f_int, threads());
   }
   void curvature(std::span<const double> u, std::span<double> h) const override {
     lfm_.curvature(u, h);
