@@ -65,9 +65,12 @@ SlideScene read_slide_keys(SceneReader& r) {
   m.preconditioner = minimize::preconditioner_from_string(
       r.string("solver.preconditioner", minimize::to_string(m.preconditioner),
                {"auto", "elastic", "interface"}));
-  // The slip minimiser: the slide's minimiser with another method and preconditioner.
+  // The slip minimiser: the slide's minimiser with another method and preconditioner. By default
+  // the flow relaxes every slip again: which minimum an instability falls into is the flow's to
+  // say (MODEL.md 5; issue 21, docs/solvers.md "Path fidelity"), and lbfgs, cg and newton carry
+  // loops past the flow's arrest near the II/III crossover and in Regime III.
   const std::string slips =
-      r.string("solver.slip_method", "same", {"same", "lbfgs", "cg", "fire", "newton", "flow"});
+      r.string("solver.slip_method", "flow", {"same", "lbfgs", "cg", "fire", "newton", "flow"});
   const std::string slip_pre =
       r.string("solver.slip_preconditioner", "interface", {"auto", "elastic", "interface"});
   if (slips != "same") {
