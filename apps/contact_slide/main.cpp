@@ -162,9 +162,10 @@ int main(int argc, char** argv) {
                    "lbfgs | cg | fire | newton | flow (the reference path: slow, faithful)")
         ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton", "flow"}));
     cli.add_option("--slip-solver", slip_solver,
-                   "Relax again every step the solver calls a slip with this one (flow: the "
-                   "reference path, in the interface filter's metric unless "
-                   "solver.slip_preconditioner says otherwise) | same")
+                   "Relax again every step the solver calls a slip with this one: flow (the "
+                   "default: the reference path, in the interface filter's metric unless "
+                   "solver.slip_preconditioner says otherwise; 3-10x the cost) | same (no: "
+                   "fast, right in Regime II, not near loop arrest)")
         ->check(CLI::IsMember({"same", "lbfgs", "cg", "fire", "newton", "flow"}));
     cli.add_option("--preconditioner", preconditioner,
                    "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
