@@ -9,8 +9,8 @@
 // "small" (large contacts): the default, lbfgs alone at tolerances 1e-4 and 1e-5, the
 // preconditioner the automatic choice did not take, and the classic protocol only. The default
 // is the tools' (slips relaxed again by the flow); the library's SlideOptions{} has no slip
-// minimiser. The preconditioner rows force G or the
-// interface filter (docs/solvers.md); the default is automatic.
+// minimiser. The preconditioner rows force G or the interface filter (docs/solvers.md); the
+// default is automatic.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

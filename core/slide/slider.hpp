@@ -87,10 +87,10 @@ struct SlideOptions {
   // a slipping step of the reference protocol), from the state moved to the new Dx without the
   // warm start, and takes its verdict and end state instead: a path-faithful solver (method
   // flow) where the path matters, a fast one elsewhere (docs/solvers.md, "Path fidelity"). A slip
-  // it finds stable is accepted as a stable state. Empty: none (every step by `minimizer`).
-  // Empty here; the tools (contact_slide, friction_sweep) set it to the flow in the interface
-  // filter's metric by default (solver.slip_method = "flow", apps/common/slide_io.cpp), made from
-  // their final `minimizer` with slip_minimizer_from(): a library caller who wants the faithful
+  // it finds stable is accepted as a stable state. Empty (the default here): every step by
+  // `minimizer`. The tools (contact_slide, friction_sweep) set it by default to the flow in the
+  // interface filter's metric (solver.slip_method = "flow", apps/common/slide_io.cpp), made from
+  // their final `minimizer` by slip_minimizer_from(); a library caller who wants the faithful
   // path does the same after setting `minimizer`.
   std::optional<minimize::MinimizerOptions> slip_minimizer;
   fft::FFTOptions fft;  // threads and planning of the GF transforms
