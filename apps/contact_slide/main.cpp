@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
     cli.add_option("--slip-solver", slip_solver,
                    "Relax again every step the solver calls a slip with this one: flow (the "
                    "default: the reference path, in the interface filter's metric unless "
-                   "solver.slip_preconditioner says otherwise; 3-10x the cost) | same (no: "
+                   "solver.slip_preconditioner says otherwise; 3-15x the cost) | same (no: "
                    "fast, right in Regime II, not near loop arrest)")
         ->check(CLI::IsMember({"same", "lbfgs", "cg", "fire", "newton", "flow"}));
     cli.add_option("--preconditioner", preconditioner,
