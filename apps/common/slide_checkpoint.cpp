@@ -26,7 +26,8 @@ const char* const kByteOrder = std::endian::native == std::endian::little ? "lit
 // Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
 constexpr long long kMaxSites = 1LL << 28;
 
-// Deepest nesting a checkpoint has is 4 (root, state, fields, snapshot block); the limit only
+// Deepest nesting a checkpoint has is 6 (root, state, pending slip, its frames, a frame, its
+// fields); the limit only
 // has to stop a damaged file from nesting arrays thousands deep, which would overflow the
 // stack in the recursive CBOR reader (found by fuzz_checkpoint).
 constexpr std::size_t kMaxDepth = 32;
@@ -122,6 +123,47 @@ json fields_json(const slide::SlideFields& s) {
 
 json optional_fields(const std::optional<slide::SlideFields>& s) {
   return s ? fields_json(*s) : json(nullptr);
+}
+
+json minimize_json(const minimize::MinimizeResult& r) {
+  return {{"termination", static_cast<int>(r.termination)},
+          {"iterations", r.iterations},
+          {"gf_applications", r.gf_applications},
+          {"interface_evaluations", r.interface_evaluations},
+          {"filter_applications", r.filter_applications},
+          {"filtered", r.filtered},
+          {"energy", r.energy},
+          {"max_force", r.max_force},
+          {"escapes", r.escapes},
+          {"rejected_steps", r.rejected_steps},
+          {"memory_resets", r.memory_resets},
+          {"lowest_eigenvalue", r.lowest_eigenvalue},
+          {"stability_checked", r.stability_checked}};
+}
+
+// A paused slip relaxation (slide::PendingSlip): the flow's pair and integrator state, the
+// relaxation before it and the path frames so far (displacements only, as the slide holds them).
+json pending_json(const std::optional<slide::PendingSlip>& p) {
+  if (!p) return nullptr;
+  const minimize::FlowPause& fl = p->flow;
+  json frames = json::array();
+  for (const slide::PathFrame& fr : p->frames)
+    frames.push_back({{"iteration", fr.iteration}, {"fields", fields_json(fr.fields)}});
+  return {{"Dx", p->Dx},
+          {"fast", minimize_json(p->fast)},
+          {"flow",
+           {{"iteration", fl.iteration},
+            {"u", bytes_of(fl.u)},
+            {"f", bytes_of(fl.f)},
+            {"velocity_u", bytes_of(fl.velocity_u)},
+            {"velocity_f", bytes_of(fl.velocity_f)},
+            {"step", fl.step},
+            {"radius", fl.radius},
+            {"since_estimate", fl.since_estimate},
+            {"power", bytes_of(fl.power)},
+            {"done", minimize_json(fl.done)}}},
+          {"frames", frames},
+          {"frame_interval", p->frame_interval}};
 }
 
 json window_json(const std::vector<slide::SlideFields>& window) {
@@ -297,6 +339,57 @@ std::optional<slide::SlideFields> optional_fields_from(const json& j, const char
   const json& v = at(j, key);
   if (v.is_null()) return std::nullopt;
   return fields_from(v);
+}
+
+minimize::MinimizeResult minimize_from(const json& j) {
+  minimize::MinimizeResult r;
+  r.termination = static_cast<Termination>(
+      integer(j, "termination", 0, static_cast<long long>(Termination::stalled)));
+  r.iterations = static_cast<int>(integer(j, "iterations", 0, std::numeric_limits<int>::max()));
+  r.gf_applications = count_value(j, "gf_applications");
+  r.interface_evaluations = count_value(j, "interface_evaluations");
+  r.filter_applications = count_value(j, "filter_applications");
+  r.filtered = boolean(j, "filtered");
+  r.energy = number(j, "energy");
+  r.max_force = number(j, "max_force");
+  r.escapes = static_cast<int>(integer(j, "escapes", 0, std::numeric_limits<int>::max()));
+  r.rejected_steps =
+      static_cast<int>(integer(j, "rejected_steps", 0, std::numeric_limits<int>::max()));
+  r.memory_resets =
+      static_cast<int>(integer(j, "memory_resets", 0, std::numeric_limits<int>::max()));
+  r.lowest_eigenvalue = number(j, "lowest_eigenvalue");
+  r.stability_checked = boolean(j, "stability_checked");
+  return r;
+}
+
+// Sizes are checked where the pause is continued (slide(), minimize()), against the scene.
+std::optional<slide::PendingSlip> pending_from(const json& s) {
+  // Absent in checkpoints written before slip relaxations could pause.
+  if (!s.contains("pending") || s["pending"].is_null()) return std::nullopt;
+  const json& j = s["pending"];
+  slide::PendingSlip p;
+  p.Dx = number(j, "Dx");
+  p.fast = minimize_from(at(j, "fast"));
+  const json& fl = at(j, "flow");
+  p.flow.iteration = static_cast<int>(integer(fl, "iteration", 0, std::numeric_limits<int>::max()));
+  p.flow.u = doubles(fl, "u");
+  p.flow.f = doubles(fl, "f");
+  p.flow.velocity_u = doubles(fl, "velocity_u");
+  p.flow.velocity_f = doubles(fl, "velocity_f");
+  p.flow.step = number(fl, "step");
+  p.flow.radius = number(fl, "radius");
+  p.flow.since_estimate =
+      static_cast<int>(integer(fl, "since_estimate", 0, std::numeric_limits<int>::max()));
+  p.flow.power = doubles(fl, "power");
+  p.flow.done = minimize_from(at(fl, "done"));
+  for (const json& fr : array(j, "frames")) {
+    p.frames.push_back({.iteration = static_cast<int>(
+                            integer(fr, "iteration", 0, std::numeric_limits<int>::max())),
+                        .fields = fields_from(at(fr, "fields"))});
+  }
+  p.frame_interval =
+      static_cast<int>(integer(j, "frame_interval", 0, std::numeric_limits<int>::max()));
+  return p;
 }
 
 Shape2 shape_from(const json& pair) {
@@ -494,7 +587,8 @@ std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {
                       {"window", window_json(st.window)},
                       {"window_rows", st.window_rows},
                       {"cycle_check_due", st.cycle_check_due},
-                      {"partial", result_json(st.partial)}};
+                      {"partial", result_json(st.partial)},
+                      {"pending", pending_json(st.pending)}};
   return json::to_cbor(json{{"format", kFormat},
                             {"version", kVersion},
                             {"byte_order", kByteOrder},
@@ -545,6 +639,7 @@ SlideCheckpoint decode_checkpoint(std::span<const std::uint8_t> bytes, const std
           static_cast<std::size_t>(integer(row, 0, std::numeric_limits<int>::max())));
     // Whether the window fits the trace is checked where every start state is (slide()).
     c.state.cycle_check_due = boolean(s, "cycle_check_due");
+    c.state.pending = pending_from(s);
     return c;
   } catch (const Bad& e) {
     throw std::invalid_argument(prefix + e.what());

@@ -338,8 +338,17 @@ SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene) {
                ? scene.options.max_path_frames * b.frame
                : 0.0;
   // current, previous, earlier, peak, runner-up and the cycle window: force and displacement,
-  // 2 components, as 8-byte values (CBOR byte strings), plus the trace (small).
+  // 2 components, as 8-byte values (CBOR byte strings), plus the trace (small). Inside a slip
+  // relaxation by the flow it also holds the paused flow (5 vectors of 2 values per contact
+  // site, bounded here by the block) and the path frames so far (a displacement each).
   b.checkpoint = (5.0 + static_cast<double>(slide::kCycleWindow)) * 32.0 * side * side + 65536.0;
+  const auto& slip = scene.options.slip_minimizer;
+  if (slip && slip->method == minimize::Method::flow) {
+    const double frames = scene.options.path_frame_every > 0 && scene.options.path_frame_slips > 0
+                              ? scene.options.max_path_frames
+                              : 0.0;
+    b.checkpoint += (5.0 + frames) * 16.0 * side * side;
+  }
   return b;
 }
 

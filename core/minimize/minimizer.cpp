@@ -308,6 +308,30 @@ class Flow {
 
   void invalidate() { fresh_ = false; }
 
+  // The integrator's state after an accepted step (FlowPause), and back.
+  void save(FlowPause& out) const {
+    out.velocity_u = Fu_, out.velocity_f = Ff_;
+    out.step = step_, out.radius = radius_, out.since_estimate = since_estimate_;
+    out.power = have_vector_ ? v_ : std::vector<double>{};
+  }
+  void restore(const FlowPause& in) {
+    const std::size_t n = Fu_.size();
+    if (in.velocity_u.size() != n || in.velocity_f.size() != n ||
+        (!in.power.empty() && in.power.size() != n) || !(in.step > 0.0) || !(in.radius >= 0.0) ||
+        in.since_estimate < 0) {
+      throw std::invalid_argument(
+          "minimize: the flow's pause does not fit this problem (its velocity and power vectors "
+          "must have " +
+          std::to_string(n) + " values, its step must be > 0)");
+    }
+    Fu_ = in.velocity_u, Ff_ = in.velocity_f;
+    step_ = in.step, radius_ = in.radius, since_estimate_ = in.since_estimate;
+    rejected_last_ = false;  // a pause follows an accepted step
+    have_vector_ = !in.power.empty();
+    if (have_vector_) v_ = in.power;
+    fresh_ = true;
+  }
+
   Outcome step(Point& x, Point& trial) {
     if (!fresh_) {
       mobility(x.r, Fu_, Ff_);
@@ -633,7 +657,8 @@ Stability lowest_mode(Problem& problem, std::span<const double> u) {
 }
 
 MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<double>& f,
-                        const MinimizerOptions& options, const Observer& observer) {
+                        const MinimizerOptions& options, const Observer& observer,
+                        const FlowPause* resume, const FlowPauses* pauses) {
   options.validate();
   const std::size_t n = problem.size();
   if (u.size() != n || f.size() != n) {
@@ -641,13 +666,21 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                                 std::to_string(f.size()) + " values for " + std::to_string(n) +
                                 " unknowns");
   }
-  const std::size_t gf0 = problem.gf_applications();
+  if (resume && (options.method != Method::flow || resume->u.size() != n || resume->f.size() != n ||
+                 resume->iteration < 0)) {
+    throw std::invalid_argument("minimize: a pause can only continue a flow relaxation (method " +
+                                to_string(options.method) + ") of " + std::to_string(n) +
+                                " unknowns; it has " + std::to_string(resume->u.size()));
+  }
+  std::size_t gf0 = problem.gf_applications();
   MinimizeResult res;
   res.lowest_eigenvalue = std::numeric_limits<double>::quiet_NaN();
   const PassThreads pass_threads_guard(problem.threads());
   Evaluator eval(problem);
-  Point x{u, f, std::vector<double>(n), 0.0};
+  Point x{resume ? resume->u : u, resume ? resume->f : f, std::vector<double>(n), 0.0};
   Point trial{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), 0.0};
+  // The energy and residual of the pair are those the paused run had (the same evaluation);
+  // on resume they are not counted again.
   x.e = eval(x.u, x.f, x.r);
 
   // L-BFGS memory and the CG/FIRE state.
@@ -694,6 +727,13 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                            problem.wants_filter(false);
   if (flow_filter) res.filtered = true;
   Flow flow(problem, eval, options, options.method == Method::flow ? n : 0, flow_filter, res);
+  if (resume) {
+    flow.restore(*resume);
+    res = resume->done;
+    res.filtered = flow_filter;
+    eval.evaluations = resume->done.interface_evaluations;
+    gf0 -= resume->done.gf_applications;  // the work before the pause counts
+  }
   int fire_positive = 0;
   constexpr double dt_max = 1.0, fire_alpha0 = 0.1;
 
@@ -705,7 +745,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
   };
 
   bool newton_tried = false;
-  int it = 0;
+  int it = resume ? resume->iteration : 0;
   // Every exit from the loop sets its termination; running out of iterations leaves this one.
   res.termination = n == 0 ? Termination::converged : Termination::max_iterations;
   for (; n > 0 && it < options.max_iterations; ++it) {
@@ -843,6 +883,18 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
         res.termination = Termination::interrupted;
         ++it;
         break;
+      }
+      if (pauses && pauses->due && pauses->due(it + 1)) {
+        FlowPause here{.iteration = it + 1, .u = x.u, .f = x.f, .done = res};
+        flow.save(here);
+        here.done.iterations = it + 1;
+        here.done.gf_applications = problem.gf_applications() - gf0;
+        here.done.interface_evaluations = eval.evaluations;
+        if (pauses->pause && pauses->pause(here)) {
+          res.termination = Termination::interrupted;
+          ++it;
+          break;
+        }
       }
       continue;
     }

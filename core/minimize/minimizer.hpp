@@ -121,9 +121,39 @@ struct MinimizeResult {
   bool stability_checked = false;  // negative curvature was present and a check ran
 };
 
+// A flow relaxation (Method::flow) paused after an accepted step, from which minimize()
+// continues it bit for bit: the pair, the integrator's state and the counts so far. A slip
+// through a large contact relaxes under the flow for hours (R = 1700 d, a = 430 d: over 90
+// minutes and 29 000 GF applications on 2 threads), longer than a run may last, so that a
+// checkpoint has to be able to hold one (slide::PendingSlip).
+struct FlowPause {
+  int iteration = 0;                           // iterations done
+  std::vector<double> u, f;                    // the pair (u = G f up to the flow's drift)
+  std::vector<double> velocity_u, velocity_f;  // -(du/dt, df/dt) at the pair: (G P r, P r)
+  double step = 0.0;                           // the next step to try (flow time)
+  double radius = 0.0;                         // rkc: spectral radius estimate (0: none)
+  int since_estimate = 0;                      // rkc: accepted steps since the estimate
+  std::vector<double> power;                   // rkc: power-iteration vector (empty: none yet)
+  MinimizeResult done;                         // counts and flags so far
+};
+
+// Where minimize() may pause a flow relaxation: after every accepted step `due` is asked (with
+// the iteration); if it says yes, `pause` receives the state, and if `pause` returns true the
+// minimisation stops there with Termination::interrupted (the caller keeps the FlowPause and
+// may continue from it).
+struct FlowPauses {
+  std::function<bool(int iteration)> due;
+  std::function<bool(const FlowPause&)> pause;
+};
+
 // Minimises from the pair (u, f), which must satisfy u = G f, and leaves the result there.
+// With `resume` (a flow relaxation paused by `pauses` of an earlier call with the same problem
+// and options) it continues from there instead, bit for bit as if it had not paused, and the
+// counts of the result include the work before the pause; u and f need only have the right size.
+// Throws std::invalid_argument if `resume` is not a flow's pause of this problem's size.
 MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<double>& f,
-                        const MinimizerOptions& options, const Observer& observer = {});
+                        const MinimizerOptions& options, const Observer& observer = {},
+                        const FlowPause* resume = nullptr, const FlowPauses* pauses = nullptr);
 
 // Lowest eigenvalue of A = G + G H_int G at u (sign = stability) and, if wanted, the unstable
 // direction in displacement space (v = G w) with its force image w.

@@ -36,6 +36,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/validate.hpp"
@@ -65,6 +66,15 @@ class CollectFrames final : public FrameSink {
 
  private:
   std::vector<Snapshot>& out_;
+};
+
+// A slip relaxation by the flow that may pause and continue (Model::relax takes it if the model
+// supports pauses: the lateral force model): where to pause, the pause to continue from, and
+// the path frames' interval, which the relaxation keeps here while it runs.
+struct RelaxPausing {
+  const minimize::FlowPause* from = nullptr;
+  minimize::FlowPauses pauses;
+  int frame_interval = 0;  // 0: SlideOptions::path_frame_every
 };
 
 // What the protocol needs to know of the scene.
@@ -115,6 +125,22 @@ void check_start(const SlideState& st, const Model& model) {
   }
   if (st.partial.trace.empty())
     reject("SlideState.partial.trace", "empty", "the first row at least");
+  if (st.pending) {
+    // The pair's size is checked where the flow continues (minimize), against the contact.
+    if (!(st.pending->Dx > st.current.Dx) || !std::isfinite(st.pending->Dx)) {
+      reject("SlideState.pending.Dx", std::to_string(st.pending->Dx),
+             "finite and beyond current.Dx = " + std::to_string(st.current.Dx));
+    }
+    for (const PathFrame& frame : st.pending->frames) {
+      if (frame.fields.u.size() != model.field_size() || !frame.fields.f.empty()) {
+        reject("SlideState.pending.frames", std::to_string(frame.fields.u.size()) + " values",
+               "a displacement of " + std::to_string(model.field_size()) + " values, no force");
+      }
+    }
+    if (st.pending->frame_interval < 0)
+      reject("SlideState.pending.frame_interval", std::to_string(st.pending->frame_interval),
+             ">= 0");
+  }
 }
 
 template <class Model>
@@ -179,6 +205,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // (R = 1700 d, a = 510 d: 12 854 iterations), which a stop must not wait for.
   bool may_abandon = false;
   bool abandoned = false;
+  // The slip minimiser's flow is paused instead (SlideState::pending), at its next accepted step.
+  bool may_pause = false;
+  bool pause_requested = false;
   const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
   struct ClearOnExit {
     std::function<bool(int)>* slot = nullptr;
@@ -190,7 +219,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     if (control.progress || control.stop_requested) {
       model.heartbeat = [&](int iteration) {
         report(relaxing, relaxing_to, iteration);
-        abandoned = may_abandon && stop_requested();
+        const bool stop = (may_abandon || may_pause) && stop_requested();
+        abandoned = may_abandon && stop;
+        pause_requested = pause_requested || (may_pause && stop);
         return abandoned;
       };
       clear_heartbeat.slot = &model.heartbeat;
@@ -265,6 +296,13 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
   // in Regime III, with a few larger partial slips of 0.58 to 0.84).
   constexpr double kSweptSlip = 0.5;
+  // A slip relaxation paused in the slide this one continues (only models whose relax() takes a
+  // RelaxPausing can pause).
+  std::optional<PendingSlip> pending;
+  constexpr bool pausable = requires(Model & m, State & s, std::vector<PathFrame> * frames,
+                                     const minimize::MinimizerOptions* o, RelaxPausing* p) {
+    m.relax(s, 0.0, frames, false, o, p);
+  };
   if (control.start) {
     const SlideState& st = *control.start;
     state = st.current;
@@ -280,6 +318,12 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     window = st.window;
     window_rows = st.window_rows;
     cycle_check_due = st.cycle_check_due;
+    pending = st.pending;
+    if (pending && (!pausable || stopped)) {
+      throw std::invalid_argument(
+          std::string("slide: the start state holds a paused slip relaxation, which ") +
+          (stopped ? "a state past the stepping cannot have" : "this model cannot continue"));
+    }
   } else {
     report(SlidePhase::start, 0.0);
     auto first = model.relax(state, 0.0, nullptr);
@@ -323,14 +367,20 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   };
   // Stop on request: hand the state over and return what is known so far.
   // `abandoned_to`: the target of a relaxation abandoned for the stop, if one was.
+  // A state with a pending slip relaxation (st.pending) was paused within it instead.
   const auto interrupt = [&](const SlideState& st,
                              double abandoned_to = std::numeric_limits<double>::quiet_NaN()) {
     if (control.checkpoint) control.checkpoint(st);
     SlideResult out = st.partial;
     out.interrupted = true;
-    char buf[200];
-    char within[100] = "";
-    if (std::isfinite(abandoned_to)) {
+    char buf[240];
+    char within[140] = "";
+    if (st.pending) {
+      std::snprintf(within, sizeof within,
+                    ", within the relaxation to Dx = %.6g d (paused at iteration %d of the flow, "
+                    "continued on resume)",
+                    st.pending->Dx, st.pending->flow.iteration);
+    } else if (std::isfinite(abandoned_to)) {
       std::snprintf(within, sizeof within,
                     ", within the relaxation to Dx = %.6g d (repeated on resume)", abandoned_to);
     }
@@ -565,16 +615,33 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // Only a relaxation that will not be undone can become a slip event with a path (the next
     // one, if it slips).
     const bool want_frames = !may_undo && paths_of(res.slip_events + 1);
+    // The slip relaxation paused in the slide this one continues: it belongs to this step, and
+    // the relaxation that called the step a slip is not repeated.
+    std::optional<PendingSlip> resuming = std::exchange(pending, std::nullopt);
+    if (resuming && (resuming->Dx != Dx || may_undo || cycle_of || !options.slip_minimizer)) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "slide: the start state's paused slip relaxation goes to Dx = %.9g d, but "
+                    "the step from it to Dx = %.9g d is %s",
+                    resuming->Dx, Dx,
+                    options.slip_minimizer ? "not a slip step" : "without a slip minimiser");
+      throw std::invalid_argument(buf);
+    }
     report(cycle_of                  ? SlidePhase::probe
            : !std::isfinite(slip_at) ? SlidePhase::step
            : may_undo                ? SlidePhase::bisection
                                      : SlidePhase::slip,
            Dx);
     const std::size_t gf_at_top = model.gf_applications();
-    may_abandon = true;
-    auto r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
-    may_abandon = false;
-    if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
+    minimize::MinimizeResult r;
+    if (resuming) {
+      r = resuming->fast;
+    } else {
+      may_abandon = true;
+      r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo);
+      may_abandon = false;
+      if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
+    }
     const minimize::MinimizerOptions* solver = &options.minimizer;  // the one whose result is r
     // A slip the minimiser would accept is relaxed again by the slip minimiser, if there is one
     // (SlideOptions::slip_minimizer), from the state moved to Dx without the warm start: where the
@@ -583,15 +650,61 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // bracket; the step that ends it is the one verified. If the slip minimiser finds it stable,
     // it is accepted as a stable state (a premature slip avoided) and the stepping goes on from
     // there. Probes of the cycle are dropped when they slip, so they are left alone.
-    if (options.slip_minimizer && !cycle_of && !may_undo &&
-        failure(r, trial, Dx, state.Dx).empty() && model.slipped_sites(state, trial) > 0) {
+    if (resuming ||
+        (options.slip_minimizer && !cycle_of && !may_undo &&
+         failure(r, trial, Dx, state.Dx).empty() && model.slipped_sites(state, trial) > 0)) {
       const auto fast = r;
       trial = state;
       frames.clear();
       report(SlidePhase::slip, Dx);
-      may_abandon = true;
-      r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false, &*options.slip_minimizer);
-      may_abandon = false;
+      // The flow pauses (where the model can) rather than being abandoned: for a checkpoint
+      // when one is due (not with checkpoint_every_s = 0, which would copy the state at every
+      // step of the flow), and for a stop request, seen by the heartbeat.
+      std::optional<SlideState> paused;
+      bool relaxed = false;
+      if constexpr (pausable) {
+        if (options.slip_minimizer->method == minimize::Method::flow) {
+          RelaxPausing pausing;
+          if (resuming) {
+            frames = std::move(resuming->frames);
+            pausing.from = &resuming->flow;
+            pausing.frame_interval = resuming->frame_interval;
+          }
+          pausing.pauses.due = [&](int) {
+            if (pause_requested) return true;
+            if (!control.checkpoint || !(control.checkpoint_every_s > 0.0)) return false;
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
+                       .count() >= control.checkpoint_every_s;
+          };
+          pausing.pauses.pause = [&](const minimize::FlowPause& at) {
+            SlideState st = capture(false);
+            st.pending = PendingSlip{.Dx = Dx,
+                                     .fast = fast,
+                                     .flow = at,
+                                     .frames = frames,
+                                     .frame_interval = pausing.frame_interval};
+            if (pause_requested) {
+              paused = std::move(st);
+              return true;
+            }
+            control.checkpoint(st);
+            last_checkpoint = std::chrono::steady_clock::now();
+            return false;
+          };
+          may_pause = true;
+          r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false,
+                          &*options.slip_minimizer, &pausing);
+          may_pause = false;
+          relaxed = true;
+          if (paused) return interrupt(*paused);
+        }
+      }
+      if (!relaxed) {
+        may_abandon = true;
+        r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false,
+                        &*options.slip_minimizer);
+        may_abandon = false;
+      }
       // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
       if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
       count(fast);

@@ -61,10 +61,15 @@ class Slider {
     return s;
   }
 
-  // Moves `s` to tip position Dx and relaxes it. Path frames go to `frames` if given.
+  // Moves `s` to tip position Dx and relaxes it. Path frames go to `frames` if given. With
+  // `pausing` (the slip minimiser's flow, protocol.hpp) the flow may pause, and with
+  // pausing->from it continues a pause of the same relaxation of the same `s` (its pair replaces
+  // the one `s` would start from).
   minimize::MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames,
                                  bool stop_on_slip = false,
-                                 const minimize::MinimizerOptions* solver = nullptr) {
+                                 const minimize::MinimizerOptions* solver = nullptr,
+                                 detail::RelaxPausing* pausing = nullptr) {
+    const minimize::FlowPause* from = pausing ? pausing->from : nullptr;
     const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
     // Rolled rows come in without displacements; u = G f below recomputes them.
     if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
@@ -80,6 +85,9 @@ class Slider {
       if (!in[i]) s.f[i] = s.f[n + i] = 0.0;
     }
     gf_.apply(s.f, s.u);
+    // Continuing a pause, the pair is the pause's and this application was counted before it;
+    // it is still made for the displacement off the contact (path frames carry it).
+    if (from) ++uncounted_gf_;
     const auto& sites = lfm_.contact_sites();
     const std::size_t m = sites.size();
     std::vector<double> u(2 * m), f(2 * m);
@@ -96,7 +104,9 @@ class Slider {
     minimize::Observer observer;
     // A long relaxation keeps at most max_path_frames frames: when full, every other frame is
     // dropped and the interval doubles, so the frames stay evenly spread over the relaxation.
-    int interval = options_.path_frame_every;
+    int own_interval = options_.path_frame_every;
+    int& interval = pausing ? pausing->frame_interval : own_interval;
+    if (interval <= 0) interval = options_.path_frame_every;
     if (record || stop_on_slip || heartbeat) {
       observer = [&](int it, std::span<const double> uu, std::span<const double> ff) {
         if (heartbeat && it % 16 == 0 && heartbeat(it)) return true;
@@ -135,8 +145,8 @@ class Slider {
         return false;
       };
     }
-    const auto r =
-        minimize::minimize(problem_, u, f, solver ? *solver : options_.minimizer, observer);
+    const auto r = minimize::minimize(problem_, u, f, solver ? *solver : options_.minimizer,
+                                      observer, from, pausing ? &pausing->pauses : nullptr);
     scatter(f, s.f);
     // The displacement off the contact follows from the new forces (slip detection and
     // snapshots compare it between states); on the contact it is the minimiser's.
@@ -170,7 +180,7 @@ class Slider {
            " (2 per site of this scene's block), |shift| <= " + std::to_string(kMaxShift);
   }
   [[nodiscard]] std::size_t contact_sites() const { return lfm_.contact_sites().size(); }
-  [[nodiscard]] std::size_t gf_applications() const { return gf_.applications(); }
+  [[nodiscard]] std::size_t gf_applications() const { return gf_.applications() - uncounted_gf_; }
   [[nodiscard]] Shape2 block_shape() const { return gf_.region(); }
   [[nodiscard]] Shape2 fft_grid() const { return gf_.fft_shape(); }
 
@@ -297,6 +307,7 @@ class Slider {
   elastic::FreeSurfaceGF gf_;
   interface::LateralForceModel lfm_;
   LfmProblem problem_;
+  std::size_t uncounted_gf_ = 0;  // GF applications repeated by continued pauses
 };
 
 }  // namespace
@@ -464,9 +475,15 @@ double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOp
   // the measured peak at a = 430 d, R = 1700 d (2.04 against 2.6 GB).
   const double contact = std::numbers::pi * scene.a * scene.a / (scene.d * scene.d);
   const double minimiser = (3.0 * options.minimizer.memory + 18.0) * 16.0 * contact;
+  // A checkpoint inside the slip minimiser's flow (PendingSlip) holds the pair, its velocity
+  // and the power vector (5 vectors on the contact sites) and the path frames so far, copied
+  // twice on the way (the pause, the state handed over).
+  const bool pauses =
+      options.slip_minimizer && options.slip_minimizer->method == minimize::Method::flow;
+  const double pending = pauses ? 2.0 * 5.0 * 16.0 * contact + 2.0 * path * n * n : 0.0;
   // The program and its libraries (36 MB resident before the first relaxation of a = 50 d).
   constexpr double kProcess = 32e6;
-  return kProcess + 260.0 * grid * grid + minimiser +
+  return kProcess + 260.0 * grid * grid + minimiser + pending +
          (2.0 * static_cast<double>(kCycleWindow) * 32.0 + path + 2.0 * 65.0) * n * n;
 }
 

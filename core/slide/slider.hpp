@@ -192,6 +192,27 @@ struct SlideFields {
                         // carried so that a resumed slide repeats it; 0: none yet (and LFM)
 };
 
+// A frame of a relaxation path as the slide holds it until the relaxation is accepted as a slip:
+// the displacement field of the state at a minimiser iteration (fields.f is left empty), from
+// which Model::snapshot makes the Snapshot (8 fields) only when it is handed over.
+struct PathFrame {
+  int iteration = 0;
+  SlideFields fields;
+};
+
+// A slip relaxation by the slip minimiser's flow, paused (lateral force model): the step it
+// relaxes, the relaxation that called the step a slip (counted when the slip is accepted), where
+// the flow was, and the relaxation-path frames taken so far. A slip through a large contact
+// relaxes for hours, so checkpoints (every checkpoint_every_s, and on a stop request) are taken
+// inside it too, and a resumed slide continues it instead of repeating it.
+struct PendingSlip {
+  double Dx = 0.0;                // tip position of the step (d)
+  minimize::MinimizeResult fast;  // the slide minimiser's relaxation of the step
+  minimize::FlowPause flow;       // the slip minimiser's flow, paused
+  std::vector<PathFrame> frames;  // path frames of the flow so far
+  int frame_interval = 0;         // their interval (iterations; doubles when they fill up)
+};
+
 // Everything slide() needs to continue a slide exactly where it was (checkpoint and resume): a
 // plain struct, so that the caller chooses the file format (core does no file I/O). A slide
 // resumed from a state continues bit for bit as the uninterrupted one would have, given the same
@@ -213,20 +234,17 @@ struct SlideState {
   bool cycle_check_due = false;          // a probe of the cycle is due at the next step
   SlideResult partial;  // trace, counts, slip events, stop reason so far; the snapshots
                         // only if no sink took them
-};
-
-// A frame of a relaxation path as the slide holds it until the relaxation is accepted as a slip:
-// the displacement field of the state at a minimiser iteration (fields.f is left empty), from
-// which Model::snapshot makes the Snapshot (8 fields) only when it is handed over.
-struct PathFrame {
-  int iteration = 0;
-  SlideFields fields;
+  std::optional<PendingSlip> pending;  // a slip relaxation paused at the next step, if any
 };
 
 // How a caller steers a slide besides its options: progress reports, checkpoints, a stop request,
 // a start state. Checkpoints are taken between steps. Stop requests are polled between steps and,
 // in the lateral force model, every 16 iterations inside a relaxation (not the first one), which
-// is then abandoned: the state before it is handed over, and a resumed slide repeats it.
+// is then abandoned: the state before it is handed over, and a resumed slide repeats it. The
+// exception is the slip minimiser's flow (SlideOptions::slip_minimizer with method flow, lateral
+// force model): it is paused instead, at the next accepted step, and checkpoints are also taken
+// inside it when they are due; the state handed over holds it (SlideState::pending), and a
+// resumed slide continues it bit for bit.
 struct SlideControl {
   SlideProgress progress;  // after every accepted step and before every relaxation
   // Receives the state: every checkpoint_every_s of wall time, on a stop request (before slide()
@@ -297,8 +315,9 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
 // and displacement, 2 components: 32 bytes per block site each), twice: a checkpoint copies it,
 // plus the path frames of one relaxation (max_path_frames x 16 bytes per block site), two
 // snapshots (65 bytes per block site each) in flight, the minimiser's vectors on the contact
-// sites (the L-BFGS pairs and about 18 working vectors) and 32 MB for the program itself.
-// Independent of the number of slips.
+// sites (the L-BFGS pairs and about 18 working vectors), with the flow as slip minimiser the
+// copies of a paused flow and its path frames that a checkpoint inside it makes (PendingSlip),
+// and 32 MB for the program itself. Independent of the number of slips.
 double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options);
 
 }  // namespace asperity::slide

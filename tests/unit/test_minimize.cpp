@@ -3,7 +3,12 @@
 // minimum, and a state started exactly on a saddle being left rather than returned.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "elastic/surface_gf.hpp"
@@ -292,6 +297,93 @@ TEST(Minimizer, FlowEndsInTheMinimumOfItsBasin) {
     std::printf("flow tolerance 1: u = %.6f (basin minimum %.6f)\n", u[0], expected);
     EXPECT_GT(std::abs(u[0] - expected), 0.5);  // another well: the test above can fail
   }
+}
+
+TEST(Minimizer, FlowPausedAnywhereContinuesBitForBit) {
+  // A slip relaxation of hours has to survive the end of a run (slide::PendingSlip): a flow
+  // paused after any accepted step and continued, on a fresh problem, from the FlowPause alone
+  // ends in the same bits, with the same counts, as the flow that never paused. Both schemes,
+  // and rkc in the filter's metric (the slip minimiser's), whose spectral radius estimate and
+  // power vector carry over (the flow runs past the 25-step re-estimate).
+  const interface::ContactScene scene { .a = 6.0, .R = 100.0 };
+  using P = minimize::Preconditioner;
+  for (auto [scheme, precond] : {std::pair{minimize::FlowScheme::rkc, P::interface},
+                                 std::pair{minimize::FlowScheme::rkc, P::elastic},
+                                 std::pair{minimize::FlowScheme::euler, P::elastic}}) {
+    minimize::MinimizerOptions o{.method = minimize::Method::flow, .force_tolerance = 1e-7};
+    o.preconditioner = precond;
+    o.flow_scheme = scheme;
+    o.refresh_interval = 20;  // the drift refresh falls after some pauses too
+    const std::string what = minimize::to_string(scheme) + "/" + minimize::to_string(precond);
+    Contact ref(scene, 0.45);
+    std::vector<double> u_ref(ref.problem.size(), 0.0), f_ref(ref.problem.size(), 0.0);
+    const auto r_ref = minimize::minimize(ref.problem, u_ref, f_ref, o);
+    ASSERT_EQ(r_ref.termination, Termination::converged) << what;
+    ASSERT_GT(r_ref.iterations, 30) << what;
+    std::printf("%s: %d steps (%d rejected), %zu GF applications\n", what.c_str(), r_ref.iterations,
+                r_ref.rejected_steps, r_ref.gf_applications);
+    // About 20 pause points spread over the flow, the first steps included.
+    int pauses_tried = 0;
+    const int stride = std::max(1, r_ref.iterations / 12);
+    for (int k = 1; k < r_ref.iterations; k += (k < 4 ? 1 : stride)) {
+      std::optional<minimize::FlowPause> saved;
+      const minimize::FlowPauses at_k{.due = [&](int it) { return it == k; },
+                                      .pause =
+                                          [&](const minimize::FlowPause& p) {
+                                            saved = p;
+                                            return true;
+                                          }};
+      Contact c(scene, 0.45);
+      std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
+      const auto r1 = minimize::minimize(c.problem, u, f, o, {}, nullptr, &at_k);
+      if (!saved) continue;  // k fell on a rejected step's iteration
+      ++pauses_tried;
+      ASSERT_EQ(r1.termination, Termination::interrupted) << what << " k " << k;
+      EXPECT_EQ(saved->iteration, k);
+      // Continued on a fresh problem from the pause alone (u and f only give the size).
+      Contact again(scene, 0.45);
+      std::vector<double> u2(again.problem.size(), 7.0), f2(again.problem.size(), 7.0);
+      const auto r2 = minimize::minimize(again.problem, u2, f2, o, {}, &*saved);
+      ASSERT_EQ(r2.termination, Termination::converged) << what << " k " << k;
+      EXPECT_EQ(u2, u_ref) << what << ": paused at " << k;
+      EXPECT_EQ(f2, f_ref) << what << ": paused at " << k;
+      EXPECT_EQ(r2.iterations, r_ref.iterations) << what << " k " << k;
+      EXPECT_EQ(r2.gf_applications, r_ref.gf_applications) << what << " k " << k;
+      EXPECT_EQ(r2.interface_evaluations, r_ref.interface_evaluations) << what << " k " << k;
+      EXPECT_EQ(r2.filter_applications, r_ref.filter_applications) << what << " k " << k;
+      EXPECT_EQ(r2.rejected_steps, r_ref.rejected_steps) << what << " k " << k;
+      EXPECT_EQ(r2.filtered, r_ref.filtered) << what << " k " << k;
+      EXPECT_EQ(r2.energy, r_ref.energy) << what << " k " << k;
+    }
+    EXPECT_GT(pauses_tried, 8) << what;
+    // A pause that does not stop the flow changes nothing.
+    {
+      int seen = 0;
+      const minimize::FlowPauses every{.due = [](int) { return true; },
+                                       .pause =
+                                           [&](const minimize::FlowPause&) {
+                                             ++seen;
+                                             return false;
+                                           }};
+      Contact c(scene, 0.45);
+      std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
+      const auto r = minimize::minimize(c.problem, u, f, o, {}, nullptr, &every);
+      EXPECT_EQ(u, u_ref) << what;
+      EXPECT_EQ(r.gf_applications, r_ref.gf_applications) << what;
+      EXPECT_GT(seen, 10) << what;
+    }
+  }
+  // Only a flow's pause of the same size can be continued.
+  Contact c(scene, 0.45);
+  std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
+  minimize::FlowPause bad{.iteration = 3, .u = u, .f = f};
+  EXPECT_THROW(minimize::minimize(c.problem, u, f, {.method = minimize::Method::lbfgs}, {}, &bad),
+               std::invalid_argument);
+  EXPECT_THROW(minimize::minimize(c.problem, u, f, {.method = minimize::Method::flow}, {}, &bad),
+               std::invalid_argument);  // no velocity, no step
+  bad.u.pop_back();
+  EXPECT_THROW(minimize::minimize(c.problem, u, f, {.method = minimize::Method::flow}, {}, &bad),
+               std::invalid_argument);
 }
 
 TEST(Minimizer, FlowRejectsBadTolerance) {

@@ -234,6 +234,87 @@ TEST(SlideCheckpoint, StopInsideAPeakRefinementResumesBitForBit) {
   expect_same(reference, resumed, "stopped inside a peak probe");
 }
 
+TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
+  // With the flow as slip minimiser (the tools' default) a slip relaxation is paused, not
+  // abandoned: by a stop request (seen every 16 iterations, the pause comes at the next accepted
+  // step of the flow) and by checkpoints that fall due inside it. The state handed over holds
+  // the paused flow (SlideState::pending, with the path frames so far); resumed through a
+  // checkpoint file it continues the flow where it was and ends as the uninterrupted slide did,
+  // bit for bit, with the work before the pause counted once.
+  auto s = scene(43.0, 0.0);
+  s.options.slip_minimizer = slide::slip_minimizer_from(s.options.minimizer, minimize::Method::flow,
+                                                        minimize::Preconditioner::interface);
+  const SlideResult reference = slide::slide(s.contact, s.options);
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  ASSERT_GT(reference.slip_relaxations, 0);
+  // Stop at the n-th poll inside a flow. The step of a slip is reported twice before its
+  // relaxations (phase slip, iteration 0): the slide minimiser's, then the flow's.
+  const auto stop_at = [&](int n, std::optional<SlideState>& saved) {
+    int iteration = 0, polls = 0;
+    bool in_flow = false, slip_reported = false;
+    double slip_target = -1.0;
+    const SlideResult r = slide::slide(
+        s.contact, s.options,
+        SlideControl{.progress =
+                         [&](const slide::SlideProgressInfo& p) {
+                           iteration = p.iteration;
+                           if (p.iteration > 0) return;
+                           const bool slip = p.phase == slide::SlidePhase::slip;
+                           in_flow = slip && slip_reported && p.target_Dx == slip_target;
+                           slip_reported = slip && !in_flow;
+                           slip_target = p.target_Dx;
+                         },
+                     .checkpoint = [&](const SlideState& st) { saved = st; },
+                     .checkpoint_every_s = 1e9,
+                     .stop_requested =
+                         [&] {
+                           if (iteration == 0 || !in_flow) return false;
+                           return ++polls == n;
+                         }});
+    return std::pair{r, polls};
+  };
+  std::optional<SlideState> none;
+  const int polls = stop_at(0, none).second;
+  ASSERT_GT(polls, 3);
+  for (int n : {1, polls / 2, polls}) {
+    std::optional<SlideState> saved;
+    const SlideResult stopped = stop_at(n, saved).first;
+    const std::string where = "stop at poll " + std::to_string(n) + " of " + std::to_string(polls) +
+                              " (" + stopped.stop_reason + ")";
+    ASSERT_TRUE(stopped.interrupted) << where;
+    EXPECT_NE(stopped.stop_reason.find("paused at iteration"), std::string::npos) << where;
+    ASSERT_TRUE(saved && saved->pending) << where;
+    EXPECT_GT(saved->pending->flow.iteration, 0) << where;
+    EXPECT_FALSE(saved->pending->frames.empty()) << where;  // path frames of every slip
+    const SlideResult resumed = resume_through_file(s, *saved);
+    EXPECT_FALSE(resumed.interrupted) << where;
+    expect_same(reference, resumed, where);
+  }
+  // Checkpoints due inside the flow (every one: a due time of 1e-9 s) change nothing, and the
+  // slide resumed from one taken inside a slip relaxation ends the same.
+  std::vector<SlideState> inside;
+  const SlideResult r = slide::slide(s.contact, s.options,
+                                     SlideControl{.checkpoint =
+                                                      [&](const SlideState& st) {
+                                                        if (st.pending && inside.size() < 40)
+                                                          inside.push_back(st);
+                                                      },
+                                                  .checkpoint_every_s = 1e-9});
+  expect_same(reference, r, "checkpoints inside the slip relaxations");
+  ASSERT_GE(inside.size(), 2u);
+  expect_same(reference, resume_through_file(s, inside[inside.size() / 2]),
+              "resumed from a checkpoint inside a slip relaxation");
+  // A paused relaxation that does not fit the step the state leads to is refused.
+  SlideState wrong = inside.front();
+  wrong.pending->Dx += 0.5;
+  EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
+               std::invalid_argument);
+  wrong = inside.front();
+  wrong.pending->flow.u.pop_back();
+  EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
+               std::invalid_argument);
+}
+
 TEST(SlideCheckpoint, IntervalCheckpointsChangeNothing) {
   const auto s = scene(20.0, 0.0);
   const SlideResult reference = slide::slide(s.contact, s.options);
