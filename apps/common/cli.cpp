@@ -16,7 +16,7 @@
 namespace asperity::app {
 
 std::string provenance_string() {
-  return std::string("asperity ") + ASPERITY_VERSION + " (commit " + ASPERITY_GIT_COMMIT + ")";
+  return std::string("asperity ") + ASPERITY_VERSION + " (commit " + git_commit() + ")";
 }
 
 std::string provenance_token() {
@@ -37,7 +37,7 @@ nlohmann::json provenance_json() {
   const bool have_host = ::gethostname(host, sizeof host - 1) == 0;
   return {{"program", "asperity"},
           {"version", ASPERITY_VERSION},
-          {"commit", ASPERITY_GIT_COMMIT},
+          {"commit", git_commit()},
           {"date_utc", date},
           {"hostname", have_host ? host : "unknown"},
           {"hardware_threads", std::thread::hardware_concurrency()}};

@@ -34,7 +34,11 @@ class App;
 
 namespace asperity::app {
 
-// "asperity <version> (commit <hash>)"; the hash is "unknown" outside a git checkout.
+// The commit the program was built from, found at build time (cmake/GitCommit.cmake): the short
+// hash, with "+dirty.<hash of the diff>" if tracked files differed from it; "unknown" outside a
+// git checkout.
+const char* git_commit();
+// "asperity <version> (commit <git_commit()>)".
 std::string provenance_string();
 // The same without spaces, for settings fingerprints ("asperity_0.1.0_(commit_abc1234)"):
 // results of another build are not reused or resumed.

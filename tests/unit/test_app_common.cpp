@@ -9,11 +9,13 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -370,6 +372,33 @@ TEST(Provenance, HasVersionAndDate) {
   EXPECT_FALSE(j.at("commit").get<std::string>().empty());
   EXPECT_EQ(j.at("date_utc").get<std::string>().size(), 20u);  // 2024-01-31T12:00:00Z
   EXPECT_EQ(provenance_string().rfind("asperity " + version, 0), 0u);
+}
+
+TEST(Provenance, CommitIsTheBuildsNotTheConfigures) {
+  // The commit is found at build time: after a commit the next build carries the new hash (it
+  // was fixed at configure time and labelled results and checkpoints of later code with an old
+  // commit). This test runs right after the build of the checkout it was built from, so the
+  // hash is HEAD's, "+dirty.<hash of the diff>" exactly when tracked files differ from HEAD.
+  const std::string commit = git_commit();
+  // Output and exit status of a shell command.
+  const auto shell = [](const std::string& command, std::string& out) {
+    FILE* p = ::popen(command.c_str(), "r");
+    if (!p) return -1;
+    char buf[256];
+    out.clear();
+    while (std::fgets(buf, sizeof buf, p))
+      out += buf;
+    return ::pclose(p);
+  };
+  const std::string git = std::string("git -C '") + ASPERITY_SOURCE_DIR + "' ";
+  std::string hash, diff;
+  if (shell(git + "rev-parse --short HEAD 2>/dev/null", hash) != 0 || hash.empty())
+    GTEST_SKIP() << "not a git checkout: " << commit;
+  hash.erase(hash.find_last_not_of('\n') + 1);
+  const bool dirty = shell(git + "diff --quiet HEAD", diff) != 0;
+  EXPECT_EQ(commit.rfind(hash, 0), 0u) << commit << " against HEAD " << hash;
+  EXPECT_EQ(commit.find("+dirty.") != std::string::npos, dirty) << commit;
+  EXPECT_NE(provenance_token().find(hash), std::string::npos);
 }
 
 TEST(Progress, PrintsALineEveryStepInLogs) {
