@@ -316,13 +316,19 @@ class Flow {
   }
   void restore(const FlowPause& in) {
     const std::size_t n = Fu_.size();
+    const auto finite = [](const std::vector<double>& v) {
+      return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    };
+    // A step or radius past 1e100 would overflow the stage count (int) of the next RKC step.
     if (in.velocity_u.size() != n || in.velocity_f.size() != n ||
-        (!in.power.empty() && in.power.size() != n) || !(in.step > 0.0) || !(in.radius >= 0.0) ||
-        in.since_estimate < 0) {
+        (!in.power.empty() && in.power.size() != n) || !(in.step > 0.0 && in.step < 1e100) ||
+        !(in.radius >= 0.0 && in.radius < 1e100) || in.since_estimate < 0 ||
+        !finite(in.velocity_u) || !finite(in.velocity_f) || !finite(in.power)) {
       throw std::invalid_argument(
           "minimize: the flow's pause does not fit this problem (its velocity and power vectors "
           "must have " +
-          std::to_string(n) + " values, its step must be > 0)");
+          std::to_string(n) +
+          " finite values, its step and spectral radius must be finite, the step > 0)");
     }
     Fu_ = in.velocity_u, Ff_ = in.velocity_f;
     step_ = in.step, radius_ = in.radius, since_estimate_ = in.since_estimate;
@@ -667,10 +673,12 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                                 " unknowns");
   }
   if (resume && (options.method != Method::flow || resume->u.size() != n || resume->f.size() != n ||
-                 resume->iteration < 0)) {
+                 resume->iteration < 0 || resume->iteration > options.max_iterations)) {
     throw std::invalid_argument("minimize: a pause can only continue a flow relaxation (method " +
                                 to_string(options.method) + ") of " + std::to_string(n) +
-                                " unknowns; it has " + std::to_string(resume->u.size()));
+                                " unknowns within " + std::to_string(options.max_iterations) +
+                                " iterations; it has " + std::to_string(resume->u.size()) +
+                                " at iteration " + std::to_string(resume->iteration));
   }
   std::size_t gf0 = problem.gf_applications();
   MinimizeResult res;

@@ -131,11 +131,29 @@ void check_start(const SlideState& st, const Model& model) {
       reject("SlideState.pending.Dx", std::to_string(st.pending->Dx),
              "finite and beyond current.Dx = " + std::to_string(st.current.Dx));
     }
+    // Frames are displacements at the pause's tip position, all on one block near current's.
     for (const PathFrame& frame : st.pending->frames) {
       if (frame.fields.u.size() != model.field_size() || !frame.fields.f.empty()) {
         reject("SlideState.pending.frames", std::to_string(frame.fields.u.size()) + " values",
                "a displacement of " + std::to_string(model.field_size()) + " values, no force");
       }
+      if (frame.fields.Dx != st.pending->Dx ||
+          frame.fields.shift != st.pending->frames.front().fields.shift ||
+          std::abs(static_cast<long long>(frame.fields.shift) - st.current.shift) > 2 ||
+          frame.iteration < 0 || frame.iteration > st.pending->flow.iteration) {
+        reject("SlideState.pending.frames", "Dx " + std::to_string(frame.fields.Dx),
+               "frames at the pause's Dx, on one block within 2 rows of current's, taken at "
+               "iterations up to the pause's");
+      }
+    }
+    // Counts that later sums must not overflow.
+    constexpr int kMaxCount = std::numeric_limits<int>::max() / 4;
+    if (st.pending->fast.iterations < 0 || st.pending->fast.iterations > kMaxCount ||
+        st.pending->flow.iteration > kMaxCount) {
+      reject("SlideState.pending iterations",
+             std::to_string(st.pending->fast.iterations) + " and " +
+                 std::to_string(st.pending->flow.iteration),
+             "0 ... " + std::to_string(kMaxCount));
     }
     if (st.pending->frame_interval < 0)
       reject("SlideState.pending.frame_interval", std::to_string(st.pending->frame_interval),
@@ -319,10 +337,18 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     window_rows = st.window_rows;
     cycle_check_due = st.cycle_check_due;
     pending = st.pending;
-    if (pending && (!pausable || stopped)) {
-      throw std::invalid_argument(
-          std::string("slide: the start state holds a paused slip relaxation, which ") +
-          (stopped ? "a state past the stepping cannot have" : "this model cannot continue"));
+    if (pending) {
+      const char* why =
+          !pausable ? "this model cannot continue"
+          : stopped ? "a state past the stepping cannot have"
+          : !options.slip_minimizer || options.slip_minimizer->method != minimize::Method::flow
+              ? "only a flow as slip minimiser makes"
+          : pending->Dx > limit + 1e-12 ? "lies beyond the distance of this slide"
+                                        : nullptr;
+      if (why) {
+        throw std::invalid_argument(
+            std::string("slide: the start state holds a paused slip relaxation, which ") + why);
+      }
     }
   } else {
     report(SlidePhase::start, 0.0);
@@ -360,7 +386,10 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   .window = window,
                   .window_rows = window_rows,
                   .cycle_check_due = cycle_check_due,
-                  .partial = res};
+                  .partial = res,
+                  // A paused slip not yet continued (a resumed slide stopped or checkpointed
+                  // before its first step) is handed on: its work is in `res` already.
+                  .pending = pending};
     st.partial.gf_applications = gf_before + model_gf.value_or(model.gf_applications()) - gf_unused;
     st.partial.wall_s = wall_before + elapsed();
     return st;
@@ -618,13 +647,16 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // The slip relaxation paused in the slide this one continues: it belongs to this step, and
     // the relaxation that called the step a slip is not repeated.
     std::optional<PendingSlip> resuming = std::exchange(pending, std::nullopt);
-    if (resuming && (resuming->Dx != Dx || may_undo || cycle_of || !options.slip_minimizer)) {
-      char buf[200];
+    if (resuming && (resuming->Dx != Dx || may_undo || cycle_of ||
+                     (!want_frames && !resuming->frames.empty()))) {
+      char buf[240];
       std::snprintf(buf, sizeof buf,
                     "slide: the start state's paused slip relaxation goes to Dx = %.9g d, but "
                     "the step from it to Dx = %.9g d is %s",
                     resuming->Dx, Dx,
-                    options.slip_minimizer ? "not a slip step" : "without a slip minimiser");
+                    resuming->Dx != Dx || may_undo || cycle_of
+                        ? "not a slip step"
+                        : "one whose path is not recorded (the pause has path frames)");
       throw std::invalid_argument(buf);
     }
     report(cycle_of                  ? SlidePhase::probe

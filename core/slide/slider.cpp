@@ -476,11 +476,14 @@ double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOp
   const double contact = std::numbers::pi * scene.a * scene.a / (scene.d * scene.d);
   const double minimiser = (3.0 * options.minimizer.memory + 18.0) * 16.0 * contact;
   // A checkpoint inside the slip minimiser's flow (PendingSlip) holds the pair, its velocity
-  // and the power vector (5 vectors on the contact sites) and the path frames so far, copied
-  // twice on the way (the pause, the state handed over).
+  // and the power vector (5 vectors on the contact sites) and the path frames so far. Besides
+  // the live ones, each exists four more times at the worst moment: the vectors in the pause,
+  // the state handed over and the tool's encoding of it (its JSON document and CBOR bytes); the
+  // frames in the state, the encoding and, in a resumed run, the decoded start state, which is
+  // kept for the whole slide.
   const bool pauses =
       options.slip_minimizer && options.slip_minimizer->method == minimize::Method::flow;
-  const double pending = pauses ? 2.0 * 5.0 * 16.0 * contact + 2.0 * path * n * n : 0.0;
+  const double pending = pauses ? 4.0 * 5.0 * 16.0 * contact + 4.0 * path * n * n : 0.0;
   // The program and its libraries (36 MB resident before the first relaxation of a = 50 d).
   constexpr double kProcess = 32e6;
   return kProcess + 260.0 * grid * grid + minimiser + pending +

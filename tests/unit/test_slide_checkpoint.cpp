@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -68,6 +69,9 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
   EXPECT_TRUE(same_bits(a.cycle_verified_at, b.cycle_verified_at)) << where;
   EXPECT_TRUE(same_bits(a.cycle_mismatch, b.cycle_mismatch)) << where;
   EXPECT_EQ(a.minimizations, b.minimizations) << where;
+  EXPECT_EQ(a.slip_relaxations, b.slip_relaxations) << where;
+  EXPECT_EQ(a.filter_applications, b.filter_applications) << where;
+  EXPECT_EQ(a.filtered, b.filtered) << where;
   EXPECT_EQ(a.gf_applications, b.gf_applications) << where;
   EXPECT_EQ(a.gradient_evaluations, b.gradient_evaluations) << where;
   EXPECT_EQ(a.iterations, b.iterations) << where;
@@ -247,9 +251,11 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
   const SlideResult reference = slide::slide(s.contact, s.options);
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
   ASSERT_GT(reference.slip_relaxations, 0);
-  // Stop at the n-th poll inside a flow. The step of a slip is reported twice before its
-  // relaxations (phase slip, iteration 0): the slide minimiser's, then the flow's.
-  const auto stop_at = [&](int n, std::optional<SlideState>& saved) {
+  // Stop at the n-th poll inside a flow (from `start`, if given; n = -1: at the first poll,
+  // wherever it is). The step of a slip is reported twice before its relaxations (phase slip,
+  // iteration 0): the slide minimiser's, then the flow's.
+  const auto stop_at = [&](int n, std::optional<SlideState>& saved,
+                           const SlideState* start = nullptr) {
     int iteration = 0, polls = 0;
     bool in_flow = false, slip_reported = false;
     double slip_target = -1.0;
@@ -268,9 +274,11 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                      .checkpoint_every_s = 1e9,
                      .stop_requested =
                          [&] {
+                           if (n == -1) return true;
                            if (iteration == 0 || !in_flow) return false;
                            return ++polls == n;
-                         }});
+                         },
+                     .start = start});
     return std::pair{r, polls};
   };
   std::optional<SlideState> none;
@@ -289,6 +297,38 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
     const SlideResult resumed = resume_through_file(s, *saved);
     EXPECT_FALSE(resumed.interrupted) << where;
     expect_same(reference, resumed, where);
+    if (n != polls / 2) continue;
+    // The resumed slide, stopped again before it continues the flow (the first poll, between
+    // steps), hands the paused flow on; stopped inside it, it pauses it further on.
+    std::optional<SlideState> again, later;
+    const SlideResult at_once = stop_at(-1, again, &*saved).first;
+    ASSERT_TRUE(at_once.interrupted && again && again->pending) << where;
+    EXPECT_EQ(again->pending->flow.iteration, saved->pending->flow.iteration) << where;
+    EXPECT_EQ(again->partial.gf_applications, saved->partial.gf_applications) << where;
+    expect_same(reference, resume_through_file(s, *again), where + ", stopped again at once");
+    const SlideResult further = stop_at(2, later, &*saved).first;
+    ASSERT_TRUE(further.interrupted && later && later->pending) << where;
+    if (later->pending->Dx == saved->pending->Dx) {
+      EXPECT_GT(later->pending->flow.iteration, saved->pending->flow.iteration) << where;
+    }
+    expect_same(reference, resume_through_file(s, *later), where + ", paused twice");
+  }
+  // A resumed slide that checkpoints after every step hands the paused flow on too.
+  {
+    std::optional<SlideState> saved, first;
+    stop_at(polls / 2, saved);
+    ASSERT_TRUE(saved && saved->pending);
+    const SlideControl control{.checkpoint =
+                                   [&](const SlideState& st) {
+                                     if (!first) first = st;
+                                   },
+                               .checkpoint_every_s = 0.0,
+                               .start = &*saved};
+    const SlideResult r = slide::slide(s.contact, s.options, control);
+    expect_same(reference, r, "resumed with a checkpoint after every step");
+    ASSERT_TRUE(first.has_value());
+    ASSERT_TRUE(first->pending.has_value()) << "the first checkpoint of the resumed slide";
+    expect_same(reference, resume_through_file(s, *first), "resumed from its first checkpoint");
   }
   // Checkpoints due inside the flow (every one: a due time of 1e-9 s) change nothing, and the
   // slide resumed from one taken inside a slip relaxation ends the same.
@@ -311,6 +351,15 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                std::invalid_argument);
   wrong = inside.front();
   wrong.pending->flow.u.pop_back();
+  EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
+               std::invalid_argument);
+  wrong = inside.front();
+  wrong.pending->flow.step = std::numeric_limits<double>::infinity();  // a damaged file
+  EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
+               std::invalid_argument);
+  wrong = inside.back();
+  ASSERT_FALSE(wrong.pending->frames.empty());
+  wrong.pending->frames.back().fields.Dx += 1.0;
   EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
                std::invalid_argument);
 }
