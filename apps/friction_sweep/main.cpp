@@ -498,7 +498,7 @@ int main(int argc, char** argv) {
       const auto started = std::chrono::steady_clock::now();
       // A point in flight saves its slide in its folder every checkpoint_every seconds and when
       // the sweep is stopped (SIGINT, SIGTERM); the next run continues it from there, to the same
-      // result bit for bit. A checkpoint of other settings is replaced.
+      // result bit for bit. A checkpoint of other settings is replaced (and kept aside).
       const fs::path point_dir = dir / "points" / app::point_folder(point, job.x);
       // Held while the point runs: a contact_slide started into this folder is refused, and so is
       // this point (failed, the sweep goes on) if a contact_slide already writes there.
@@ -517,8 +517,17 @@ int main(int argc, char** argv) {
           app::check_checkpoint_settings(c, point_settings, checkpoint_file);
           start = std::move(c);
         } catch (const std::exception& e) {  // damaged, foreign or unreadable
+          // Kept, not overwritten: a checkpoint of another build or scene can hold hours of a
+          // long point, and the run that was meant to continue it may simply be using the
+          // wrong binary (docs/reliability.md). Moving it back undoes the new start.
+          const fs::path kept = point_dir / "checkpoint.replaced.cbor";
+          std::error_code rename_ec;
+          fs::rename(checkpoint_file, kept, rename_ec);
           const std::lock_guard lock(table_mutex);
-          std::fprintf(stderr, "friction_sweep: starting the point over: %s\n", e.what());
+          std::fprintf(stderr, "friction_sweep: starting the point over (%s%s): %s\n",
+                       rename_ec ? "the old checkpoint could not be kept: "
+                                 : "the old checkpoint is kept as ",
+                       rename_ec ? rename_ec.message().c_str() : kept.string().c_str(), e.what());
         }
       }
       app::SweepRow row;
