@@ -286,6 +286,10 @@ int int_value(const json& j, const char* key) {
 std::size_t count_value(const json& j, const char* key) {
   return static_cast<std::size_t>(integer(j, key, 0, std::numeric_limits<long long>::max()));
 }
+// A count held in an int (iterations, steps): 0 ... INT_MAX.
+int int_count(const json& j, const char* key) {
+  return static_cast<int>(integer(j, key, 0, std::numeric_limits<int>::max()));
+}
 
 bool boolean(const json& j, const char* key) {
   const json& v = at(j, key);
@@ -345,18 +349,16 @@ minimize::MinimizeResult minimize_from(const json& j) {
   minimize::MinimizeResult r;
   r.termination = static_cast<Termination>(
       integer(j, "termination", 0, static_cast<long long>(Termination::stalled)));
-  r.iterations = static_cast<int>(integer(j, "iterations", 0, std::numeric_limits<int>::max()));
+  r.iterations = int_count(j, "iterations");
   r.gf_applications = count_value(j, "gf_applications");
   r.interface_evaluations = count_value(j, "interface_evaluations");
   r.filter_applications = count_value(j, "filter_applications");
   r.filtered = boolean(j, "filtered");
   r.energy = number(j, "energy");
   r.max_force = number(j, "max_force");
-  r.escapes = static_cast<int>(integer(j, "escapes", 0, std::numeric_limits<int>::max()));
-  r.rejected_steps =
-      static_cast<int>(integer(j, "rejected_steps", 0, std::numeric_limits<int>::max()));
-  r.memory_resets =
-      static_cast<int>(integer(j, "memory_resets", 0, std::numeric_limits<int>::max()));
+  r.escapes = int_count(j, "escapes");
+  r.rejected_steps = int_count(j, "rejected_steps");
+  r.memory_resets = int_count(j, "memory_resets");
   r.lowest_eigenvalue = number(j, "lowest_eigenvalue");
   r.stability_checked = boolean(j, "stability_checked");
   return r;
@@ -371,24 +373,21 @@ std::optional<slide::PendingSlip> pending_from(const json& s) {
   p.Dx = number(j, "Dx");
   p.fast = minimize_from(at(j, "fast"));
   const json& fl = at(j, "flow");
-  p.flow.iteration = static_cast<int>(integer(fl, "iteration", 0, std::numeric_limits<int>::max()));
+  p.flow.iteration = int_count(fl, "iteration");
   p.flow.u = doubles(fl, "u");
   p.flow.f = doubles(fl, "f");
   p.flow.velocity_u = doubles(fl, "velocity_u");
   p.flow.velocity_f = doubles(fl, "velocity_f");
   p.flow.step = number(fl, "step");
   p.flow.radius = number(fl, "radius");
-  p.flow.since_estimate =
-      static_cast<int>(integer(fl, "since_estimate", 0, std::numeric_limits<int>::max()));
+  p.flow.since_estimate = int_count(fl, "since_estimate");
   p.flow.power = doubles(fl, "power");
   p.flow.done = minimize_from(at(fl, "done"));
   for (const json& fr : array(j, "frames")) {
-    p.frames.push_back({.iteration = static_cast<int>(
-                            integer(fr, "iteration", 0, std::numeric_limits<int>::max())),
-                        .fields = fields_from(at(fr, "fields"))});
+    p.frames.push_back(
+        {.iteration = int_count(fr, "iteration"), .fields = fields_from(at(fr, "fields"))});
   }
-  p.frame_interval =
-      static_cast<int>(integer(j, "frame_interval", 0, std::numeric_limits<int>::max()));
+  p.frame_interval = int_count(j, "frame_interval");
   return p;
 }
 
