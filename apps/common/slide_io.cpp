@@ -65,12 +65,12 @@ SlideScene read_slide_keys(SceneReader& r) {
   m.preconditioner = minimize::preconditioner_from_string(
       r.string("solver.preconditioner", minimize::to_string(m.preconditioner),
                {"auto", "elastic", "interface"}));
-  // The slip minimiser: the slide's minimiser with another method and preconditioner. By default
-  // the flow relaxes every slip again: which minimum an instability falls into is the flow's to
-  // say (MODEL.md 5; issue 21, docs/solvers.md "Path fidelity"), and lbfgs, cg and newton carry
-  // loops past the flow's arrest near the II/III crossover and in Regime III.
-  const std::string slips =
-      r.string("solver.slip_method", "flow", {"same", "lbfgs", "cg", "fire", "newton", "flow"});
+  // The slip minimiser: the slide's minimiser with another method and preconditioner. The flow
+  // relaxes every slip again: which minimum an instability falls into is the flow's to say
+  // (MODEL.md 5; issue 21, docs/solvers.md "Path fidelity"), and lbfgs, cg and newton carry
+  // loops past the flow's arrest near the II/III crossover and in Regime III, so they are not
+  // offered here (check_slip_relaxation: "same" only with a faithful solver.method).
+  const std::string slips = r.string("solver.slip_method", "flow", {"flow", "fire", "same"});
   const std::string slip_pre =
       r.string("solver.slip_preconditioner", "interface", {"auto", "elastic", "interface"});
   if (slips != "same") {
@@ -83,11 +83,32 @@ SlideScene read_slide_keys(SceneReader& r) {
   return s;
 }
 
+bool path_faithful(minimize::Method m) {
+  return m == minimize::Method::flow || m == minimize::Method::fire;
+}
+
+}  // namespace
+
+void check_slip_relaxation(const slide::SlideOptions& o, const std::string& where) {
+  const auto& slip = o.slip_minimizer;
+  if (slip ? !path_faithful(slip->method) : !path_faithful(o.minimizer.method)) {
+    throw std::invalid_argument(
+        where + " = \"" + (slip ? minimize::to_string(slip->method) : std::string("same")) +
+        "\" with solver.method = \"" + minimize::to_string(o.minimizer.method) +
+        "\": allowed: slips relaxed by flow or fire (slip_method \"flow\" or \"fire\", or "
+        "\"same\" with solver.method \"flow\" or \"fire\"): lbfgs, cg and newton do not end in "
+        "the flow's minimum through every slip (docs/solvers.md, \"Path fidelity\")");
+  }
+}
+
+namespace {
+
 // Constraints between keys; checked after reject_unknown() where possible, so that a misspelled
 // key is reported as such rather than through the default that replaced it.
 void check_relations(const SlideScene& s, const std::string& path) {
   const auto& c = s.contact;
   const auto& o = s.options;
+  check_slip_relaxation(o, path + ": solver.slip_method");
   if (o.min_step > o.max_step) {
     throw std::invalid_argument(path + ": slide.min_step = " + std::to_string(o.min_step) +
                                 ": allowed: <= slide.max_step = " + std::to_string(o.max_step));

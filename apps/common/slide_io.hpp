@@ -23,6 +23,11 @@ struct SlideScene {
   SnapshotFormat snapshot_format;  // [output] precision, deflate
 };
 
+// The tools relax every slip with a path-faithful solver (MODEL.md 5; issue 21): the slip
+// minimiser is the flow or FIRE, or, without one, solver.method is. Throws
+// std::invalid_argument naming `where` (a key or flag) otherwise.
+void check_slip_relaxation(const slide::SlideOptions& o, const std::string& where);
+
 // Reads a scene (data/scenes/default.toml documents every key); unknown keys, wrong types and
 // out-of-range values throw std::invalid_argument naming the file, key, value and range.
 SlideScene read_slide_scene(const std::string& path);

@@ -164,9 +164,10 @@ int main(int argc, char** argv) {
     cli.add_option("--slip-solver", slip_solver,
                    "Relax again every step the solver calls a slip with this one: flow (the "
                    "default: the reference path, in the interface filter's metric unless "
-                   "solver.slip_preconditioner says otherwise; 3-15x the cost) | same (no: "
-                   "fast, right in Regime II, not near loop arrest)")
-        ->check(CLI::IsMember({"same", "lbfgs", "cg", "fire", "newton", "flow"}));
+                   "solver.slip_preconditioner says otherwise) | fire | same (no: only with "
+                   "--solver flow or fire; lbfgs, cg and newton are not path-faithful through "
+                   "slips)")
+        ->check(CLI::IsMember({"flow", "fire", "same"}));
     cli.add_option("--preconditioner", preconditioner,
                    "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
         ->check(CLI::IsMember({"auto", "elastic", "interface"}));
@@ -206,16 +207,15 @@ int main(int argc, char** argv) {
     const auto apply_slip_solver = [&](slide::SlideOptions& o) {
       if (!slip_solver) {
         if (o.slip_minimizer && tolerance) o.slip_minimizer->force_tolerance = *tolerance;
-        return;
-      }
-      if (*slip_solver == "same") {
+      } else if (*slip_solver == "same") {
         o.slip_minimizer.reset();
-        return;
+      } else {
+        const auto pre = o.slip_minimizer ? o.slip_minimizer->preconditioner
+                                          : minimize::Preconditioner::interface;
+        o.slip_minimizer = slide::slip_minimizer_from(
+            o.minimizer, minimize::method_from_string(*slip_solver), pre);
       }
-      const auto pre =
-          o.slip_minimizer ? o.slip_minimizer->preconditioner : minimize::Preconditioner::interface;
-      o.slip_minimizer =
-          slide::slip_minimizer_from(o.minimizer, minimize::method_from_string(*slip_solver), pre);
+      app::check_slip_relaxation(o, "--slip-solver (or solver.slip_method)");
     };
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(

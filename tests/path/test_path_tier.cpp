@@ -9,10 +9,15 @@
 //   (not in the crossover case, whose halving and FIRE are in bench/run_path_tier.sh's table);
 // - the fold: the trial step that the slide's solver (L-BFGS, the default) called a slip is a
 //   slip for the flow too;
-// - the path-faithful solvers (`faithful` below) end in the flow's minimum.
-// The production default (L-BFGS with the interface filter), CG and Newton carry loops past the
-// flow's arrest near the II/III crossover (issue 21): ProductionSolvers checks them, under the
-// `slow` label, and fails until they are made faithful or retired.
+// - the path-faithful solvers (`faithful` below), which are what the tools relax slips with,
+//   end in the flow's minimum.
+// And the slides as the tools run them (PathTierSlides): every step solver the tools offer
+// (lbfgs with either preconditioner, cg, newton), with the slips relaxed by the flow in the
+// interface filter's metric, follows the reference slide, whose every step is the flow in the
+// G metric without warm starts, through slip N: the same bracket, the same stable state before
+// it and the same minimum after it. lbfgs, cg and newton alone carry loops past the flow's arrest
+// near the II/III crossover (issue 21; bench/run_path_tier.sh): the tools do not offer them for
+// slips (apps/common/slide_io.cpp, check_slip_relaxation).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -100,8 +105,8 @@ void check(const Case& k, std::vector<minimize::MinimizerOptions> solvers, bool 
 // slip_minimizer) and FIRE.
 const std::vector<minimize::MinimizerOptions> faithful{solver(M::flow, P::interface),
                                                        solver(M::fire, P::elastic)};
-// What the slides use today.
-const std::vector<minimize::MinimizerOptions> production{
+// The step solvers the tools offer (solver.method; each with the flow relaxing its slips).
+const std::vector<minimize::MinimizerOptions> step_solvers{
     solver(M::lbfgs, P::automatic), solver(M::lbfgs, P::elastic), solver(M::cg, P::elastic),
     solver(M::newton, P::automatic)};
 
@@ -126,13 +131,85 @@ TEST_P(PathTier, FaithfulSolversEndInTheFlowsMinimum) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, PathTier, ::testing::ValuesIn(cases(false)), case_name);
 
-class PathTierProduction : public ::testing::TestWithParam<Case> {};
-
-TEST_P(PathTierProduction, ProductionSolversEndInTheFlowsMinimum) {
-  check(GetParam(), production, true);
+// A slide as the tools run it: `step` for the steps, the flow in the interface filter's metric
+// for the slips (solver.slip_method = "flow").
+slide::SlideOptions tool_slide(const minimize::MinimizerOptions& step) {
+  slide::SlideOptions o;
+  o.minimizer = step;
+  o.minimizer.max_iterations = slide::slide_minimizer_defaults().max_iterations;
+  o.slip_minimizer = slide::slip_minimizer_from(o.minimizer, M::flow, P::interface);
+  return o;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PathTierProduction, ::testing::ValuesIn(cases(true)), case_name);
+// The reference slide: every step relaxed by the flow in the G metric, from the state moved to
+// the new Dx (no extrapolated warm start), so that the stable states, the folds and the minima
+// after the slips are the reference path's own.
+slide::SlideOptions reference_slide() {
+  slide::SlideOptions o;
+  o.minimizer = solver(M::flow, P::elastic);
+  o.extrapolate = false;
+  return o;
+}
+
+void check_slides(const Case& k, const std::vector<minimize::MinimizerOptions>& steps) {
+  const interface::ContactScene scene { .a = k.a, .R = k.R };
+  std::printf("%s: a = %g d, R = %g d, slip %d\n", k.name, k.a, k.R, k.event);
+  const auto ref = slide::bracket_slip(scene, reference_slide(), k.event);
+  const auto ref_after = slide::relax_step(scene, reference_slide(), ref.stable, ref.slip_Dx);
+  std::printf("  %-16s stable at Dx = %.6f d, slips at %.6f d: %6d slipped, %9zu GF\n", "reference",
+              ref.stable.Dx, ref.slip_Dx, ref_after.slipped_sites, ref.slide.gf_applications);
+  ASSERT_EQ(ref_after.result.termination, Termination::converged);
+  ASSERT_GT(ref_after.slipped_sites, 0);
+  for (const auto& step : steps) {
+    const std::string name = slide::solver_label(step);
+    const auto options = tool_slide(step);
+    const auto at = slide::bracket_slip(scene, options, k.event);
+    // The fold where the reference's is: the bisection visits the same trial positions, so the
+    // brackets are equal to the bit when the verdicts agree.
+    EXPECT_EQ(at.stable.Dx, ref.stable.Dx) << name;
+    EXPECT_EQ(at.slip_Dx, ref.slip_Dx) << name;
+    if (at.stable.Dx != ref.stable.Dx || at.slip_Dx != ref.slip_Dx) continue;
+    const auto before = slide::compare_states(scene, at.stable, ref.stable);
+    // The slide's own relaxation of the slipping step: its slip minimiser from its state.
+    slide::SlideOptions slip = options;
+    slip.minimizer = *options.slip_minimizer;
+    const auto after = slide::relax_step(scene, slip, at.stable, at.slip_Dx);
+    const auto against = slide::compare_states(scene, after.state, ref_after.state);
+    std::printf(
+        "  %-16s before: %5d registry differences |dFx|/Fx %.2e; after: %6d slipped, %5d "
+        "registry differences |dFx|/Fx %.2e; %9zu GF\n",
+        name.c_str(), before.registry_differences, before.relative_Fx, after.slipped_sites,
+        against.registry_differences, against.relative_Fx, at.slide.gf_applications);
+    EXPECT_TRUE(before.same_minimum())
+        << name << ": the stable state before the slip is another minimum than the reference's ("
+        << before.registry_differences << " sites, |dFx|/Fx = " << before.relative_Fx << ")";
+    EXPECT_EQ(after.result.termination, Termination::converged) << name;
+    EXPECT_GT(after.slipped_sites, 0) << name << ": the slide's slip minimiser found no slip";
+    EXPECT_TRUE(against.same_minimum())
+        << name << ": after the slip, " << against.registry_differences
+        << " sites in another well than the reference's, |dFx|/Fx = " << against.relative_Fx;
+  }
+}
+
+// The default suite: the default step solver on the Regime II and first Regime III states (about
+// a minute); every step solver on every state under `slow`.
+class PathTierSlides : public ::testing::TestWithParam<Case> {};
+
+TEST_P(PathTierSlides, ToolSlidesFollowTheReferenceSlide) {
+  check_slides(GetParam(), {step_solvers.front()});
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PathTierSlides, ::testing::Values(cases(false)[0], cases(false)[1]),
+                         case_name);
+
+class PathTierSlidesAllSolvers : public ::testing::TestWithParam<Case> {};
+
+TEST_P(PathTierSlidesAllSolvers, ToolSlidesFollowTheReferenceSlide) {
+  check_slides(GetParam(), step_solvers);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PathTierSlidesAllSolvers, ::testing::ValuesIn(cases(true)),
+                         case_name);
 
 // SlideOptions::slip_minimizer in a slide: the first slip the slide accepts ends where the slip
 // minimiser, relaxing the same bracketed step on its own, ends (the protocol takes its end state,

@@ -57,6 +57,13 @@ check $cs "solver.flow_scheme" "$(scene s22d <<<$'[solver]\nflow_scheme = "rk4"'
 check $cs "solver.slip_method" "$(scene s22e <<<$'[solver]\nslip_method = "bfgs"')"
 check $cs "solver.slip_preconditioner" "$(scene s22f <<<$'[solver]\nslip_preconditioner = "x"')"
 check $cs "--slip-solver" --slip-solver bfgs
+# Slips are relaxed by a path-faithful solver (issue 21): lbfgs, cg and newton are not offered.
+check $cs "solver.slip_method" "$(scene s22g <<<$'[solver]\nslip_method = "lbfgs"')"
+check $cs "solver.slip_method" "$(scene s22h <<<$'[solver]\nslip_method = "same"')"
+check $cs "solver.slip_method" "$(scene s22i <<<$'[solver]\nmethod = "cg"\nslip_method = "same"')"
+check $cs "--slip-solver" --slip-solver same
+check $cs "--slip-solver" --slip-solver newton
+check $cs "--slip-solver" --solver cg "$(scene s22j <<<$'[solver]\nmethod = "flow"\nslip_method = "same"')"
 check $cs "--slip-solver" --model explicit --slip-solver flow
 check $cs "fft.threads" "$(scene s23 <<<$'[fft]\nthreads = 0')"
 check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
