@@ -89,12 +89,13 @@ bool path_faithful(minimize::Method m) {
 
 }  // namespace
 
-void check_slip_relaxation(const slide::SlideOptions& o, const std::string& where) {
+void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip_source,
+                           const std::string& method_source) {
   const auto& slip = o.slip_minimizer;
   if (slip ? !path_faithful(slip->method) : !path_faithful(o.minimizer.method)) {
     throw std::invalid_argument(
-        where + " = \"" + (slip ? minimize::to_string(slip->method) : std::string("same")) +
-        "\" with solver.method = \"" + minimize::to_string(o.minimizer.method) +
+        slip_source + " = \"" + (slip ? minimize::to_string(slip->method) : std::string("same")) +
+        "\" with " + method_source + " = \"" + minimize::to_string(o.minimizer.method) +
         "\": allowed: slips relaxed by flow or fire (slip_method \"flow\" or \"fire\", or "
         "\"same\" with solver.method \"flow\" or \"fire\"): lbfgs, cg and newton do not end in "
         "the flow's minimum through every slip (docs/solvers.md, \"Path fidelity\")");
@@ -105,10 +106,10 @@ namespace {
 
 // Constraints between keys; checked after reject_unknown() where possible, so that a misspelled
 // key is reported as such rather than through the default that replaced it.
-void check_relations(const SlideScene& s, const std::string& path) {
+void check_relations(const SlideScene& s, const std::string& path, bool check_slips = true) {
   const auto& c = s.contact;
   const auto& o = s.options;
-  check_slip_relaxation(o, path + ": solver.slip_method");
+  if (check_slips) check_slip_relaxation(o, path + ": solver.slip_method", "solver.method");
   if (o.min_step > o.max_step) {
     throw std::invalid_argument(path + ": slide.min_step = " + std::to_string(o.min_step) +
                                 ": allowed: <= slide.max_step = " + std::to_string(o.max_step));
@@ -121,11 +122,11 @@ void check_relations(const SlideScene& s, const std::string& path) {
 
 }  // namespace
 
-SlideScene read_slide_scene(const std::string& path) {
+SlideScene read_slide_scene(const std::string& path, bool check_slips) {
   auto reader = SceneReader::from_file(path);
   SlideScene s = read_slide_keys(reader);
   reader.reject_unknown();
-  check_relations(s, path);
+  check_relations(s, path, check_slips);
   return s;
 }
 
@@ -428,7 +429,7 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
   return written;
 }
 
-ExplicitSlideScene read_explicit_scene(const std::string& path) {
+ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips) {
   auto reader = SceneReader::from_file(path);
   ExplicitSlideScene s;
   s.slide = read_slide_keys(reader);
@@ -436,7 +437,7 @@ ExplicitSlideScene read_explicit_scene(const std::string& path) {
   m.G_eps_sigma3 = reader.number("explicit.G", m.G_eps_sigma3, Range::positive());
   m.sigma_over_d = reader.number("explicit.sigma_over_d", m.sigma_over_d, Range::closed(0.75, 1.0));
   reader.reject_unknown();
-  check_relations(s.slide, path);
+  check_relations(s.slide, path, check_slips);
   m.R = s.slide.contact.R;
   m.material = s.slide.contact.material;
   m.d = s.slide.contact.d;

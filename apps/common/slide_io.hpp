@@ -25,12 +25,15 @@ struct SlideScene {
 
 // The tools relax every slip with a path-faithful solver (MODEL.md 5; issue 21): the slip
 // minimiser is the flow or FIRE, or, without one, solver.method is. Throws
-// std::invalid_argument naming `where` (a key or flag) otherwise.
-void check_slip_relaxation(const slide::SlideOptions& o, const std::string& where);
+// std::invalid_argument otherwise, naming where the slip method and the method came from
+// (a scene key or a flag).
+void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip_source,
+                           const std::string& method_source);
 
 // Reads a scene (data/scenes/default.toml documents every key); unknown keys, wrong types and
 // out-of-range values throw std::invalid_argument naming the file, key, value and range.
-SlideScene read_slide_scene(const std::string& path);
+// check_slips = false leaves check_slip_relaxation to a caller that applies flags first.
+SlideScene read_slide_scene(const std::string& path, bool check_slips = true);
 
 // Reads the slide-scene keys (contact, material, slide, solver, fft) from `reader` and checks
 // their relations, but leaves reject_unknown() to the caller: a tool whose scenes add tables of
@@ -113,7 +116,7 @@ struct ExplicitSlideScene {
   SlideScene slide;
   explicit_model::ExplicitScene model;
 };
-ExplicitSlideScene read_explicit_scene(const std::string& path);
+ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips = true);
 
 // alpha of the potential at the central atom's Hertz load p0 d^2 of contact.a (alpha_path; nearly
 // load independent): the alpha that mu/alpha and a/b_core^0 of the explicit model refer to.

@@ -215,7 +215,13 @@ int main(int argc, char** argv) {
         o.slip_minimizer = slide::slip_minimizer_from(
             o.minimizer, minimize::method_from_string(*slip_solver), pre);
       }
-      app::check_slip_relaxation(o, "--slip-solver (or solver.slip_method)");
+      // After every flag, so that a flag can mend a scene's pair; the message names whichever
+      // of scene and flag set each half (the scene's path once).
+      app::check_slip_relaxation(
+          o, slip_solver ? std::string("--slip-solver") : scene_path + ": solver.slip_method",
+          solver        ? std::string("--solver")
+          : slip_solver ? scene_path + ": solver.method"
+                        : std::string("solver.method"));
     };
     if (model == "explicit" && preconditioner) {
       throw std::invalid_argument(
@@ -237,7 +243,7 @@ int main(int argc, char** argv) {
         }
       }
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path);
+      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
       auto& c = e.slide.contact;
       if (a) c.a = *a;
       if (R) c.R = e.model.R = *R;
@@ -294,7 +300,7 @@ int main(int argc, char** argv) {
             "alpha_path at the central load)");
       }
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path);
+      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
       auto& c = e.slide.contact;
       if (a) c.a = *a;
       if (R) c.R = e.model.R = *R;
@@ -387,7 +393,7 @@ int main(int argc, char** argv) {
       return r.failed ? 1 : 0;
     }
 
-    app::SlideScene s = app::read_slide_scene(scene_path);
+    app::SlideScene s = app::read_slide_scene(scene_path, false);
     if (a) s.contact.a = *a;
     if (R) s.contact.R = *R;
     if (alpha) s.contact.alpha = *alpha;

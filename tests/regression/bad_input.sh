@@ -61,9 +61,19 @@ check $cs "--slip-solver" --slip-solver bfgs
 check $cs "solver.slip_method" "$(scene s22g <<<$'[solver]\nslip_method = "lbfgs"')"
 check $cs "solver.slip_method" "$(scene s22h <<<$'[solver]\nslip_method = "same"')"
 check $cs "solver.slip_method" "$(scene s22i <<<$'[solver]\nmethod = "cg"\nslip_method = "same"')"
-check $cs "--slip-solver" --slip-solver same
+check $cs 'with /' --slip-solver same
 check $cs "--slip-solver" --slip-solver newton
-check $cs "--slip-solver" --solver cg "$(scene s22j <<<$'[solver]\nmethod = "flow"\nslip_method = "same"')"
+check $cs 'solver.slip_method = "same" with --solver = "cg"' --solver cg "$(scene s22j <<<$'[solver]\nmethod = "flow"\nslip_method = "same"')"
+check $cs 's22k.toml: solver.slip_method = "same" with solver.method = "lbfgs"' "$(scene s22k <<<$'[solver]\nslip_method = "same"')"
+# The pair is checked after the flags, so a flag mends a scene's pair instead of being refused
+# with it (a tiny slide: a = 5 d, 0.1 d, well under a second).
+cases=$((cases + 1))
+mend=$(scene s22m <<<$'[solver]\nmethod = "cg"\nslip_method = "same"')
+if ! "$bin/contact_slide" "$mend" --solver flow --a 5 --R 100 --distance 0.1 --out "$work/mend" \
+  >/dev/null 2>"$work/mend.err"; then
+  echo "FAIL: contact_slide $mend --solver flow: a flag that mends the scene's pair was refused: $(cat "$work/mend.err")"
+  failures=$((failures + 1))
+fi
 check $cs "--slip-solver" --model explicit --slip-solver flow
 check $cs "fft.threads" "$(scene s23 <<<$'[fft]\nthreads = 0')"
 check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
