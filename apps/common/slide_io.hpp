@@ -20,7 +20,12 @@ class SceneReader;
 struct SlideScene {
   interface::ContactScene contact;
   slide::SlideOptions options;
-  SnapshotFormat snapshot_format;  // [output] precision, deflate
+  // [output] precision, deflate. The tools write float fields by default (7 digits; a state
+  // file 0.55 of the double one, a path 0.44), as trajectory formats store coordinates (AMBER
+  // NetCDF: float): snapshots are for looking and tracking, and a run continues from its
+  // checkpoint, which is in double. write_snapshots() itself writes exactly what it is given
+  // unless asked otherwise.
+  SnapshotFormat snapshot_format{.single_precision = true};
 };
 
 // The tools relax every slip with a path-faithful solver (MODEL.md 5; issue 21): the slip

@@ -74,8 +74,9 @@ struct SlideOptions {
   double cycle_tolerance = 1e-3;  // largest force difference of a site (G d^2) for equal states
   int path_frame_every = 0;       // relaxation-path frames through slip events every N iterations
                                   // (0: none)
-  int path_frame_slips = 10;      // ... of slip events 1, 1 + k, 1 + 2k, ... (1: every one; 0:
-                                  // none)
+  int path_frame_slips = 25;      // ... of slip events 1, 1 + k, 1 + 2k, ... (1: every one; 0:
+                                  // none); 25: a Regime III slide of about 100 small slips
+                                  // records four paths (docs/benchmarks.md, output)
   int max_path_frames = 32;       // frames kept per slip event (the interval doubles when full,
                                   // so they stay evenly spread); held until the slip is accepted:
                                   // 16 bytes per block site each (32: 540 MB at a = 510 d)
