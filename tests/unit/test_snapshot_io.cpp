@@ -341,6 +341,49 @@ TEST_F(SnapshotIo, SinglePrecisionAndCompression) {
                std::invalid_argument);
 }
 
+// A one-frame file (a state: peak, slip_NNN_before/after) is mostly its fields: the per-frame
+// numbers (iteration, origins, Dx, Fx, Fz, energy) come in chunks of 64 frames, not netCDF's
+// default 512-1024 values (4-8 KiB each, 46 KiB a file, written whole at the first frame). Here
+// a 3 x 4 block: the file is HDF5's metadata, mostly the B-tree chunk indexes of its 18 chunked
+// variables (about 2.5 KiB each, 45 KiB; h5stat), and 3 KiB of chunks: 70 KB with
+// Debian 12's netCDF 4.9 and HDF5 1.10, 97 KB with the default chunks. A path file still
+// grows frame by frame past a chunk.
+TEST_F(SnapshotIo, OneFrameFilesCarryNoEmptyChunks) {
+  const fs::path nc = dir_ / "one.nc";
+  write_snapshots(nc, {frame(0, "peak", -1, 0, 0)}, {});
+  EXPECT_LT(fs::file_size(nc), 85000u);
+  int id = -1;
+  ASSERT_EQ(nc_open(nc.c_str(), NC_NOWRITE, &id), NC_NOERR);
+  for (const char* name : {"iteration", "origin_x", "origin_y", "Dx", "Fx", "Fz", "energy"}) {
+    int var = -1, storage = -1;
+    std::size_t chunk = 0;
+    ASSERT_EQ(nc_inq_varid(id, name, &var), NC_NOERR) << name;
+    ASSERT_EQ(nc_inq_var_chunking(id, var, &storage, &chunk), NC_NOERR) << name;
+    EXPECT_EQ(storage, NC_CHUNKED) << name;
+    EXPECT_EQ(chunk, 64u) << name;
+  }
+  nc_close(id);
+
+  const fs::path paths = dir_ / "paths.nc";
+  std::vector<Snapshot> many;
+  for (int k = 0; k < 130; ++k)
+    many.push_back(frame(k % 7, "slip_001_path", k, k % 3, 0));
+  {
+    SnapshotAppender out(paths, {}, {});
+    for (const Snapshot& f : many)
+      out.append(f);
+    out.close();
+  }
+  const std::vector<Snapshot> back = read_snapshots(paths);
+  ASSERT_EQ(back.size(), many.size());
+  for (std::size_t k = 0; k < many.size(); k += 43) {
+    EXPECT_EQ(back[k].iteration, many[k].iteration);
+    EXPECT_EQ(back[k].block.origin0, many[k].block.origin0);
+    EXPECT_EQ(bits({back[k].Dx, back[k].Fx, back[k].Fz, back[k].energy}),
+              bits({many[k].Dx, many[k].Fx, many[k].Fz, many[k].energy}));
+  }
+}
+
 // The tools' sink (snapshot_sink.hpp): states as their own files, paths in one growing
 // paths.nc.partial (renamed at the end), replayed paths read back and moved on, and a resumed
 // run that keeps the path frames up to its checkpoint, also from the source a killed resumption
