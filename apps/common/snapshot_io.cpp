@@ -169,11 +169,12 @@ struct SnapshotAppender::Layout {
 };
 
 SnapshotAppender::SnapshotAppender(fs::path nc, nlohmann::json attributes, SnapshotFormat format,
-                                   std::size_t label_length)
+                                   std::size_t label_length, std::size_t frames)
     : nc_(std::move(nc)),
       attributes_(std::move(attributes)),
       format_(format),
-      label_length_(label_length) {
+      label_length_(label_length),
+      fixed_frames_(frames) {
   format_.validate();
   if (!attributes_.is_null() && !attributes_.is_object()) {
     throw std::invalid_argument("cannot write '" + nc_.string() +
@@ -225,6 +226,7 @@ SnapshotAppender::SnapshotAppender(SnapshotAppender&& other) noexcept
       attributes_(std::move(other.attributes_)),
       format_(other.format_),
       label_length_(other.label_length_),
+      fixed_frames_(other.fixed_frames_),
       id_(std::exchange(other.id_, -1)),
       frames_(other.frames_),
       layout_(std::move(other.layout_)) {}
@@ -268,15 +270,24 @@ void SnapshotAppender::define(const Snapshot& first) {
     put_text(o, id_, v, "long_name", long_name);
     return v;
   };
-  // Per-frame numbers (iteration, origins, Dx, Fx, Fz, energy): chunks of 64 frames. netCDF's
-  // default for a variable along the unlimited dimension alone is 512 to 1024 values (4-8 KiB),
-  // written whole at the first frame: 46 KiB of mostly empty chunks in every one-frame state
-  // file, about an eighth of a float state file at a = 43 d.
+  // Per-frame numbers (iteration, origins, Dx, Fx, Fz, energy) and labels. In a file that
+  // grows, chunks of 64 frames: netCDF's default for a variable along the unlimited dimension
+  // alone is 512 to 1024 values (4-8 KiB), written whole at the first frame, 46 KiB of mostly
+  // empty chunks in a one-frame file. In a file of a known number of frames (the states), no
+  // chunks at all: each chunked variable also carries an HDF5 B-tree index of about 2.5 KiB
+  // (h5stat), which in a one-frame state file is most of what is not its fields.
+  const auto contiguous = [&](int v, const std::string& name) {
+    o.check(nc_def_var_chunking(id_, v, NC_CONTIGUOUS, nullptr), "storing '" + name + "'");
+  };
   const auto per_frame = [&](const std::string& name, nc_type type, const std::string& units,
                              const std::string& long_name) {
     const int v = define(name, type, {l.frame_dim}, units, long_name);
-    const std::size_t chunk[] = {64};
-    o.check(nc_def_var_chunking(id_, v, NC_CHUNKED, chunk), "chunking '" + name + "'");
+    if (fixed_frames_ > 0) {
+      contiguous(v, name);
+    } else {
+      const std::size_t chunk[] = {64};
+      o.check(nc_def_var_chunking(id_, v, NC_CHUNKED, chunk), "chunking '" + name + "'");
+    }
     return v;
   };
   // Fields: one chunk per frame (a frame is written and read whole), compressed with the
@@ -294,7 +305,7 @@ void SnapshotAppender::define(const Snapshot& first) {
     }
     return v;
   };
-  l.frame_dim = dim("frame", NC_UNLIMITED);
+  l.frame_dim = dim("frame", fixed_frames_ > 0 ? fixed_frames_ : NC_UNLIMITED);
   l.x_dim = dim("x", l.n0);
   l.y_dim = dim("y", l.n1);
   l.label_dim = dim("label_length", l.label_length);
@@ -303,6 +314,7 @@ void SnapshotAppender::define(const Snapshot& first) {
   const int y_var = define("y", NC_DOUBLE, {l.y_dim}, "d", "y of the first frame's sites");
   put_text(o, id_, y_var, "axis", "Y");
   l.label = define("label", NC_CHAR, {l.frame_dim, l.label_dim}, "1", "snapshot label");
+  if (fixed_frames_ > 0) contiguous(l.label, "label");
   put_text(o, id_, l.label, "_Encoding", "utf-8");
   l.iteration = per_frame("iteration", NC_INT, "1",
                           "minimiser iteration of a relaxation-path frame, else -1");
@@ -387,6 +399,9 @@ void SnapshotAppender::append(const Snapshot& frame) {
   if (l.uz >= 0) sized("uz", frame.uz.size());
   if (l.uz < 0 && !frame.uz.empty()) invalid("'uz' given, but the file's frames have none");
 
+  if (fixed_frames_ > 0 && frames_ >= fixed_frames_) {
+    invalid("the file holds " + std::to_string(fixed_frames_) + " frames");
+  }
   const std::size_t k = frames_;
   const std::size_t at[] = {k, 0}, one_label[] = {1, l.label_length};
   std::string label(l.label_length, '\0');
@@ -448,7 +463,7 @@ void write_snapshots(const fs::path& nc, const std::vector<Snapshot>& frames,
   // the next run removes (remove_stale_temporaries).
   TemporaryFile tmp(nc, TemporaryFile::Kind::named);
   {
-    SnapshotAppender out(tmp.path(), attributes, format, label_length);
+    SnapshotAppender out(tmp.path(), attributes, format, label_length, frames.size());
     for (const Snapshot& f : frames)
       out.append(f);
     out.close();

@@ -341,28 +341,41 @@ TEST_F(SnapshotIo, SinglePrecisionAndCompression) {
                std::invalid_argument);
 }
 
-// A one-frame file (a state: peak, slip_NNN_before/after) is mostly its fields: the per-frame
-// numbers (iteration, origins, Dx, Fx, Fz, energy) come in chunks of 64 frames, not netCDF's
-// default 512-1024 values (4-8 KiB each, 46 KiB a file, written whole at the first frame). Here
-// a 3 x 4 block: the file is HDF5's metadata, mostly the B-tree chunk indexes of its 18 chunked
-// variables (about 2.5 KiB each, 45 KiB; h5stat), and 3 KiB of chunks: 70 KB with
-// Debian 12's netCDF 4.9 and HDF5 1.10, 97 KB with the default chunks. A path file still
-// grows frame by frame past a chunk.
+// A one-frame file (a state: peak, slip_NNN_before/after) is mostly its fields. Its frame
+// dimension is fixed, so the per-frame numbers (iteration, origins, Dx, Fx, Fz, energy) and the
+// label are stored whole, without chunks: each chunked variable carries an HDF5 B-tree index of
+// about 2.5 KiB (h5stat), and netCDF's default chunks along an unlimited dimension alone are
+// 512-1024 values (4-8 KiB), written whole at the first frame. Here a 3 x 4 block, with
+// Debian 12's netCDF 4.9 and HDF5 1.10: 97 KB with an unlimited frame and default chunks, 70 KB
+// with chunks of 64 frames, 50 KB now (what is left is mostly the fields' B-trees, 10 x 2.5 KiB,
+// and headers). A path file, which grows, keeps the unlimited frame with chunks of 64 frames,
+// and grows past a chunk with every per-frame number read back.
 TEST_F(SnapshotIo, OneFrameFilesCarryNoEmptyChunks) {
   const fs::path nc = dir_ / "one.nc";
   write_snapshots(nc, {frame(0, "peak", -1, 0, 0)}, {});
-  EXPECT_LT(fs::file_size(nc), 85000u);
-  int id = -1;
-  ASSERT_EQ(nc_open(nc.c_str(), NC_NOWRITE, &id), NC_NOERR);
-  for (const char* name : {"iteration", "origin_x", "origin_y", "Dx", "Fx", "Fz", "energy"}) {
-    int var = -1, storage = -1;
-    std::size_t chunk = 0;
-    ASSERT_EQ(nc_inq_varid(id, name, &var), NC_NOERR) << name;
-    ASSERT_EQ(nc_inq_var_chunking(id, var, &storage, &chunk), NC_NOERR) << name;
-    EXPECT_EQ(storage, NC_CHUNKED) << name;
-    EXPECT_EQ(chunk, 64u) << name;
-  }
-  nc_close(id);
+  EXPECT_LT(fs::file_size(nc), 60000u);
+  const std::vector<const char*> per_frame{"label", "iteration", "origin_x", "origin_y",
+                                           "Dx",    "Fx",        "Fz",       "energy"};
+  const auto storage = [&](const fs::path& file) {
+    int id = -1, unlimited = -2;
+    EXPECT_EQ(nc_open(file.c_str(), NC_NOWRITE, &id), NC_NOERR);
+    EXPECT_EQ(nc_inq_unlimdim(id, &unlimited), NC_NOERR);
+    std::vector<std::pair<int, std::size_t>> out;
+    for (const char* name : per_frame) {
+      int var = -1, how = -1;
+      std::size_t chunk[2] = {0, 0};
+      EXPECT_EQ(nc_inq_varid(id, name, &var), NC_NOERR) << name;
+      EXPECT_EQ(nc_inq_var_chunking(id, var, &how, chunk), NC_NOERR) << name;
+      out.emplace_back(how, chunk[0]);
+    }
+    nc_close(id);
+    return std::pair{unlimited, out};
+  };
+  const auto [fixed_unlimited, fixed] = storage(nc);
+  EXPECT_EQ(fixed_unlimited, -1);  // no unlimited dimension
+  for (std::size_t v = 0; v < per_frame.size(); ++v)
+    EXPECT_EQ(fixed[v].first, NC_CONTIGUOUS) << per_frame[v];
+  EXPECT_EQ(read_snapshots(nc).front().label, "peak");
 
   const fs::path paths = dir_ / "paths.nc";
   std::vector<Snapshot> many;
@@ -374,14 +387,29 @@ TEST_F(SnapshotIo, OneFrameFilesCarryNoEmptyChunks) {
       out.append(f);
     out.close();
   }
+  const auto [growing_unlimited, growing] = storage(paths);
+  EXPECT_GE(growing_unlimited, 0);
+  for (std::size_t v = 1; v < per_frame.size(); ++v) {  // the label: netCDF's own chunks
+    EXPECT_EQ(growing[v].first, NC_CHUNKED) << per_frame[v];
+    EXPECT_EQ(growing[v].second, 64u) << per_frame[v];
+  }
   const std::vector<Snapshot> back = read_snapshots(paths);
   ASSERT_EQ(back.size(), many.size());
   for (std::size_t k = 0; k < many.size(); k += 43) {
+    EXPECT_EQ(back[k].label, many[k].label);
     EXPECT_EQ(back[k].iteration, many[k].iteration);
     EXPECT_EQ(back[k].block.origin0, many[k].block.origin0);
     EXPECT_EQ(bits({back[k].Dx, back[k].Fx, back[k].Fz, back[k].energy}),
               bits({many[k].Dx, many[k].Fx, many[k].Fz, many[k].energy}));
   }
+
+  // A file of a fixed number of frames takes no more.
+  SnapshotAppender two(dir_ / "two.nc", {}, {}, 32, 2);
+  two.append(frame(0, "a", -1, 0, 0));
+  two.append(frame(1, "b", -1, 0, 0));
+  EXPECT_NE(
+      invalid_argument_message([&] { two.append(frame(2, "c", -1, 0, 0)); }).find("holds 2 frames"),
+      std::string::npos);
 }
 
 // The tools' sink (snapshot_sink.hpp): states as their own files, paths in one growing
