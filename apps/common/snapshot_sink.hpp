@@ -6,9 +6,9 @@
 //   (each written atomically);
 // - paths.nc: the relaxation paths of the slips that record one (SlideOptions::path_frame_slips),
 //   every frame of the run in one file with an unlimited frame dimension, labelled
-//   "slip_NNN_path". While the run goes on it is paths.nc.partial, flushed to disk after each
-//   path and at each checkpoint (flush()); finish() renames it. A resumed run keeps the frames
-//   up to its checkpoint and appends.
+//   "slip_NNN_path". While the run goes on it is paths.nc.partial, closed after each path and at
+//   each checkpoint (flush()) and opened again for the next path; finish() renames it. A
+//   resumed run keeps the frames up to its checkpoint and appends.
 #pragma once
 
 #include <cstdint>
@@ -49,7 +49,8 @@ class SnapshotSink final : public slide::FrameSink {
   void replayed_path(const std::string& source, int periods, double period,
                      const std::string& label) override;
 
-  // Everything handed over so far is on disk (before a checkpoint is written).
+  // Everything handed over so far is on disk (before a checkpoint is written): the partial file
+  // is closed, and opened again by the next path frame.
   void flush();
   // The slide has ended: paths.nc.partial becomes paths.nc. An interrupted slide calls flush()
   // instead, and its resumption continues the partial file.
@@ -69,7 +70,8 @@ class SnapshotSink final : public slide::FrameSink {
   nlohmann::json attributes_;
   SnapshotFormat format_;
   std::mutex* netcdf_;
-  std::optional<SnapshotAppender> appender_;
+  std::optional<SnapshotAppender> appender_;  // the partial file, while a path is written
+  bool paths_begun_ = false;                  // the partial file exists (this run's, or resumed)
   std::map<std::string, std::vector<std::size_t>> path_frames_;  // label -> frames in the file
   bool dirty_ = false;  // frames appended since the last flush
   std::vector<std::filesystem::path> written_;
