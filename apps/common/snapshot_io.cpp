@@ -196,6 +196,10 @@ SnapshotAppender SnapshotAppender::open(const fs::path& nc) {
     return length;
   };
   a.frames_ = dim("frame", l.frame_dim);
+  // A file written whole (write_snapshots) has a fixed frame dimension and takes no more.
+  int unlimited = -1;
+  out.check(nc_inq_unlimdim(a.id_, &unlimited), "dimensions");
+  if (unlimited != l.frame_dim) a.fixed_frames_ = a.frames_;
   l.n0 = dim("x", l.x_dim);
   l.n1 = dim("y", l.y_dim);
   l.label_length = a.label_length_ = dim("label_length", l.label_dim);

@@ -1,15 +1,16 @@
 // Field snapshots of a sliding run (slide::Snapshot) as NetCDF-4 files (classic model), for
 // xarray, ParaView and track_loops.
 //
-// Layout: dimensions frame (unlimited: a file can grow frame by frame), x (n0), y (n1),
-// label_length. Per frame: label(frame, label_length) (text), iteration, origin_x, origin_y
-// (int), Dx, Fx, Fz, energy (double). Fields (frame, x, y): ux, uy, sx, sy, tau_x, tau_y,
-// tau_max, pressure (double, or float with SnapshotFormat::single_precision), in_contact (byte),
-// and uz when the frames carry it (explicit model); each chunked by frame and compressed
-// (shuffle + deflate). Coordinates x(x), y(y) in units of d are those of the first frame's
-// block; the block may follow the tip, so site (i, j) of frame k is at ((origin_x[k] + i) d,
-// (origin_y[k] + j) d). Every variable has `units` (lengths d, stresses G, forces G d^2, energy
-// G d^3) and `long_name`; the global attribute field_precision says float32 or float64.
+// Layout: dimensions frame (unlimited, where a file grows frame by frame: paths.nc; fixed in
+// a file written whole: the states), x (n0), y (n1), label_length. Per frame: label(frame,
+// label_length) (text), iteration, origin_x, origin_y (int), Dx, Fx, Fz, energy (double). Fields
+// (frame, x, y): ux, uy, sx, sy, tau_x, tau_y, tau_max, pressure (double, or float with
+// SnapshotFormat::single_precision), in_contact (byte), and uz when the frames carry it (explicit
+// model); each chunked by frame and compressed (shuffle + deflate). Coordinates x(x), y(y) in units
+// of d are those of the first frame's block; the block may follow the tip, so site (i, j) of frame
+// k is at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
+// stresses G, forces G d^2, energy G d^3) and `long_name`; the global attribute field_precision
+// says float32 or float64.
 #pragma once
 
 #include <filesystem>

@@ -151,20 +151,25 @@ void SnapshotSink::replayed_path(const std::string& source, int periods, double 
 // milliseconds per path.
 void SnapshotSink::flush() {
   if (!appender_ || !dirty_) return;
-  const auto lock = hold(netcdf_);
-  appender_->close();
-  appender_.reset();
+  close_paths();
   dirty_ = false;
 }
 
+// The appender is given up before it closes, so that a failed close leaves the sink to open the
+// file again for the next path rather than holding a handle that is gone.
+void SnapshotSink::close_paths() {
+  if (!appender_) return;
+  const auto lock = hold(netcdf_);
+  SnapshotAppender closing = std::move(*appender_);
+  appender_.reset();
+  closing.close();
+}
+
 void SnapshotSink::finish() {
-  if (appender_) {
-    const auto lock = hold(netcdf_);
-    appender_->close();
-    appender_.reset();
-  }
+  close_paths();
   if (!paths_begun_) return;
   fs::rename(partial_file(), paths_file());
+  paths_begun_ = false;  // a second finish() has nothing to rename
   count(paths_file());
   written_.push_back(paths_file());
   dirty_ = false;

@@ -64,6 +64,7 @@ class SnapshotSink final : public slide::FrameSink {
 
  private:
   void open_paths();
+  void close_paths();
   void count(const std::filesystem::path& file);
 
   std::filesystem::path dir_;

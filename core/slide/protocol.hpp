@@ -667,11 +667,11 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     const std::size_t gf_at_top = model.gf_applications();
     minimize::MinimizeResult r;
     // With a slip minimiser, a step that the fast solver sees slip for certain (a site moved by
-    // 3/4 d, as in the bisection) is handed to the slip minimiser at once: relaxing the slip
-    // further would only be thrown away. (Before, it ran to convergence: 5 908 iterations,
-    // about 25 minutes, before each flow at a = 430 d, R = 1700 d.) A relaxation that would have
-    // moved a site that far and then come back (an overshoot) is thereby also the flow's to
-    // decide, which is the reference's verdict (MODEL.md 5).
+    // 3/4 d in the LFM, d/2 in the explicit model, as in the bisection) is handed to the slip
+    // minimiser at once: relaxing the slip further would only be thrown away. (Before, it ran to
+    // convergence: 5 908 iterations, about 25 minutes, before each flow at a = 430 d, R = 1700 d.)
+    // A relaxation that would have moved a site that far and then come back (an overshoot) is
+    // thereby also the flow's to decide, which is the reference's verdict (MODEL.md 5).
     const bool slip_goes_to_flow = options.slip_minimizer && !cycle_of && !may_undo;
     if (resuming) {
       r = resuming->fast;

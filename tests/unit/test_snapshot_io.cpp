@@ -410,6 +410,12 @@ TEST_F(SnapshotIo, OneFrameFilesCarryNoEmptyChunks) {
   EXPECT_NE(
       invalid_argument_message([&] { two.append(frame(2, "c", -1, 0, 0)); }).find("holds 2 frames"),
       std::string::npos);
+  // Nor when it is opened again to append.
+  SnapshotAppender again = SnapshotAppender::open(nc);
+  EXPECT_NE(invalid_argument_message([&] {
+              again.append(frame(1, "peak", -1, 0, 0));
+            }).find("holds 1 frames"),
+            std::string::npos);
 }
 
 // The tools' sink (snapshot_sink.hpp): states as their own files, paths in one growing
