@@ -245,12 +245,6 @@ void SnapshotAppender::close() {
   out.check(nc_close(std::exchange(id_, -1)), "closing");
 }
 
-void SnapshotAppender::sync() {
-  if (id_ < 0) return;
-  const Writer out("cannot write '" + nc_.string() + "': ");
-  out.check(nc_sync(id_), "flushing");
-}
-
 void SnapshotAppender::define(const Snapshot& first) {
   const Writer out("cannot write '" + nc_.string() + "': ");
   out.check(nc_create(nc_.c_str(), NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL, &id_), "creating");

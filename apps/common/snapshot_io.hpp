@@ -58,7 +58,6 @@ class SnapshotAppender {
   [[nodiscard]] slide::Snapshot read(std::size_t k) const;  // frame k, as written
   [[nodiscard]] std::size_t frames() const { return frames_; }
   [[nodiscard]] const std::filesystem::path& path() const { return nc_; }
-  void sync();   // to disk: a process killed after it leaves a readable file
   void close();  // no more frames; the writer can only be destroyed
 
  private:
