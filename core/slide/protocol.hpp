@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -159,6 +160,65 @@ void check_start(const SlideState& st, const Model& model) {
       reject("SlideState.pending.frame_interval", std::to_string(st.pending->frame_interval),
              ">= 0");
   }
+}
+
+// The static peak is established once it has held over a whole period d of sliding with
+// slips_to_stop slip events after it. In Regime II the stick-slip cycle repeats with period
+// d, so this is the slips_to_stop-th slip itself; in Regime III arrested loops pile up and
+// Fx keeps rising through many small slips (R = 100 d, a = 70 d: mu/alpha 0.091 at the
+// second slip, 0.129 and still rising 2.5 d later), and a count of slips alone would report
+// the first one as mu.
+// A repeated cycle reaches its maximum again only to within the sampling of the trace (a
+// bracket of min_step before a slip; a smooth maximum between coarse steps, which can be
+// missed altogether: the explicit model's first cycle, sampled every 0.4 d, shows 0.392
+// where the second shows 0.423), and that must not count as a new peak. So each stick
+// segment (the stable samples between slips) carries the uncertainty of its highest sample,
+// the steps to its stable neighbours, at least kPeakTie (a fifth of the 0.5% to which mu is
+// converged, docs/benchmarks.md); the peak held from the first segment whose highest sample
+// reaches the maximum within its own uncertainty, or the first slip row that does within
+// kPeakTie.
+//
+// t: the trace so far; best: the largest Fx/Fz of it; ratio_now, Dx_now: the current state (the
+// last row); d: the period; slips_to_stop: the slip events wanted after the peak.
+inline constexpr double kPeakTie = 1e-3;
+inline bool peak_held(std::span<const TraceRow> t, double best, double ratio_now, double Dx_now,
+                      double d, int slips_to_stop) {
+  // The slide stops at a slip, and not while Fx is still within reach of the peak (after a
+  // small slip in Regime III it can lie just below it and rise past it next).
+  if (t.empty() || !t.back().slip) return false;
+  const auto y = [&](std::size_t i) { return t[i].Fx / t[i].Fz; };
+  const double floor_tie = kPeakTie * std::abs(best);
+  double largest_tie = floor_tie;
+  std::optional<double> held_Dx;
+  std::size_t top = 0;  // highest sample of the current stick segment
+  for (std::size_t i = 1; i <= t.size(); ++i) {
+    if (i < t.size() && !t[i].slip) {
+      if (t[top].slip || y(i) > y(top)) top = i;
+      continue;
+    }
+    if (!t[top].slip) {  // the segment ends
+      double tie = floor_tie;
+      if (top > 0 && !t[top - 1].slip) tie = std::max(tie, std::abs(y(top) - y(top - 1)));
+      if (top + 1 < t.size() && !t[top + 1].slip)
+        tie = std::max(tie, std::abs(y(top) - y(top + 1)));
+      largest_tie = std::max(largest_tie, tie);
+      if (!held_Dx && y(top) + tie >= best) held_Dx = t[top].Dx;
+    }
+    if (i < t.size()) {
+      top = i;
+      // A slip row is a sample of its own, exact in Dx (a bracket end). In a Regime III
+      // steady state Fx can rise through a run of tiny slips with no stable sample between
+      // them and peak on one of them (R = 40 d, a = 36 d: a 2-site slip, the same to 1e-12
+      // every period from 11.6 d on); without this such a peak never held and the slide ran
+      // to the cap, reporting a lower bound.
+      if (!held_Dx && y(i) + floor_tie >= best) held_Dx = t[i].Dx;
+    }
+  }
+  if (!held_Dx || ratio_now >= best - largest_tie) return false;
+  if (Dx_now < *held_Dx + d - 1e-9 * d) return false;
+  return std::count_if(t.begin(), t.end(), [&](const TraceRow& row) {
+           return row.slip && row.Dx > *held_Dx;
+         }) >= slips_to_stop;
 }
 
 template <class Model>
@@ -426,51 +486,9 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     return out;
   };
   auto last_checkpoint = std::chrono::steady_clock::now();
-  // The static peak is established once it has held over a whole period d of sliding with
-  // slips_to_stop slip events after it. In Regime II the stick-slip cycle repeats with period
-  // d, so this is the slips_to_stop-th slip itself; in Regime III arrested loops pile up and
-  // Fx keeps rising through many small slips (R = 100 d, a = 70 d: mu/alpha 0.091 at the
-  // second slip, 0.129 and still rising 2.5 d later), and a count of slips alone would report
-  // the first one as mu.
-  // A repeated cycle reaches its maximum again only to within the sampling of the trace (a
-  // bracket of min_step before a slip; a smooth maximum between coarse steps, which can be
-  // missed altogether: the explicit model's first cycle, sampled every 0.4 d, shows 0.392
-  // where the second shows 0.423), and that must not count as a new peak. So each stick
-  // segment (the stable samples between slips) carries the uncertainty of its highest sample,
-  // the steps to its stable neighbours, at least kPeakTie (a fifth of the 0.5% to which mu is
-  // converged, docs/benchmarks.md); the peak held from the first segment whose highest sample
-  // reaches the maximum within its own uncertainty.
-  constexpr double kPeakTie = 1e-3;
   const auto peak_held = [&] {
-    const auto& t = res.trace;
-    // The slide stops at a slip, and not while Fx is still within reach of the peak (after a
-    // small slip in Regime III it can lie just below it and rise past it next).
-    if (t.empty() || !t.back().slip) return false;
-    const auto y = [&](std::size_t i) { return t[i].Fx / t[i].Fz; };
-    const double floor_tie = kPeakTie * std::abs(best);
-    double largest_tie = floor_tie;
-    std::optional<double> held_Dx;
-    std::size_t top = 0;  // highest sample of the current stick segment
-    for (std::size_t i = 1; i <= t.size(); ++i) {
-      if (i < t.size() && !t[i].slip) {
-        if (t[top].slip || y(i) > y(top)) top = i;
-        continue;
-      }
-      if (!t[top].slip) {  // the segment ends
-        double tie = floor_tie;
-        if (top > 0 && !t[top - 1].slip) tie = std::max(tie, std::abs(y(top) - y(top - 1)));
-        if (top + 1 < t.size() && !t[top + 1].slip)
-          tie = std::max(tie, std::abs(y(top) - y(top + 1)));
-        largest_tie = std::max(largest_tie, tie);
-        if (!held_Dx && y(top) + tie >= best) held_Dx = t[top].Dx;
-      }
-      if (i < t.size()) top = i;
-    }
-    if (!held_Dx || state.Fx / state.Fz >= best - largest_tie) return false;
-    if (state.Dx < *held_Dx + d - 1e-9 * d) return false;
-    return std::count_if(t.begin(), t.end(), [&](const TraceRow& row) {
-             return row.slip && row.Dx > *held_Dx;
-           }) >= options.slips_to_stop;
+    return detail::peak_held(res.trace, best, state.Fx / state.Fz, state.Dx, d,
+                             options.slips_to_stop);
   };
 
   const double h = options.protocol == Protocol::reference ? options.step : options.max_step;

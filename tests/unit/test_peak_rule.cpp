@@ -1,0 +1,105 @@
+// The stop rule of the automatic distance (slide/protocol.hpp, detail::peak_held; MODEL.md 5):
+// the static peak must have held over a period d with slips_to_stop slip events after it, and
+// the slide stops at a slip that leaves Fx/Fz below the peak by more than the trace's
+// resolution. Synthetic traces, d = 1, two slips wanted.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "slide/protocol.hpp"
+
+using namespace asperity;
+using slide::TraceRow;
+
+namespace {
+
+TraceRow row(double Dx, double ratio, bool slip) {
+  return TraceRow{.Dx = Dx, .Fx = ratio * 100.0, .Fz = 100.0, .slip = slip};
+}
+
+double best_of(const std::vector<TraceRow>& t) {
+  double b = 0.0;
+  for (const auto& r : t)
+    b = std::max(b, r.Fx / r.Fz);
+  return b;
+}
+
+// The first prefix of `t` (ending at a row) at which the rule says the peak held, or -1.
+int first_stop(const std::vector<TraceRow>& t) {
+  for (std::size_t k = 1; k <= t.size(); ++k) {
+    const std::span<const TraceRow> head(t.data(), k);
+    const std::vector<TraceRow> v(head.begin(), head.end());
+    if (slide::detail::peak_held(head, best_of(v), v.back().Fx / v.back().Fz, v.back().Dx, 1.0,
+                                 2)) {
+      return static_cast<int>(k) - 1;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+// Regime II: stick (stable rows rising to 0.5) and one large slip per period, repeated.
+TEST(PeakRule, ARepeatedStickSlipCycleHoldsAtItsSecondSlip) {
+  std::vector<TraceRow> t{row(0.0, 0.0, false)};
+  for (int cycle = 0; cycle < 4; ++cycle) {
+    for (int k = 1; k <= 8; ++k)
+      t.push_back(row(cycle + 0.1 * k, 0.3 + 0.025 * k, false));  // up to 0.5 at +0.8
+    t.push_back(row(cycle + 0.9, 0.3, true));                     // the slip
+  }
+  // Peak first reached at Dx = 0.8; held from there over d with two slips after it: the slip at
+  // 1.9 (the second after 0.8 is at 1.9, one period on).
+  const int stop = first_stop(t);
+  ASSERT_GE(stop, 0);
+  EXPECT_DOUBLE_EQ(t[static_cast<std::size_t>(stop)].Dx, 1.9);
+}
+
+// Regime III steady state: Fx rises through a run of tiny slips with no stable row between them
+// (every row a slip), peaks on one and drops at a larger slip, the same every period (as at
+// R = 40 d, a = 36 d from 11.6 d on). Before the rule counted slip rows as samples, no row ever
+// held and the slide ran to its cap.
+TEST(PeakRule, APeakOnARunOfTinySlipsHolds) {
+  std::vector<TraceRow> t{row(0.0, 0.0, false)};
+  for (int k = 1; k <= 20; ++k)
+    t.push_back(row(0.02 * k, 0.01 * k, false));  // loading ramp to 0.2 (resolution 0.01)
+  for (int cycle = 0; cycle < 4; ++cycle) {
+    for (int k = 1; k <= 6; ++k)
+      t.push_back(row(0.4 + cycle + 0.1 * k, 0.20 + 0.01 * k, true));  // tiny slips, up to 0.26
+    for (int k = 7; k <= 10; ++k)
+      t.push_back(row(0.4 + cycle + 0.1 * k, 0.26 - 0.02 * (k - 6), true));  // larger ones
+  }
+  // Peak 0.26 first at Dx = 1.0; held one period later, at the first slip row below
+  // 0.26 - 0.01 (the ramp's resolution) with Dx >= 2.0: Dx = 2.1 (0.24).
+  const int stop = first_stop(t);
+  ASSERT_GE(stop, 0);
+  EXPECT_NEAR(t[static_cast<std::size_t>(stop)].Dx, 2.1, 1e-12);
+  EXPECT_NEAR(t[static_cast<std::size_t>(stop)].Fx / t[static_cast<std::size_t>(stop)].Fz, 0.24,
+              1e-12);
+}
+
+// Still hardening: every period's peak above the last by more than the tie (Regime III before
+// its steady state): the rule never stops.
+TEST(PeakRule, AFrictionStillRisingNeverHolds) {
+  std::vector<TraceRow> t{row(0.0, 0.0, false)};
+  for (int cycle = 0; cycle < 6; ++cycle) {
+    for (int k = 1; k <= 5; ++k)
+      t.push_back(row(cycle + 0.1 * k, 0.2 + 0.01 * cycle + 0.002 * k, k == 5));
+    for (int k = 6; k <= 10; ++k)
+      t.push_back(row(cycle + 0.1 * k, 0.19 + 0.01 * cycle, true));
+  }
+  EXPECT_EQ(first_stop(t), -1);
+}
+
+// The slide does not stop while Fx lies within the trace's resolution of the peak, nor on a
+// stable row.
+TEST(PeakRule, NoStopWithinTheTieOrOnAStableRow) {
+  // Peak 0.3 at Dx = 0.4, resolved to 0.01 by its neighbours.
+  std::vector<TraceRow> t{row(0.0, 0.0, false),  row(0.1, 0.1, false), row(0.2, 0.2, false),
+                          row(0.3, 0.29, false), row(0.4, 0.3, false), row(0.5, 0.295, false),
+                          row(0.6, 0.2, true),   row(1.0, 0.25, true), row(1.7, 0.295, true)};
+  EXPECT_FALSE(slide::detail::peak_held(t, 0.3, 0.295, 1.7, 1.0, 2));  // within 0.01 of it
+  t.push_back(row(1.8, 0.1, false));
+  EXPECT_FALSE(slide::detail::peak_held(t, 0.3, 0.1, 1.8, 1.0, 2));  // a stable row
+  t.back().slip = true;
+  EXPECT_TRUE(slide::detail::peak_held(t, 0.3, 0.1, 1.8, 1.0, 2));
+}
