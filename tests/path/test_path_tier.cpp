@@ -250,11 +250,9 @@ TEST(SlipMinimizer, TheSlideTakesTheFaithfulEndState) {
   // The default solver hands the step to the slip minimiser as soon as it sees the slip for
   // certain (a site moved by 3/4 d), instead of relaxing the slip to its own end first: the slip
   // row's iterations are the flow's and fewer than the default solver's whole relaxation.
-  const slide::TraceRow* row = nullptr;
-  for (const auto& t : r.trace) {
-    if (t.slip && !row) row = &t;
-  }
-  ASSERT_NE(row, nullptr);
+  const auto row =
+      std::find_if(r.trace.begin(), r.trace.end(), [](const slide::TraceRow& t) { return t.slip; });
+  ASSERT_NE(row, r.trace.end());
   const int before_flow = row->iterations - alone.result.iterations;
   std::printf("slip row: %d iterations, the flow's %d, the default solver's whole relaxation %d\n",
               row->iterations, alone.result.iterations, fast.result.iterations);

@@ -4,6 +4,8 @@
 // resolution. Synthetic traces, d = 1, two slips wanted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <span>
 #include <vector>
 
 #include "slide/protocol.hpp"
@@ -17,19 +19,14 @@ TraceRow row(double Dx, double ratio, bool slip) {
   return TraceRow{.Dx = Dx, .Fx = ratio * 100.0, .Fz = 100.0, .slip = slip};
 }
 
-double best_of(const std::vector<TraceRow>& t) {
-  double b = 0.0;
-  for (const auto& r : t)
-    b = std::max(b, r.Fx / r.Fz);
-  return b;
-}
-
-// The first prefix of `t` (ending at a row) at which the rule says the peak held, or -1.
+// The first prefix of `t` (ending at a row) at which the rule says the peak held, or -1; the
+// peak is the largest Fx/Fz of the prefix, as the slide keeps it.
 int first_stop(const std::vector<TraceRow>& t) {
+  double best = 0.0;
   for (std::size_t k = 1; k <= t.size(); ++k) {
-    const std::span<const TraceRow> head(t.data(), k);
-    const std::vector<TraceRow> v(head.begin(), head.end());
-    if (slide::detail::peak_held(head, best_of(v), v.back().Fx / v.back().Fz, v.back().Dx, 1.0,
+    const TraceRow& last = t[k - 1];
+    best = std::max(best, last.Fx / last.Fz);
+    if (slide::detail::peak_held(std::span(t.data(), k), best, last.Fx / last.Fz, last.Dx, 1.0,
                                  2)) {
       return static_cast<int>(k) - 1;
     }
