@@ -175,4 +175,52 @@ void SnapshotSink::finish() {
   dirty_ = false;
 }
 
+LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, SnapshotFormat format,
+                                 std::mutex* netcdf)
+    : dir_(std::move(dir)), attributes_(std::move(attributes)), format_(format), netcdf_(netcdf) {
+  format_.validate();
+}
+
+std::string LargestSlipSink::start(std::optional<int> largest_so_far) {
+  ensure_directory(dir_);
+  std::error_code ec;
+  fs::remove(dir_ / "peak.nc", ec);  // made again at the end
+  if (!largest_so_far) {
+    fs::remove(before_file(), ec);
+    fs::remove(after_file(), ec);
+    largest_ = 0;
+    return {};
+  }
+  largest_ = *largest_so_far;
+  // Files written after the checkpoint belong to a slip the resumed slide makes again (bit for
+  // bit): they are replaced then, since largest_ does not count it yet.
+  if (largest_ > 0 && !fs::exists(before_file())) {
+    return "the states of its largest slip before the checkpoint (" + std::to_string(largest_) +
+           " slipped sites) were not kept (a run without --largest-slip made the checkpoint); "
+           "only a larger slip is kept from here on";
+  }
+  return {};
+}
+
+void LargestSlipSink::state(const slide::Snapshot& frame) {
+  const auto write = [&](const slide::Snapshot& f, const fs::path& file) {
+    const auto lock = hold(netcdf_);
+    write_snapshots(file, {f}, attributes_, format_);
+  };
+  if (frame.label.ends_with("_before")) {
+    before_ = frame;
+  } else if (frame.label.ends_with("_after")) {
+    if (before_ && frame.slipped_sites > largest_) {
+      // A run killed between the two writes leaves a newer "before" beside an older "after";
+      // their labels tell.
+      write(*before_, before_file());
+      write(frame, after_file());
+      largest_ = frame.slipped_sites;
+    }
+    before_.reset();
+  } else if (frame.label == "peak") {
+    write(frame, dir_ / "peak.nc");
+  }
+}
+
 }  // namespace asperity::app

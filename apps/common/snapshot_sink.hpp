@@ -79,4 +79,43 @@ class SnapshotSink final : public slide::FrameSink {
   std::uintmax_t bytes_ = 0;
 };
 
+// The frame sink of a sweep point that keeps only what tells which loops a slide ends with: the
+// states before and after its largest slip (the most slipped sites; the first of equals) and,
+// at the end, the peak. Into <dir>: largest_slip_before.nc, largest_slip_after.nc (the frames
+// keep their labels, "slip_NNN_before/after"), peak.nc. A larger slip replaces the pair, so
+// the disk and memory of a point stay one frame pair however many slips it takes (a Regime III
+// slide takes hundreds); the "before" state of every slip is held until its "after" arrives.
+// No relaxation paths.
+class LargestSlipSink final : public slide::FrameSink {
+ public:
+  LargestSlipSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
+                  std::mutex* netcdf = nullptr);
+
+  // A fresh run removes the files of an earlier one. A resumed run continues from a checkpoint
+  // whose trace has slips of up to `largest_so_far` sites: only a larger slip replaces the pair.
+  // Returns a warning when the checkpoint's slips include one whose states are not on disk (the
+  // checkpoint was made by a run that did not keep them), else an empty string.
+  std::string start(std::optional<int> largest_so_far);
+
+  void state(const slide::Snapshot& frame) override;
+  void path_frame(const slide::Snapshot& /*frame*/) override {}
+  void replayed_path(const std::string& /*source*/, int /*periods*/, double /*period*/,
+                     const std::string& /*label*/) override {}
+  [[nodiscard]] bool wants_paths() const override { return false; }
+
+  [[nodiscard]] int largest_slipped_sites() const { return largest_; }
+  [[nodiscard]] std::filesystem::path before_file() const {
+    return dir_ / "largest_slip_before.nc";
+  }
+  [[nodiscard]] std::filesystem::path after_file() const { return dir_ / "largest_slip_after.nc"; }
+
+ private:
+  std::filesystem::path dir_;
+  nlohmann::json attributes_;
+  SnapshotFormat format_;
+  std::mutex* netcdf_;
+  int largest_ = 0;
+  std::optional<slide::Snapshot> before_;  // of the slip whose "after" comes next
+};
+
 }  // namespace asperity::app

@@ -6,7 +6,8 @@
 //   that an interrupted sweep loses only the points in flight; a later run with the same
 //   settings reuses its rows instead of recomputing them;
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
-//   figures and snapshots of contact_slide);
+//   figures and snapshots of contact_slide; with --largest-slip, largest_slip/ with the states
+//   before and after the point's largest slip and its peak state);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png;
@@ -310,8 +311,14 @@ int main(int argc, char** argv) {
     a_opt->excludes(x_opt);
     cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads / fft.threads)")
         ->check(CLI::Range(1, 1024));
-    cli.add_flag("--figures", figures,
-                 "Per point also the figures and NetCDF snapshots (as contact_slide)");
+    auto* figures_opt = cli.add_flag(
+        "--figures", figures, "Per point also the figures and NetCDF snapshots (as contact_slide)");
+    bool largest_slip = false;
+    cli.add_flag("--largest-slip", largest_slip,
+                 "Per point keep the states before and after its largest slip (most slipped "
+                 "sites) and the peak state, as NetCDF in points/<point>/largest_slip/ (for "
+                 "track_loops): one pair of frames however many slips")
+        ->excludes(figures_opt);
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     double checkpoint_every = 300.0;
     cli.add_option("--checkpoint-every", checkpoint_every,
@@ -553,10 +560,12 @@ int main(int argc, char** argv) {
                          app::describe_progress(info).c_str());
           };
         }
-        // Frames go to the point's snapshots/ as they are made (with --figures), or nowhere:
-        // a point holds none, however many slips it takes.
+        // Frames go to the point's snapshots/ as they are made (with --figures), only those of
+        // its largest slip to largest_slip/ (with --largest-slip), or nowhere: a point holds
+        // at most one pair, however many slips it takes.
         slide::DiscardFrames no_frames;
         std::optional<app::SnapshotSink> frames;
+        std::optional<app::LargestSlipSink> largest;
         if (figures) {
           frames.emplace(point_dir / "snapshots",
                          app::snapshot_attributes(
@@ -570,19 +579,41 @@ int main(int argc, char** argv) {
                          warning.c_str());
           }
         }
-        const slide::SlideControl control{
-            .progress = progress,
-            .checkpoint =
-                [&](const slide::SlideState& state) {
-                  app::ensure_directory(point_dir);
-                  if (frames) frames->flush();
-                  app::write_checkpoint(checkpoint_file,
-                                        {.settings = point_settings, .state = state});
-                },
-            .checkpoint_every_s = checkpoint_every,
-            .stop_requested = app::stop_requested,
-            .start = start ? &start->state : nullptr,
-            .frames = frames ? static_cast<slide::FrameSink*>(&*frames) : &no_frames};
+        if (largest_slip) {
+          // Not part of the checkpoint's settings: the sink restarts from the slips of the
+          // checkpoint's trace, and says if their largest is not on disk.
+          largest.emplace(point_dir / "largest_slip",
+                          app::snapshot_attributes(
+                              ps, job.x ? app::explicit_summary_extra(es, alpha_x) : nullptr),
+                          ps.snapshot_format, &output_mutex);
+          std::optional<int> so_far;
+          if (start) {
+            so_far = 0;
+            for (const slide::TraceRow& r : start->state.partial.trace)
+              if (r.slip) so_far = std::max(*so_far, r.slipped_sites);
+          }
+          if (const std::string warning = largest->start(so_far); !warning.empty()) {
+            const std::lock_guard lock(table_mutex);
+            std::fprintf(stderr, "friction_sweep: a = %.4g d, R = %g d: %s\n", point.a, point.R,
+                         warning.c_str());
+          }
+        }
+        slide::FrameSink* sink = &no_frames;
+        if (frames) sink = &*frames;
+        if (largest) sink = &*largest;
+        const slide::SlideControl control{.progress = progress,
+                                          .checkpoint =
+                                              [&](const slide::SlideState& state) {
+                                                app::ensure_directory(point_dir);
+                                                if (frames) frames->flush();
+                                                app::write_checkpoint(
+                                                    checkpoint_file,
+                                                    {.settings = point_settings, .state = state});
+                                              },
+                                          .checkpoint_every_s = checkpoint_every,
+                                          .stop_requested = app::stop_requested,
+                                          .start = start ? &start->state : nullptr,
+                                          .frames = sink};
         const slide::SlideResult result = job.x ? app::slide_explicit_scene(es, alpha_x, control)
                                                 : slide::slide(ps.contact, ps.options, control);
         if (result.interrupted) {

@@ -31,6 +31,9 @@ struct Snapshot {
                                           // explicit model's alpha p and p = -f_z / d^2
   std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
   std::vector<std::uint8_t> in_contact;
+  // Of a slip's "before" and "after" states: the sites whose registry index changed in the slip
+  // (TraceRow::slipped_sites); 0 for every other frame. Not stored in the NetCDF frames.
+  int slipped_sites = 0;
 };
 
 // Receives the frames of a slide as they are made (SlideControl::frames). Called from the

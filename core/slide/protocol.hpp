@@ -512,8 +512,12 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     if (slip) {
       ++res.slip_events;
       const std::string label = slip_label(res.slip_events);
-      sink.state(model.snapshot(state, label + "_before"));
-      sink.state(model.snapshot(next, label + "_after"));
+      for (auto [fields, suffix] :
+           {std::pair<const State*, const char*>{&state, "_before"}, {&next, "_after"}}) {
+        Snapshot frame = model.snapshot(*fields, label + suffix);
+        frame.slipped_sites = sites;
+        sink.state(frame);
+      }
       // One Snapshot at a time: a path is held as displacements only (PathFrame).
       for (PathFrame& frame : frames) {
         sink.path_frame(model.snapshot(frame.fields, label + "_path", frame.iteration));

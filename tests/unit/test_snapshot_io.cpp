@@ -506,5 +506,59 @@ TEST_F(SnapshotIo, SinkWritesResumesAndReplays) {
   }
 }
 
+TEST_F(SnapshotIo, LargestSlipSinkKeepsOnlyTheLargestSlipsPair) {
+  const fs::path dir = dir_ / "largest_slip";
+  const auto slip = [](int k, std::string label, double Dx, int sites) {
+    Snapshot f = frame(k, std::move(label), -1, 0, 0);
+    f.Dx = Dx;
+    f.slipped_sites = sites;
+    return f;
+  };
+  const auto label_of = [](const fs::path& nc) { return read_snapshots(nc).at(0).label; };
+  {
+    LargestSlipSink sink(dir, {{"a", 3.0}}, {});
+    EXPECT_EQ(sink.start(std::nullopt), "");
+    EXPECT_FALSE(sink.wants_paths());
+    sink.state(slip(0, "slip_001_before", 1.0, 5));
+    sink.state(slip(1, "slip_001_after", 1.0, 5));
+    sink.state(slip(2, "slip_002_before", 2.0, 40));
+    sink.state(slip(0, "slip_002_after", 2.0, 40));
+    sink.state(slip(1, "slip_003_before", 3.0, 40));  // as large, not larger: the first stays
+    sink.state(slip(2, "slip_003_after", 3.0, 40));
+    sink.state(slip(0, "slip_004_before", 4.0, 7));
+    sink.state(slip(1, "slip_004_after", 4.0, 7));
+    EXPECT_EQ(sink.largest_slipped_sites(), 40);
+    EXPECT_EQ(label_of(sink.before_file()), "slip_002_before");
+    EXPECT_EQ(label_of(sink.after_file()), "slip_002_after");
+    // The frame's fields are the ones handed over, bit for bit.
+    EXPECT_EQ(bits(read_snapshots(sink.before_file()).at(0).ux), bits(frame(2, "x", 0, 0, 0).ux));
+    EXPECT_FALSE(fs::exists(dir / "peak.nc"));
+    sink.state(slip(2, "peak", 2.0, 0));
+    EXPECT_EQ(label_of(dir / "peak.nc"), "peak");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
+  }
+  {
+    // Resumed from a checkpoint whose slips reached 40 sites: a slip of 40 does not replace
+    // the pair on disk, one of 41 does.
+    LargestSlipSink sink(dir, {}, {});
+    EXPECT_EQ(sink.start(40), "");
+    EXPECT_FALSE(fs::exists(dir / "peak.nc"));
+    sink.state(slip(0, "slip_005_before", 5.0, 40));
+    sink.state(slip(1, "slip_005_after", 5.0, 40));
+    EXPECT_EQ(label_of(sink.before_file()), "slip_002_before");
+    sink.state(slip(0, "slip_006_before", 6.0, 41));
+    sink.state(slip(1, "slip_006_after", 6.0, 41));
+    EXPECT_EQ(label_of(sink.before_file()), "slip_006_before");
+  }
+  {
+    // A checkpoint of a run that did not keep its largest slip: said so; a fresh run clears.
+    fs::remove(dir / "largest_slip_before.nc");
+    LargestSlipSink sink(dir, {}, {});
+    EXPECT_NE(sink.start(12).find("not kept"), std::string::npos);
+    EXPECT_EQ(sink.start(std::nullopt), "");
+    EXPECT_FALSE(fs::exists(dir / "largest_slip_after.nc"));
+  }
+}
+
 }  // namespace
 }  // namespace asperity::app
