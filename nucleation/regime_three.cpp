@@ -106,6 +106,11 @@ std::optional<double> cap_start(double beta, const PeierlsLaw& law) {
 
 }  // namespace
 
+double local_peierls_stress(double tau_max, const PeierlsLaw& law) {
+  if (!(tau_max > 0.0)) return 0.0;
+  return tau_max * regime_three_central(1.0 / tau_max, law);
+}
+
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {
   // With w = w* s on [0, w*]:
   //   int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw = k1 w*^3 E_4(ln k1) + (1 - w*^3) / 3.

@@ -49,6 +49,11 @@ std::string to_string(RegimeThreeForm form);
 // b_core^0 / d of a Hertz contact: R / (c alpha a), c = 4 / (pi (1 - nu)) (MODEL.md 3).
 double bcore0(double a, double R, double alpha, double nu);
 
+// Local Peierls stress tau_P / G where the envelope is tau_max (in G): the law at the local core
+// width b_core / d = G / tau_max (MODEL.md 3, 6), capped at tau_max; 0 outside the contact
+// (tau_max <= 0). Beside a stress profile it is the stress an arrested core must stay below.
+double local_peierls_stress(double tau_max, const PeierlsLaw& law);
+
 // mu / alpha of the two forms at beta = b_core^0 / d.
 double regime_three_central(double beta, const PeierlsLaw& law);
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);

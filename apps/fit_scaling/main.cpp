@@ -30,6 +30,7 @@
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
 #include "common/output_files.hpp"
+#include "common/peierls_summary.hpp"
 #include "common/plot.hpp"
 #include "nucleation/regime_map.hpp"
 #include "nucleation/regime_three.hpp"
@@ -228,69 +229,18 @@ LawSource read_law(const Options& o) {
   double dof = 0.0;  // of the k1, k2 fit; 0: given or unknown
   nlohmann::json j = {{"source", "given"}};
   if (!o.peierls.empty()) {
-    fs::path p(o.peierls);
-    if (fs::is_directory(p)) p /= "summary.json";
-    if (!fs::exists(p)) throw std::invalid_argument(p.string() + ": no such peierls_scan summary");
-    std::ifstream in(p, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
-    if (summary.is_discarded() || !summary.contains("fits") || !summary["fits"].contains("edge"))
-      throw std::invalid_argument(p.string() +
-                                  ": not a peierls_scan summary with an edge fit (fits.edge)");
-    const auto& e = summary["fits"]["edge"];
-    if (!e.value("valid", false))
-      throw std::invalid_argument(p.string() +
-                                  ": the edge fit is not valid (too few resolved "
-                                  "points)");
-    // The summary is a file like any other input: every number is checked, and a missing or
-    // mistyped key is named (it once crashed on an empty window).
-    const auto number = [&](const nlohmann::json& v, const std::string& key, bool positive) {
-      if (!v.is_number() || !std::isfinite(v.get<double>()) ||
-          (positive ? v.get<double>() <= 0.0 : v.get<double>() < 0.0)) {
-        throw std::invalid_argument(
-            p.string() + ": fits.edge." + key + " = " + v.dump() +
-            (positive ? ": not a finite positive number" : ": not a finite non-negative number"));
-      }
-      return v.get<double>();
-    };
-    const auto field = [&](const char* key) {
-      if (!e.contains(key))
-        throw std::invalid_argument(p.string() + ": fits.edge." + key + " missing");
-      return e[key];
-    };
-    s.law.k1 = number(field("k1"), "k1", true);
-    s.law.k1_error = number(field("k1_error"), "k1_error", false);
-    s.law.k2 = number(field("k2"), "k2", true);
-    s.law.k2_error = number(field("k2_error"), "k2_error", false);
-    // Summaries before the correlation was written lack it: taken as 0, which overstates the
-    // errors of the predictions (said in summary.json).
-    if (e.contains("k1_k2_correlation")) {
-      const nlohmann::json& v = e["k1_k2_correlation"];
-      if (!v.is_number() || !(v.get<double>() >= -1.0 && v.get<double>() <= 1.0)) {
-        throw std::invalid_argument(p.string() + ": fits.edge.k1_k2_correlation = " + v.dump() +
-                                    ": not a number in [-1, 1]");
-      }
-      s.law.correlation = v.get<double>();
-    } else {
-      j["correlation_missing"] = "taken as 0 (a peierls_scan summary without k1_k2_correlation)";
-    }
-    const nlohmann::json window = field("window_b_core");
-    if (!window.is_array() || window.size() != 2) {
-      throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
-                                  ": not a pair [b_min, b_max]");
-    }
-    s.law.b_min = number(window[0], "window_b_core[0]", false);
-    s.law.b_max = number(window[1], "window_b_core[1]", true);
-    if (s.law.b_min >= s.law.b_max) {
-      throw std::invalid_argument(p.string() + ": fits.edge.window_b_core = " + window.dump() +
-                                  ": b_min must be below b_max");
-    }
-    dof = std::max(0.0, e.value("points", 0) - 2.0);
-    j = {{"source", p.string()},
+    const app::PeierlsSummaryFit fit = app::read_peierls_fit(o.peierls, "edge");
+    s.law = fit.law;
+    dof = std::max(0.0, fit.points - 2.0);
+    j = {{"source", fit.file.string()},
          {"fit", "edge (theta = 90 deg), tau_P = k1 tau_max exp(-k2 b_core/d)"},
          {"window_b_core", {s.law.b_min, s.law.b_max}},
-         {"points", e.value("points", 0)},
-         {"L", summary.contains("scene") ? summary["scene"].value("L", 0) : 0}};
+         {"points", fit.points},
+         {"L", fit.L}};
+    // Summaries before the correlation was written lack it: taken as 0, which overstates the
+    // errors of the predictions.
+    if (fit.correlation_missing)
+      j["correlation_missing"] = "taken as 0 (a peierls_scan summary without k1_k2_correlation)";
   }
   if (o.k1.has_value() != o.k2.has_value()) {
     // k1 and k2 come from one fit, with correlated errors: one of them replaced would leave a

@@ -4,7 +4,11 @@
 //
 // Writes into --out: lines.json (every frame and its lines), events.csv (nucleation, growth,
 // retreat, arrest, annihilation, merge, split, reconnection), frame_NNNN.png (tau_x / tau_max
-// over the contact with the lines drawn on top, coloured by character) and summary.json.
+// over the contact with the lines drawn on top, coloured by character) and summary.json. With
+// --profiles, per plotted frame also the stress along x and along y through the tip centre
+// (profile_NNNN.csv, profile_x_NNNN.png, profile_y_NNNN.png: tau_x / (alpha p0) with the bounds
+// +-alpha p, the cores where lines cross, and with --peierls the local Peierls stress of the
+// edge and screw fits at the local pressure; the seed's Fig. 9).
 #include <netcdf.h>
 
 #include <CLI/CLI.hpp>
@@ -14,15 +18,19 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
 #include "common/output_files.hpp"
+#include "common/peierls_summary.hpp"
 #include "common/plot.hpp"
 #include "common/snapshot_io.hpp"
+#include "nucleation/regime_three.hpp"
 #include "tracking/lines.hpp"
+#include "tracking/profile.hpp"
 #include "tracking/tracker.hpp"
 
 using namespace asperity;
@@ -155,6 +163,109 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
       "tau_x / tau_max", std::pair{-1.0, 1.0}, overlays);
 }
 
+// Local Peierls stress laws drawn beside the profiles (--peierls): edge and screw fits.
+struct LocalPeierls {
+  std::optional<nucleation::PeierlsLaw> edge, screw;
+};
+
+// The seed's Fig. 9 for one frame: the profiles along x and y through the tip centre, into
+// profile_NNNN.csv and two figures; returns the frame's profile record for lines.json.
+nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snapshot& s,
+                              const tracking::FrameLines& f, const std::vector<int>& ids,
+                              const LocalPeierls& peierls, const std::string& title) {
+  app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
+                       "tau_P_edge", "tau_P_screw"});
+  nlohmann::json record = nlohmann::json::object();
+  char name[48];
+  for (const auto axis : {tracking::ProfileAxis::x, tracking::ProfileAxis::y}) {
+    const tracking::StressProfile p = tracking::stress_profile(s, axis);
+    const double scale = p.tau_max_peak;  // alpha p0
+    record["alpha_p0"] = scale;
+    const auto local = [&](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
+      return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
+    };
+    std::vector<double> x, tau, bound, edge, screw;
+    for (std::size_t k = 0; k < p.position.size(); ++k) {
+      table.add_row({tracking::to_string(axis), p.position[k], p.tau_x[k], p.tau_y[k], p.tau_max[k],
+                     p.pressure[k], static_cast<long long>(p.in_contact[k]),
+                     local(peierls.edge, p.tau_max[k]), local(peierls.screw, p.tau_max[k])});
+      if (!p.in_contact[k] || !(p.tau_max[k] > 0.0)) continue;
+      x.push_back(p.position[k]);
+      tau.push_back(p.tau_x[k] / scale);
+      bound.push_back(p.tau_max[k] / scale);
+      edge.push_back(local(peierls.edge, p.tau_max[k]) / scale);
+      screw.push_back(local(peierls.screw, p.tau_max[k]) / scale);
+    }
+    const std::vector<tracking::CoreCrossing> cores = tracking::core_crossings(f, p);
+    nlohmann::json cores_json = nlohmann::json::array();
+    for (const auto& c : cores) {
+      cores_json.push_back({{"position", c.position},
+                            {"angle_deg", c.angle_deg},
+                            {"line_id", ids.at(c.line)},
+                            {"kind", tracking::to_string(c.kind)}});
+    }
+    record[tracking::to_string(axis)] = {
+        {"through", p.through}, {"centre", p.centre}, {"cores", cores_json}};
+    if (x.size() < 2) continue;  // no contact on this row: nothing to draw
+    const auto negated = [](std::vector<double> v) {
+      for (double& y : v)
+        y = -y;
+      return v;
+    };
+    std::vector<app::Series> series = {
+        {.x = x, .y = bound, .title = "+-alpha p", .style = "lines lw 2 lc rgb '#777777'"},
+        {.x = x, .y = negated(bound), .style = "lines lw 2 lc rgb '#777777'"}};
+    if (peierls.edge) {
+      series.push_back({.x = x,
+                        .y = edge,
+                        .title = "+-tau_P edge (local p)",
+                        .style = "lines lw 2 dt 2 lc rgb '#d62728'"});
+      series.push_back({.x = x, .y = negated(edge), .style = "lines lw 2 dt 2 lc rgb '#d62728'"});
+    }
+    if (peierls.screw) {
+      series.push_back({.x = x,
+                        .y = screw,
+                        .title = "+-tau_P screw (local p)",
+                        .style = "lines lw 2 dt 3 lc rgb '#1f77b4'"});
+      series.push_back({.x = x, .y = negated(screw), .style = "lines lw 2 dt 3 lc rgb '#1f77b4'"});
+    }
+    series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
+    // Cores on the axis, by character as in the maps (screw < 30 deg < mixed < 60 deg < edge).
+    const std::array<std::string, 3> titles = {"core: screw", "core: mixed", "core: edge"};
+    const std::array<std::string, 3> colours = {"#1f77b4", "#ff9900", "#d62728"};
+    for (int c = 0; c < 3; ++c) {
+      app::Series marks{
+          .title = titles[static_cast<std::size_t>(c)],
+          .style = "points pt 7 ps 1.6 lc rgb '" + colours[static_cast<std::size_t>(c)] + "'"};
+      for (const auto& core : cores) {
+        const int cc = core.angle_deg < 30.0 ? 0 : (core.angle_deg > 60.0 ? 2 : 1);
+        if (cc != c) continue;
+        marks.x.push_back(core.position);
+        marks.y.push_back(0.0);
+      }
+      if (!marks.x.empty()) series.push_back(std::move(marks));
+    }
+    std::snprintf(name, sizeof name, "profile_%s_%04d.png", tracking::to_string(axis).c_str(),
+                  index);
+    const bool along_x = axis == tracking::ProfileAxis::x;
+    char where[96];
+    std::snprintf(where, sizeof where, along_x ? "along x through y = 0" : "along y through x = %g",
+                  p.through);
+    app::plot_png(dir / name, series,
+                  {.title = title + ", " + where,
+                   .xlabel = along_x ? "(x - Dx) / d" : "y / d",
+                   .ylabel = "tau / (alpha p0)",
+                   .width = 1000,
+                   .height = 560,
+                   .extra_commands = {"set key outside right top", "set grid"}});
+    record[tracking::to_string(axis)]["figure"] = name;
+  }
+  std::snprintf(name, sizeof name, "profile_%04d.csv", index);
+  table.write(dir / name);
+  record["table"] = name;
+  return record;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -209,12 +320,34 @@ int main(int argc, char** argv) {
     cli.add_option("--plot-every", plot_every, "A figure every N frames (0: none)")
         ->check(CLI::Range(0, 1000000))
         ->capture_default_str();
+    bool profiles = false;
+    cli.add_flag("--profiles", profiles,
+                 "Per plotted frame also the stress along x and along y through the tip centre "
+                 "(profile_NNNN.csv, profile_x/y_NNNN.png): tau_x / (alpha p0), +-alpha p and the "
+                 "cores (the seed's Fig. 9)");
+    std::string peierls_path;
+    cli.add_option("--peierls", peierls_path,
+                   "peierls_scan summary.json or its folder: with --profiles, draw the local "
+                   "Peierls stress of its edge and screw fits at the local pressure")
+        ->check(CLI::ExistingPath);
     cli.add_flag("--periodic", force_periodic,
                  "Treat every block as a whole periodic cell (default: the file's `periodic` "
                  "attribute)");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     detect.validate();
     track.validate();
+    LocalPeierls peierls;
+    nlohmann::json peierls_json = nullptr;
+    if (!peierls_path.empty()) {
+      if (!profiles) throw std::invalid_argument("--peierls is drawn beside --profiles: add it");
+      const app::PeierlsSummaryFit edge = app::read_peierls_fit(peierls_path, "edge");
+      const app::PeierlsSummaryFit screw = app::read_peierls_fit(peierls_path, "screw");
+      peierls = {edge.law, screw.law};
+      peierls_json = {{"source", edge.file.string()},
+                      {"edge", {{"k1", edge.law.k1}, {"k2", edge.law.k2}}},
+                      {"screw", {{"k1", screw.law.k1}, {"k2", screw.law.k2}}},
+                      {"window_b_core", {edge.law.b_min, edge.law.b_max}}};
+    }
 
     const auto start = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
@@ -281,6 +414,12 @@ int main(int argc, char** argv) {
           plot_frame(dir / name, s, f, title.str());
           ++figures;
         }
+        nlohmann::json profile = nullptr;
+        if (plot && profiles) {
+          std::ostringstream title;
+          title << s.label << " (Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
+          profile = write_profiles(dir, index, s, f, ids, peierls, title.str());
+        }
         frames_json.push_back({{"frame", index},
                                {"file", info.back().file},
                                {"frame_in_file", k},
@@ -295,6 +434,7 @@ int main(int argc, char** argv) {
                                {"registry_crossings_rejected", f.registry_crossings},
                                {"dropped_short", f.dropped_short},
                                {"figure", plot ? nlohmann::json(name) : nullptr},
+                               {"profiles", profile},
                                {"lines", lines}});
       }
     }
@@ -335,7 +475,9 @@ int main(int argc, char** argv) {
                                              {"max_motion", track.max_motion},
                                              {"arrest_area", track.arrest_area},
                                              {"centre_fraction", track.centre_fraction},
-                                             {"plot_every", plot_every}}},
+                                             {"plot_every", plot_every},
+                                             {"profiles", profiles},
+                                             {"peierls", peierls_json}}},
                                            {"results",
                                             {{"frames", info.size()},
                                              {"max_lines_per_frame", max_lines},

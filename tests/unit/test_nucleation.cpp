@@ -192,6 +192,17 @@ TEST(Nucleation, LimitsOfTheCondition) {
   EXPECT_NEAR(xc / c0, 9.4396, 1e-3);
 }
 
+TEST(RegimeThree, LocalPeierlsStressIsTheLawAtTheLocalCoreWidth) {
+  const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
+  // tau_max = 0.5 G: b_core = d G / tau_max = 2 d, tau_P = 0.5 k1 exp(-2 k2).
+  EXPECT_NEAR(local_peierls_stress(0.5, law), 0.5 * 2.3 * std::exp(-3.6), 1e-15);
+  // Below b_core = ln(k1)/k2 = 0.463 d (tau_max above 2.16 G) the law is capped at tau_max.
+  EXPECT_EQ(local_peierls_stress(4.0, law), 4.0);
+  // Outside the contact there is no registry to hold a core.
+  EXPECT_EQ(local_peierls_stress(0.0, law), 0.0);
+  EXPECT_EQ(local_peierls_stress(-1.0, law), 0.0);
+}
+
 TEST(RegimeThree, FormsAndBcore0) {
   const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
   // b_core^0 = R / (c alpha a), c = 8 / pi at nu = 0.5.

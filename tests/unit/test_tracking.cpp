@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "tracking/lines.hpp"
+#include "tracking/profile.hpp"
 #include "tracking/synthetic.hpp"
 #include "tracking/tracker.hpp"
 
@@ -142,6 +143,106 @@ TEST(Lines, SiteKeysSortByXThenY) {
   EXPECT_LT(site_key(-3, 100), site_key(-2, -100));
   EXPECT_LT(site_key(4, -7), site_key(4, -6));
   EXPECT_LT(site_key(-1, 2147483647), site_key(0, -2147483648LL));
+}
+
+// A synthetic contact snapshot: the field of synthetic_field() with the tip at Dx (the field's
+// coordinates are lattice coordinates either way), tau_y = 0 and p = tau_max / 0.7.
+slide::Snapshot snapshot_of(const SyntheticField& f, double Dx) {
+  slide::Snapshot s;
+  s.Dx = Dx;
+  s.block = f.block;
+  s.sx = f.sx;
+  s.tau_x = f.tau_x;
+  s.tau_max = f.tau_max;
+  s.tau_y.assign(f.tau_x.size(), 0.0);
+  for (const double t : f.tau_max)
+    s.pressure.push_back(t / 0.7);
+  s.in_contact = f.in_contact;
+  s.ux.assign(f.tau_x.size(), 0.0);
+  s.uy = s.ux;
+  return s;
+}
+
+TEST(Profile, RowAndColumnThroughTheTipCentre) {
+  SyntheticOptions o;
+  o.contact_radius = 24.0;
+  o.tau_peak = 0.5;
+  const SyntheticField f = synthetic_field(o, {{0, 0, 12, 8}});
+  const slide::Snapshot s = snapshot_of(f, 2.6);
+  const StressProfile px = stress_profile(s, ProfileAxis::x);
+  ASSERT_EQ(px.position.size(), 64u);  // the block's 64 sites along x, X = -32 ... 31
+  EXPECT_EQ(px.through, 0.0);
+  EXPECT_EQ(px.centre, 2.6);
+  EXPECT_DOUBLE_EQ(px.position.front(), -32.0 - 2.6);
+  // The largest envelope is the contact centre's, tau_peak (the site at r = 0).
+  EXPECT_EQ(px.tau_max_peak, 0.5);
+  // Site X = 0, Y = 0: block index (32, 32).
+  const std::size_t centre = 32 * 64 + 32;
+  EXPECT_EQ(px.tau_x[32], s.tau_x[centre]);
+  EXPECT_EQ(px.tau_max[32], 0.5);
+  EXPECT_DOUBLE_EQ(px.pressure[32], 0.5 / 0.7);
+  // Along y: the column of sites nearest X = Dx = 2.6, X = 3.
+  const StressProfile py = stress_profile(s, ProfileAxis::y);
+  EXPECT_EQ(py.through, 3.0);
+  EXPECT_EQ(py.centre, 0.0);
+  EXPECT_EQ(py.tau_x[32], s.tau_x[35 * 64 + 32]);
+  EXPECT_EQ(py.in_contact[0], 0);  // Y = -32: outside the 24 d contact
+  EXPECT_EQ(py.in_contact[32], 1);
+  // A tip whose centre column is off the block is refused.
+  EXPECT_THROW(stress_profile(snapshot_of(f, 40.0), ProfileAxis::y), std::invalid_argument);
+}
+
+TEST(Profile, CoresCrossTheAxesWhereTheLoopIs) {
+  // An elliptical loop of semi-axes 12 d along x and 8 d along y about (0, 0): along x it is
+  // crossed at x = +-12 d by edge segments, along y (column X = 0) at y = +-8 d by screw ones.
+  // The marching-squares trace interpolates tau_x linearly between sites: within 0.3 d.
+  SyntheticOptions o;
+  o.contact_radius = 24.0;
+  const SyntheticField f = synthetic_field(o, {{0, 0, 12, 8}});
+  const FrameLines lines = find_lines(f.view());
+  ASSERT_EQ(lines.lines.size(), 1u);
+  const slide::Snapshot s = snapshot_of(f, 0.0);
+  const auto along_x = core_crossings(lines, stress_profile(s, ProfileAxis::x));
+  ASSERT_EQ(along_x.size(), 2u);
+  EXPECT_NEAR(along_x[0].position, -12.0, 0.3);
+  EXPECT_NEAR(along_x[1].position, 12.0, 0.3);
+  for (const auto& c : along_x) {
+    EXPECT_GT(c.angle_deg, 60.0);
+    EXPECT_EQ(c.kind, LineKind::loop);
+    EXPECT_EQ(c.line, 0u);
+  }
+  const auto along_y = core_crossings(lines, stress_profile(s, ProfileAxis::y));
+  ASSERT_EQ(along_y.size(), 2u);
+  EXPECT_NEAR(along_y[0].position, -8.0, 0.3);
+  EXPECT_NEAR(along_y[1].position, 8.0, 0.3);
+  for (const auto& c : along_y)
+    EXPECT_LT(c.angle_deg, 30.0);
+}
+
+TEST(Profile, CrossingsOfAHandMadeLineAreExact) {
+  // A square loop with vertices on the row y = 0: each vertex on the row counts once, and an
+  // open line ending on the row is crossed there once.
+  FrameLines f;
+  Line loop;
+  loop.kind = LineKind::loop;
+  loop.points = {{-3, 0}, {1, -4}, {5, 0}, {1, 4}};
+  loop.angle_deg = {45, 45, 45, 45};
+  Line open;
+  open.kind = LineKind::open;
+  open.points = {{7.5, -2}, {7.5, 2}};
+  open.angle_deg = {90};
+  f.lines = {loop, open};
+  StressProfile p;
+  p.axis = ProfileAxis::x;
+  p.centre = 0.5;
+  const auto c = core_crossings(f, p);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_DOUBLE_EQ(c[0].position, -3.5);
+  EXPECT_DOUBLE_EQ(c[1].position, 4.5);
+  EXPECT_DOUBLE_EQ(c[2].position, 7.0);
+  EXPECT_EQ(c[2].line, 1u);
+  EXPECT_EQ(c[2].kind, LineKind::open);
+  EXPECT_EQ(to_string(ProfileAxis::y), "y");
 }
 
 TEST(Tracker, FirstFrameLinesGetIdsWithoutEvents) {

@@ -1,0 +1,83 @@
+#include "tracking/profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace asperity::tracking {
+
+std::string to_string(ProfileAxis axis) {
+  return axis == ProfileAxis::x ? "x" : "y";
+}
+
+StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
+  const LatticeBlock& blk = s.block;
+  const std::size_t n = blk.shape.count();
+  for (const auto* f : {&s.tau_x, &s.tau_y, &s.tau_max, &s.pressure}) {
+    if (f->size() != n)
+      throw std::invalid_argument("stress_profile: a field's size differs from the block's " +
+                                  std::to_string(n) + " sites");
+  }
+  if (!s.in_contact.empty() && s.in_contact.size() != n)
+    throw std::invalid_argument("stress_profile: in_contact's size differs from the block's");
+  StressProfile p;
+  p.axis = axis;
+  p.tau_max_peak = n > 0 ? *std::max_element(s.tau_max.begin(), s.tau_max.end()) : 0.0;
+  // d = 1: the snapshot's unit of length (slide::Snapshot).
+  const int fixed =
+      axis == ProfileAxis::x ? -blk.origin1 : static_cast<int>(std::lround(s.Dx)) - blk.origin0;
+  const int fixed_size = axis == ProfileAxis::x ? blk.shape.n1 : blk.shape.n0;
+  if (fixed < 0 || fixed >= fixed_size) {
+    throw std::invalid_argument(
+        "stress_profile: the " +
+        std::string(axis == ProfileAxis::x ? "row Y = 0" : "column through Dx") +
+        " lies outside the snapshot's block");
+  }
+  p.through = axis == ProfileAxis::x ? 0.0 : blk.x(fixed, 1.0);
+  p.centre = axis == ProfileAxis::x ? s.Dx : 0.0;
+  const int along = axis == ProfileAxis::x ? blk.shape.n0 : blk.shape.n1;
+  for (int k = 0; k < along; ++k) {
+    const int i0 = axis == ProfileAxis::x ? k : fixed;
+    const int i1 = axis == ProfileAxis::x ? fixed : k;
+    const auto i = static_cast<std::size_t>(i0) * static_cast<std::size_t>(blk.shape.n1) +
+                   static_cast<std::size_t>(i1);
+    p.position.push_back((axis == ProfileAxis::x ? blk.x(i0, 1.0) : blk.y(i1, 1.0)) - p.centre);
+    p.tau_x.push_back(s.tau_x[i]);
+    p.tau_y.push_back(s.tau_y[i]);
+    p.tau_max.push_back(s.tau_max[i]);
+    p.pressure.push_back(s.pressure[i]);
+    p.in_contact.push_back(s.in_contact.empty() ? std::uint8_t(s.tau_max[i] > 0.0)
+                                                : s.in_contact[i]);
+  }
+  return p;
+}
+
+std::vector<CoreCrossing> core_crossings(const FrameLines& f, const StressProfile& p) {
+  std::vector<CoreCrossing> out;
+  const bool along_x = p.axis == ProfileAxis::x;
+  // Coordinates across the profile (the one that is fixed) and along it.
+  const auto across = [&](const Point& q) { return along_x ? q.y : q.x; };
+  const auto along = [&](const Point& q) { return along_x ? q.x : q.y; };
+  for (std::size_t li = 0; li < f.lines.size(); ++li) {
+    const Line& l = f.lines[li];
+    const std::size_t m = l.points.size();
+    const std::size_t segments = l.kind == LineKind::open ? (m > 0 ? m - 1 : 0) : m;
+    for (std::size_t k = 0; k < segments && k < l.angle_deg.size(); ++k) {
+      const Point& a = l.points[k];
+      const Point& b = l.points[(k + 1) % m];
+      const double ca = across(a) - p.through, cb = across(b) - p.through;
+      // Half-open at the far end, so that a vertex on the row belongs to one segment only.
+      if (!((ca <= 0.0 && cb > 0.0) || (cb <= 0.0 && ca > 0.0))) continue;
+      const double t = ca / (ca - cb);
+      out.push_back({.position = along(a) + t * (along(b) - along(a)) - p.centre,
+                     .angle_deg = l.angle_deg[k],
+                     .line = li,
+                     .kind = l.kind});
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const CoreCrossing& u, const CoreCrossing& v) { return u.position < v.position; });
+  return out;
+}
+
+}  // namespace asperity::tracking
