@@ -22,64 +22,8 @@ namespace {
 
 SlideScene read_slide_keys(SceneReader& r) {
   SlideScene s;
-  auto& c = s.contact;
-  c.a = r.number("contact.a", c.a, Range::closed(1.0, 4096.0));
-  c.R = r.number("contact.R", c.R, Range::positive());
-  c.alpha = r.number("contact.alpha", c.alpha, Range::open_closed(0.0, 10.0));
-  c.material.G = r.number("material.G", c.material.G, Range::positive());
-  c.material.nu = r.number("material.nu", c.material.nu, Range::closed(0.0, 0.5));
-  auto& o = s.options;
-  o.protocol = slide::protocol_from_string(
-      r.string("slide.protocol", slide::to_string(o.protocol), {"adaptive", "reference"}));
-  o.step = r.number("slide.step", o.step, Range::open(0.0, 0.5));
-  o.max_step = r.number("slide.max_step", o.max_step, Range::open(0.0, 0.5));
-  o.min_step = r.number("slide.min_step", o.min_step, Range::open_closed(0.0, 0.5));
-  o.distance = r.number("slide.distance", o.distance, Range::non_negative());
-  o.max_distance = r.number("slide.max_distance", o.max_distance, Range::non_negative());
-  o.slips_to_stop = r.integer("slide.slips_to_stop", o.slips_to_stop, Range::closed(1, 1000));
-  o.path_frame_every =
-      r.integer("slide.path_frame_every", o.path_frame_every, Range::closed(0, 1000000));
-  o.path_frame_slips =
-      r.integer("output.path_frames", o.path_frame_slips, Range::closed(0, 1000000));
-  o.max_path_frames =
-      r.integer("output.max_path_frames", o.max_path_frames, Range::closed(2, 100000));
-  auto& f = s.snapshot_format;
-  f.single_precision = r.string("output.precision", f.single_precision ? "float" : "double",
-                                {"double", "float"}) == "float";
-  f.deflate_level = r.integer("output.deflate", f.deflate_level, Range::closed(0, 9));
-  o.replay_cycle = r.boolean("slide.replay_cycle", o.replay_cycle);
-  auto& m = o.minimizer;
-  m.method = minimize::method_from_string(r.string("solver.method", minimize::to_string(m.method),
-                                                   {"lbfgs", "cg", "fire", "newton", "flow"}));
-  m.force_tolerance = r.number("solver.tolerance", m.force_tolerance, Range::open(0.0, 1.0));
-  m.max_iterations = r.integer("solver.max_iterations", m.max_iterations, Range::at_least(1));
-  m.memory = r.integer("solver.memory", m.memory, Range::closed(1, 100));
-  m.flow_tolerance =
-      r.number("solver.flow_tolerance", m.flow_tolerance, Range::open_closed(0.0, 0.1));
-  m.flow_scheme = minimize::flow_scheme_from_string(
-      r.string("solver.flow_scheme", minimize::to_string(m.flow_scheme), {"rkc", "euler"}));
-  m.max_displacement =
-      r.number("solver.max_displacement", m.max_displacement, Range::open_closed(0.0, 0.5));
-  m.stability = minimize::stability_from_string(r.string(
-      "solver.stability", minimize::to_string(m.stability), {"perturb", "lanczos", "none"}));
-  m.preconditioner = minimize::preconditioner_from_string(
-      r.string("solver.preconditioner", minimize::to_string(m.preconditioner),
-               {"auto", "elastic", "interface"}));
-  // The slip minimiser: the slide's minimiser with another method and preconditioner. The flow
-  // relaxes every slip again: which minimum an instability falls into is the flow's to say
-  // (MODEL.md 5; issue 21, docs/solvers.md "Path fidelity"), and lbfgs, cg and newton carry
-  // loops past the flow's arrest near the II/III crossover and in Regime III, so they are not
-  // offered here (check_slip_relaxation: "same" only with a faithful solver.method).
-  const std::string slips = r.string("solver.slip_method", "flow", {"flow", "fire", "same"});
-  const std::string slip_pre =
-      r.string("solver.slip_preconditioner", "interface", {"auto", "elastic", "interface"});
-  if (slips != "same") {
-    o.slip_minimizer = slide::slip_minimizer_from(m, minimize::method_from_string(slips),
-                                                  minimize::preconditioner_from_string(slip_pre));
-  }
-  o.fft.threads = r.integer("fft.threads", o.fft.threads, Range::closed(1, 1024));
-  o.fft.planner = fft::planner_from_string(
-      r.string("fft.planner", fft::to_string(o.fft.planner), {"estimate", "measure", "patient"}));
+  r.read(SlideScene::settings(), s);
+  s.make_slip_minimizer();
   return s;
 }
 
@@ -88,6 +32,49 @@ bool path_faithful(minimize::Method m) {
 }
 
 }  // namespace
+
+const settings::Table<SlideScene>& SlideScene::settings() {
+  using R = settings::Range;
+  static const settings::Table<SlideScene> table = [] {
+    settings::Table<SlideScene> t;
+    settings::lift(t, interface::ContactScene::settings(), "",
+                   [](auto& s) -> auto& { return s.contact; });
+    settings::lift(t, slide::SlideOptions::settings(), "",
+                   [](auto& s) -> auto& { return s.options; });
+    t.push_back(settings::choice<SlideScene>(
+        "solver.slip_method", [](auto& s) -> auto& { return s.slip_method; },
+        {"flow", "fire", "same"}, [](const std::string& m) { return m; },
+        [](const std::string& m) { return m; },
+        "relax again every slip with this solver: flow (the reference path, MODEL.md 5) | fire "
+        "| same (only with solver.method flow or fire)",
+        "--slip-solver"));
+    t.push_back(settings::choice<SlideScene>(
+        "solver.slip_preconditioner", [](auto& s) -> auto& { return s.slip_preconditioner; },
+        {"auto", "elastic", "interface"}, [](const std::string& m) { return m; },
+        [](const std::string& m) { return m; },
+        "metric of the slip solver: interface (G with the interface filter) | elastic | auto"));
+    t.push_back(settings::choice<SlideScene>(
+        "output.precision", [](auto& s) -> auto& { return s.snapshot_format.single_precision; },
+        {"double", "float"}, [](bool single) { return single ? "float" : "double"; },
+        [](const std::string& p) { return p == "float"; },
+        "precision of the snapshot fields (the checkpoint is always double)"));
+    t.push_back(settings::integer<SlideScene>(
+        "output.deflate", [](auto& s) -> auto& { return s.snapshot_format.deflate_level; },
+        R::closed(0, 9), "", "NetCDF deflate level of the snapshots (0: none)"));
+    return t;
+  }();
+  return table;
+}
+
+void SlideScene::make_slip_minimizer() {
+  if (slip_method == "same") {
+    options.slip_minimizer.reset();
+  } else {
+    options.slip_minimizer = slide::slip_minimizer_from(
+        options.minimizer, minimize::method_from_string(slip_method),
+        minimize::preconditioner_from_string(slip_preconditioner));
+  }
+}
 
 void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip_source,
                            const std::string& method_source) {

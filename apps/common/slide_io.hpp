@@ -26,6 +26,22 @@ struct SlideScene {
   // checkpoint, which is in double. write_snapshots() itself writes exactly what it is given
   // unless asked otherwise.
   SnapshotFormat snapshot_format{.single_precision = true};
+  // solver.slip_method and solver.slip_preconditioner: the slip minimiser (MODEL.md 5; issue
+  // 21) is made from them and the final options.minimizer by make_slip_minimizer(), once the
+  // scene and the flags are applied. The flow relaxes every slip again: which minimum an
+  // instability falls into is the flow's to say (docs/solvers.md "Path fidelity"); lbfgs, cg
+  // and newton carry loops past the flow's arrest, so they are not offered ("same" only with a
+  // faithful solver.method: check_slip_relaxation).
+  std::string slip_method = "flow";
+  std::string slip_preconditioner = "interface";
+
+  // Every setting of a slide scene, keyed as in its file (data/scenes/default.toml): the
+  // contact's, the slide's (solver.*, fft.*, output.path_frames, ...), output.precision,
+  // output.deflate and the two above. The scene reader, contact_slide's flags, fingerprints
+  // and the summary echo are made from it.
+  static const settings::Table<SlideScene>& settings();
+  // options.slip_minimizer from slip_method, slip_preconditioner and options.minimizer.
+  void make_slip_minimizer();
 };
 
 // The tools relax every slip with a path-faithful solver (MODEL.md 5; issue 21): the slip

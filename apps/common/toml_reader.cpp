@@ -12,11 +12,7 @@
 namespace asperity::app {
 namespace {
 
-std::string format_number(double v) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, end);
-}
+using settings::format_number;
 
 std::string quoted(std::string_view s) {
   return '"' + std::string(s) + '"';
@@ -35,26 +31,6 @@ std::string describe(const toml::node& node) {
 }
 
 }  // namespace
-
-bool Range::contains(double v) const {
-  if (lower && (lower_closed ? v < *lower : v <= *lower)) return false;
-  if (upper && (upper_closed ? v > *upper : v >= *upper)) return false;
-  return true;
-}
-
-std::string Range::describe() const {
-  // append() rather than "[" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
-  if (lower && upper) {
-    return std::string(lower_closed ? "[" : "(")
-        .append(format_number(*lower))
-        .append(", ")
-        .append(format_number(*upper))
-        .append(upper_closed ? "]" : ")");
-  }
-  if (lower) return std::string(lower_closed ? ">= " : "> ").append(format_number(*lower));
-  if (upper) return std::string(upper_closed ? "<= " : "< ").append(format_number(*upper));
-  return "any";
-}
 
 SceneReader::SceneReader(toml::table table, std::string source)
     : table_(std::move(table)), source_(std::move(source)) {}
@@ -208,6 +184,39 @@ std::optional<bool> SceneReader::optional_boolean(std::string_view key) {
                                 "': expected a boolean, got " + describe(*node) + where(*node));
   }
   return *node->value<bool>();
+}
+
+std::optional<settings::Value> SceneReader::value(const settings::Info& setting) {
+  const std::string_view key = setting.key;
+  switch (setting.kind) {
+    case settings::Kind::boolean:
+      if (const auto v = optional_boolean(key)) return settings::Value(*v);
+      return std::nullopt;
+    case settings::Kind::integer:
+      if (const auto v = optional_integer(key, setting.range))
+        return settings::Value(static_cast<long long>(*v));
+      return std::nullopt;
+    case settings::Kind::number:
+      if (const auto v = optional_number(key, setting.range)) return settings::Value(*v);
+      return std::nullopt;
+    case settings::Kind::choice: {
+      const toml::node* node = find(key);
+      if (!node) return std::nullopt;
+      if (!node->is_string()) {
+        throw std::invalid_argument(source_ + ": key '" + std::string(key) +
+                                    "': expected a string, got " + describe(*node) +
+                                    where(*node));
+      }
+      const settings::Value v(*node->value<std::string>());
+      try {
+        setting.check(v);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(source_ + ": " + e.what() + where(*node));
+      }
+      return v;
+    }
+  }
+  return std::nullopt;
 }
 
 bool SceneReader::boolean(std::string_view key, bool default_value) {

@@ -12,28 +12,12 @@
 
 #include <toml++/toml.h>
 
+#include "common/settings.hpp"
+
 namespace asperity::app {
 
-// Allowed interval for a number; either bound may be absent, open or closed.
-struct Range {
-  std::optional<double> lower, upper;
-  bool lower_closed = true, upper_closed = true;
-
-  static Range any() { return {}; }
-  static Range positive() { return {0.0, std::nullopt, false, true}; }
-  static Range non_negative() { return {0.0, std::nullopt, true, true}; }
-  static Range at_least(double a) { return {a, std::nullopt, true, true}; }
-  static Range greater_than(double a) { return {a, std::nullopt, false, true}; }
-  static Range at_most(double b) { return {std::nullopt, b, true, true}; }
-  static Range less_than(double b) { return {std::nullopt, b, true, false}; }
-  static Range closed(double a, double b) { return {a, b, true, true}; }
-  static Range open(double a, double b) { return {a, b, false, false}; }
-  static Range closed_open(double a, double b) { return {a, b, true, false}; }
-  static Range open_closed(double a, double b) { return {a, b, false, true}; }
-
-  bool contains(double v) const;
-  std::string describe() const;  // e.g. "> 0", ">= 1", "[0, 0.5)", "any"
-};
+// Allowed interval for a number (one definition, with the settings tables).
+using Range = settings::Range;
 
 // A parsed TOML document with typed, validated access through dotted keys ("contact.a").
 // Absent keys yield the caller's default; present keys of the wrong type, non-finite numbers and
@@ -64,6 +48,18 @@ class SceneReader {
 
   bool boolean(std::string_view key, bool default_value);
   std::optional<bool> optional_boolean(std::string_view key);
+
+  // The value of a setting (common/settings.hpp) if its key is present: typed and checked
+  // against the setting's allowed set, with the file, key, value, allowed set and line in the
+  // message of a bad one.
+  std::optional<settings::Value> value(const settings::Info& setting);
+  // Every setting of a table present in the document, applied to `root`.
+  template <class Root>
+  void read(const settings::Table<Root>& table, Root& root) {
+    for (const settings::Setting<Root>& s : table) {
+      if (const auto v = value(s)) s.set(root, *v);
+    }
+  }
 
   // Throws naming every key present in the document that no getter has asked for.
   void reject_unknown() const;

@@ -202,19 +202,12 @@ int main(int argc, char** argv) {
     // One run per output directory, for the whole run (its checkpoint is read under the lock).
     const app::DirectoryLock dir_lock(app::ensure_directory(out));
 
-    // --slip-solver on a slide's options, after --solver and --tolerance: the slip minimiser is
-    // the slide's minimiser with another method (and the preconditioner the scene gave it).
-    const auto apply_slip_solver = [&](slide::SlideOptions& o) {
-      if (!slip_solver) {
-        if (o.slip_minimizer && tolerance) o.slip_minimizer->force_tolerance = *tolerance;
-      } else if (*slip_solver == "same") {
-        o.slip_minimizer.reset();
-      } else {
-        const auto pre = o.slip_minimizer ? o.slip_minimizer->preconditioner
-                                          : minimize::Preconditioner::interface;
-        o.slip_minimizer = slide::slip_minimizer_from(
-            o.minimizer, minimize::method_from_string(*slip_solver), pre);
-      }
+    // --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
+    // from the final minimiser (SlideScene::make_slip_minimizer).
+    const auto apply_slip_solver = [&](app::SlideScene& scene) {
+      if (slip_solver) scene.slip_method = *slip_solver;
+      scene.make_slip_minimizer();
+      const slide::SlideOptions& o = scene.options;
       // After every flag, so that a flag can mend a scene's pair; the message names whichever
       // of scene and flag set each half (the scene's path once).
       app::check_slip_relaxation(
@@ -310,7 +303,7 @@ int main(int argc, char** argv) {
       if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
       if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
       if (threads) e.slide.options.fft.threads = *threads;
-      apply_slip_solver(e.slide.options);
+      apply_slip_solver(e.slide);
       c.validate();
       e.model.validate();
       e.slide.options.validate();
@@ -406,7 +399,7 @@ int main(int argc, char** argv) {
     }
     if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
     if (threads) s.options.fft.threads = *threads;
-    apply_slip_solver(s.options);
+    apply_slip_solver(s);
     const auto method = s.options.minimizer.method;
     if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
         (method == minimize::Method::cg || method == minimize::Method::fire)) {

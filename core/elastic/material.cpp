@@ -7,16 +7,19 @@
 
 namespace asperity::elastic {
 
-void Material::validate() const {
-  if (!std::isfinite(G) || !(G > 0.0)) {
-    throw std::invalid_argument("Material.G: got " + std::to_string(G) +
-                                ", allowed: finite and > 0");
-  }
-  if (!std::isfinite(nu) || nu < 0.0 || nu > 0.5) {
-    throw std::invalid_argument("Material.nu: got " + std::to_string(nu) +
-                                ", allowed: 0 <= nu <= 0.5");
-  }
+const settings::Table<Material>& Material::settings() {
+  using R = settings::Range;
+  static const settings::Table<Material> table = {
+      settings::number<Material>(
+          "G", [](auto& m) -> auto& { return m.G; }, R::positive(), "",
+          "shear modulus of the substrate: the unit of stress"),
+      settings::number<Material>(
+          "nu", [](auto& m) -> auto& { return m.nu; }, R::closed(0.0, 0.5), "",
+          "Poisson ratio of the substrate (negative ratios are not modelled)", "--nu")};
+  return table;
 }
+
+void Material::validate() const { settings::validate(*this, settings()); }
 
 int component_count(Components c) {
   switch (c) {

@@ -1,6 +1,8 @@
 // Isotropic linear-elastic substrate (MODEL.md section 1).
 #pragma once
 
+#include "common/settings.hpp"
+
 namespace asperity::elastic {
 
 struct Material {
@@ -10,6 +12,8 @@ struct Material {
   // E* = 2 G / (1 - nu), the contact modulus of a rigid body on this half-space (MODEL.md 1).
   [[nodiscard]] double contact_modulus() const { return 2.0 * G / (1.0 - nu); }
 
+  // The settings (keys "G", "nu"): common/settings.hpp.
+  static const settings::Table<Material>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

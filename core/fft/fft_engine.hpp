@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
 #include "common/shape.hpp"
 
 namespace asperity::fft {
@@ -31,9 +32,11 @@ std::string to_string(Planner p);
 Planner planner_from_string(const std::string& name);  // throws std::invalid_argument
 
 struct FFTOptions {
-  int threads = 1;                      // threads used inside each transform, >= 1
+  int threads = 1;                      // threads used inside each transform, 1 to 1024
   Planner planner = Planner::estimate;  // planning effort, see Planner
 
+  // The settings (keys "threads", "planner"): common/settings.hpp.
+  static const settings::Table<FFTOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

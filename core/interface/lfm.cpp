@@ -16,22 +16,34 @@
 
 namespace asperity::interface {
 
+const settings::Table<ContactScene>& ContactScene::settings() {
+  using R = settings::Range;
+  static const settings::Table<ContactScene> table = [] {
+    settings::Table<ContactScene> t = {
+        settings::number<ContactScene>(
+            "contact.a", [](auto& c) -> auto& { return c.a; }, R::closed(1.0, 4096.0), "d",
+            "Hertz contact radius", "--a"),
+        // A sphere of 1e9 d is a 0.3 m ball at d = 0.3 nm; far beyond, the Hertz pressure
+        // 2 a E*/(pi R) underflows and Fz = 0 would make mu = Fx/Fz meaningless.
+        settings::number<ContactScene>(
+            "contact.R", [](auto& c) -> auto& { return c.R; }, R::open_closed(0.0, 1e9), "d",
+            "sphere radius", "--R"),
+        settings::number<ContactScene>(
+            "contact.alpha", [](auto& c) -> auto& { return c.alpha; }, R::open_closed(0.0, 10.0),
+            "", "local friction coefficient: peak shear stress / pressure", "--alpha")};
+    settings::lift(t, elastic::Material::settings(), "material.",
+                   [](auto& c) -> auto& { return c.material; });
+    return t;
+  }();
+  return table;
+}
+
 void ContactScene::validate() const {
-  require_positive("ContactScene.a", a);
-  require_positive("ContactScene.R", R);
-  require_positive("ContactScene.alpha", alpha);
+  settings::validate(*this, settings());
   require_positive("ContactScene.d", d);
-  material.validate();
   if (!(a < R)) {
-    throw std::invalid_argument("ContactScene.a: got " + std::to_string(a) +
-                                ", allowed: < R = " + std::to_string(R));
-  }
-  // A sphere of 1e9 d is a 0.3 m ball at d = 0.3 nm; far beyond, the Hertz pressure
-  // 2 a E*/(pi R) underflows and Fz = 0 would make mu = Fx/Fz meaningless.
-  if (!(R <= 1e9 * d)) {
-    char got[32];
-    std::snprintf(got, sizeof got, "%g", R);
-    reject("ContactScene.R", got, "<= 1e9 d (a 0.3 m sphere at d = 0.3 nm)");
+    throw std::invalid_argument("contact.a = " + settings::format_number(a) +
+                                ": allowed: < contact.R = " + settings::format_number(R));
   }
 }
 

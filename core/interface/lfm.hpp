@@ -25,7 +25,11 @@ struct ContactScene {
   elastic::Material material{};  // substrate: G (unit of stress), nu
   double d = 1.0;                // lattice spacing (unit of length)
 
-  // Throws std::invalid_argument naming the violated constraint (a, R, alpha > 0, a < R).
+  // The settings, keyed as in a scene ("contact.a", "contact.R", "contact.alpha",
+  // "material.G", "material.nu"): common/settings.hpp. d is the unit of length, not a setting.
+  static const settings::Table<ContactScene>& settings();
+  // Throws std::invalid_argument naming the violated constraint (the table's ranges, d > 0,
+  // a < R).
   void validate() const;
 
   [[nodiscard]] contact::Hertz hertz() const;

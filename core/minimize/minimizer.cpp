@@ -605,20 +605,73 @@ Method method_from_string(const std::string& name) {
                               "', allowed: lbfgs, cg, fire, newton, flow");
 }
 
-void MinimizerOptions::validate() const {
-  require_positive("MinimizerOptions.force_tolerance", force_tolerance);
-  require_at_least("MinimizerOptions.max_iterations", max_iterations, 1);
-  if (memory < 1 || memory > 100) {
-    reject("MinimizerOptions.memory", std::to_string(memory), "1 to 100");
-  }
-  require_positive("MinimizerOptions.max_displacement", max_displacement);
-  require_at_least("MinimizerOptions.refresh_interval", refresh_interval, 1);
-  require_positive("MinimizerOptions.newton_start", newton_start);
-  require_at_least("MinimizerOptions.max_escapes", max_escapes, 0);
-  require_positive("MinimizerOptions.escape_displacement", escape_displacement);
-  require_positive("MinimizerOptions.perturbation", perturbation);
-  require_positive("MinimizerOptions.flow_tolerance", flow_tolerance);
+const settings::Table<MinimizerOptions>& MinimizerOptions::settings() {
+  using R = settings::Range;
+  using O = MinimizerOptions;
+  static const settings::Table<O> table = {
+      settings::choice<O>(
+          "method", [](auto& o) -> auto& { return o.method; },
+          {"lbfgs", "cg", "fire", "newton", "flow"}, [](Method m) { return to_string(m); },
+          method_from_string,
+          "lbfgs | cg (reference) | fire | newton (lbfgs + Newton-Krylov finish) | flow (the "
+          "overdamped path: slow, faithful)",
+          "--solver"),
+      settings::number<O>(
+          "tolerance", [](auto& o) -> auto& { return o.force_tolerance; }, R::open(0.0, 1.0),
+          "G d^2", "largest residual force per site at convergence", "--tolerance"),
+      settings::integer<O>(
+          "max_iterations", [](auto& o) -> auto& { return o.max_iterations; }, R::at_least(1), "",
+          "iterations per minimisation, escapes included"),
+      settings::integer<O>(
+          "memory", [](auto& o) -> auto& { return o.memory; }, R::closed(1, 100), "",
+          "L-BFGS pairs kept"),
+      settings::number<O>(
+          "newton_start", [](auto& o) -> auto& { return o.newton_start; }, R::positive(),
+          "G d^2", "newton: switch to Newton-Krylov below this residual"),
+      settings::number<O>(
+          "max_displacement", [](auto& o) -> auto& { return o.max_displacement; },
+          R::open_closed(0.0, 0.5), "d",
+          "largest displacement of a site in one iteration (half a period at most)"),
+      settings::choice<O>(
+          "preconditioner", [](auto& o) -> auto& { return o.preconditioner; },
+          {"auto", "elastic", "interface"}, [](Preconditioner p) { return to_string(p); },
+          preconditioner_from_string,
+          "lbfgs, newton: auto (interface from a/b_core^0 = 10) | elastic (G) | interface (G "
+          "with the interface filter)",
+          "--preconditioner"),
+      settings::integer<O>(
+          "refresh_interval", [](auto& o) -> auto& { return o.refresh_interval; },
+          R::at_least(1), "", "recompute u = G f every this many iterations (drift)"),
+      settings::choice<O>(
+          "stability", [](auto& o) -> auto& { return o.stability; },
+          {"perturb", "lanczos", "none"}, [](StabilityCheck c) { return to_string(c); },
+          stability_from_string,
+          "check of converged states: perturb (push and relax) | lanczos | none"),
+      settings::integer<O>(
+          "max_escapes", [](auto& o) -> auto& { return o.max_escapes; }, R::at_least(0), "",
+          "escapes from unstable states per minimisation"),
+      settings::number<O>(
+          "escape_displacement", [](auto& o) -> auto& { return o.escape_displacement; },
+          R::positive(), "d", "largest displacement of the push off an unstable state"),
+      settings::number<O>(
+          "perturbation", [](auto& o) -> auto& { return o.perturbation; }, R::positive(), "d",
+          "largest displacement of the random push of the perturb check"),
+      settings::number<O>(
+          "flow_tolerance", [](auto& o) -> auto& { return o.flow_tolerance; },
+          R::open_closed(0.0, 1.0), "d",
+          "flow: largest local error of one step, as a displacement of a site"),
+      settings::choice<O>(
+          "flow_scheme", [](auto& o) -> auto& { return o.flow_scheme; }, {"rkc", "euler"},
+          [](FlowScheme f) { return to_string(f); }, flow_scheme_from_string,
+          "flow: the integrator, rkc (stabilised Runge-Kutta-Chebyshev) | euler"),
+      settings::boolean<O>(
+          "curvature_reset", [](auto& o) -> auto& { return o.curvature_reset; },
+          "lbfgs, newton: clear the pairs whenever a site changes the half of its well "
+          "(experimental)")};
+  return table;
 }
+
+void MinimizerOptions::validate() const { settings::validate(*this, settings()); }
 
 Stability lowest_mode(Problem& problem, std::span<const double> u) {
   const std::size_t n = problem.size();

@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
 #include "common/termination.hpp"
 #include "minimize/problem.hpp"
 
@@ -94,6 +95,9 @@ struct MinimizerOptions {
   // well (experimental, issue 21: measured by the path tier, docs/solvers.md).
   bool curvature_reset = false;
 
+  // The settings (keys "method", "tolerance", ...; a slide's scene has them under "solver."):
+  // common/settings.hpp. One allowed set each, checked by validate().
+  static const settings::Table<MinimizerOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

@@ -339,31 +339,74 @@ minimize::MinimizerOptions slide_minimizer_defaults() {
   return m;
 }
 
+const settings::Table<SlideOptions>& SlideOptions::settings() {
+  using R = settings::Range;
+  using O = SlideOptions;
+  static const settings::Table<O> table = [] {
+    settings::Table<O> t = {
+        settings::choice<O>(
+            "slide.protocol", [](auto& o) -> auto& { return o.protocol; },
+            {"adaptive", "reference"}, [](Protocol p) { return to_string(p); },
+            protocol_from_string, "adaptive | reference (fixed steps)", "--protocol"),
+        settings::number<O>(
+            "slide.step", [](auto& o) -> auto& { return o.step; }, R::open(0.0, 0.5), "d",
+            "reference protocol: tip step"),
+        // Half a period or more would alias the registry potential: a step of d/2 lands every
+        // atom on the symmetric point of its well, where the forces balance by symmetry.
+        settings::number<O>(
+            "slide.max_step", [](auto& o) -> auto& { return o.max_step; }, R::open(0.0, 0.5),
+            "d", "adaptive protocol: largest step"),
+        settings::number<O>(
+            "slide.min_step", [](auto& o) -> auto& { return o.min_step; },
+            R::open_closed(0.0, 0.5), "d",
+            "adaptive protocol: instabilities bracketed to this (<= slide.max_step)"),
+        settings::number<O>(
+            "slide.distance", [](auto& o) -> auto& { return o.distance; }, R::non_negative(), "d",
+            "sliding distance; 0: automatic (until the static peak is established)",
+            "--distance"),
+        settings::number<O>(
+            "slide.max_distance", [](auto& o) -> auto& { return o.max_distance; },
+            R::non_negative(), "d", "cap of the automatic distance; 0: 3 d + 3 alpha Fz / k"),
+        settings::integer<O>(
+            "slide.slips_to_stop", [](auto& o) -> auto& { return o.slips_to_stop; },
+            R::closed(1, 1000), "", "automatic distance: slip events after the held peak"),
+        settings::boolean<O>(
+            "slide.extrapolate", [](auto& o) -> auto& { return o.extrapolate; },
+            "warm start each step by linear extrapolation along the branch"),
+        settings::boolean<O>(
+            "slide.replay_cycle", [](auto& o) -> auto& { return o.replay_cycle; },
+            "replay the stick-slip cycle once it repeats exactly (adaptive protocol)"),
+        // Unbounded, it would take any state for a repeat and replay slides that never repeat.
+        settings::number<O>(
+            "slide.cycle_tolerance", [](auto& o) -> auto& { return o.cycle_tolerance; },
+            R::positive(), "G d^2", "largest force difference of a site for equal states"),
+        settings::integer<O>(
+            "slide.path_frame_every", [](auto& o) -> auto& { return o.path_frame_every; },
+            R::closed(0, 1000000), "",
+            "relaxation-path frames through slip events every N iterations (0: none)"),
+        settings::integer<O>(
+            "output.path_frames", [](auto& o) -> auto& { return o.path_frame_slips; },
+            R::closed(0, 1000000), "",
+            "paths of slip events 1, 1 + N, 1 + 2N, ... are recorded (0: none)"),
+        settings::integer<O>(
+            "output.max_path_frames", [](auto& o) -> auto& { return o.max_path_frames; },
+            R::closed(2, 100000), "", "frames kept per recorded path")};
+    settings::lift(t, minimize::MinimizerOptions::settings(), "solver.",
+                   [](auto& o) -> auto& { return o.minimizer; });
+    settings::lift(t, fft::FFTOptions::settings(), "fft.", [](auto& o) -> auto& { return o.fft; });
+    return t;
+  }();
+  return table;
+}
+
 void SlideOptions::validate() const {
-  const auto fail = [](const std::string& what, double v, const std::string& allowed) {
-    reject("SlideOptions." + what, std::to_string(v), allowed);
-  };
-  if (!(step > 0.0 && step < 0.5)) fail("step", step, "0 < step < 0.5 d");
-  // Half a period or more would alias the registry potential: a step of d/2 lands every atom
-  // on the symmetric point of its well, where the forces balance by symmetry.
-  if (!(max_step > 0.0 && max_step < 0.5)) fail("max_step", max_step, "0 < max_step < 0.5 d");
-  if (!(min_step > 0.0 && min_step <= max_step))
-    fail("min_step", min_step, "0 < min_step <= max_step");
-  if (!(distance >= 0.0) || !std::isfinite(distance))
-    fail("distance", distance, ">= 0 (0: automatic)");
-  if (!(max_distance >= 0.0) || !std::isfinite(max_distance)) {
-    fail("max_distance", max_distance, ">= 0 (0: automatic)");
+  settings::validate(*this, settings());
+  if (!(min_step <= max_step)) {
+    throw std::invalid_argument("slide.min_step = " + settings::format_number(min_step) +
+                                ": allowed: <= slide.max_step = " +
+                                settings::format_number(max_step));
   }
-  if (slips_to_stop < 1) fail("slips_to_stop", slips_to_stop, ">= 1");
-  // Unbounded, it would take any state for a repeat and replay slides that never repeat.
-  if (!(cycle_tolerance > 0.0) || !std::isfinite(cycle_tolerance))
-    fail("cycle_tolerance", cycle_tolerance, "finite and > 0 (G d^2)");
-  if (path_frame_every < 0) fail("path_frame_every", path_frame_every, ">= 0");
-  if (path_frame_slips < 0) fail("path_frame_slips", path_frame_slips, ">= 0 (0: none)");
-  if (max_path_frames < 2) fail("max_path_frames", max_path_frames, ">= 2");
-  minimizer.validate();
   if (slip_minimizer) slip_minimizer->validate();
-  fft.validate();
 }
 
 void SlideControl::validate() const {

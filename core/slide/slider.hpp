@@ -96,7 +96,13 @@ struct SlideOptions {
   std::optional<minimize::MinimizerOptions> slip_minimizer;
   fft::FFTOptions fft;  // threads and planning of the GF transforms
 
-  void validate() const;  // throws std::invalid_argument naming the violated constraint
+  // The settings, keyed as in a scene ("slide.max_step", "solver.tolerance", "fft.threads",
+  // "output.path_frames", ...): common/settings.hpp. slip_minimizer is made from `minimizer`
+  // (slip_minimizer_from) and checked by validate() like it.
+  static const settings::Table<SlideOptions>& settings();
+  // Throws std::invalid_argument naming the violated constraint: the table's allowed sets,
+  // min_step <= max_step, the slip minimiser's settings.
+  void validate() const;
 };
 
 struct TraceRow {

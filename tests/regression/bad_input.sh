@@ -94,7 +94,7 @@ check $cs "--threads" --threads 0
 check $cs "--distance" --distance -1
 check $cs "--bogus" --bogus
 check $cs "scene" "$work/no_such_scene.toml"
-check $cs "ContactScene.R" --R 1e10
+check $cs "contact.R" --R 1e10
 # Memory: the checks plan with ASPERITY_MEMORY_GIB (1 GiB here), so that the cases do not depend
 # on the machine: a = 1000 d needs about 4 GiB, two contacts of 600-700 d at once about 3.6 GiB.
 ASPERITY_MEMORY_GIB=1 check $cs "contact.a = 1000 d needs about" --a 1000 --R 1e6
@@ -115,7 +115,7 @@ check $fs "contact.a" "$(scene w4 <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na
 check $fs "sweep.jobs" "$(scene w5 <<<$'[sweep]\nR = [535]\na = [5]\njobs = 0')"
 check $fs "--R" --R 535,nan
 check $fs "--jobs" --jobs 0
-check $fs "ContactScene.R" --R 1e308 --a 5
+check $fs "contact.R" --R 1e308 --a 5
 ASPERITY_MEMORY_GIB=1 check $fs "GiB of memory" --R 1e6 --a 600,700 --jobs 2
 ASPERITY_DISK_GIB=0.1 check $fs "GiB of disk" --R 1e4 --a 100,200 --figures
 check $fs "sweep.model" "$(scene w6 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "atoms"')"

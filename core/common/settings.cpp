@@ -1,0 +1,124 @@
+#include "common/settings.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace asperity::settings {
+
+bool Range::contains(double v) const {
+  if (std::isnan(v)) return false;
+  if (lower && (lower_closed ? v < *lower : v <= *lower)) return false;
+  if (upper && (upper_closed ? v > *upper : v >= *upper)) return false;
+  return true;
+}
+
+std::string Range::describe() const {
+  // append() rather than "[" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
+  if (lower && upper) {
+    return std::string(lower_closed ? "[" : "(")
+        .append(format_number(*lower))
+        .append(", ")
+        .append(format_number(*upper))
+        .append(upper_closed ? "]" : ")");
+  }
+  if (lower) return std::string(lower_closed ? ">= " : "> ").append(format_number(*lower));
+  if (upper) return std::string(upper_closed ? "<= " : "< ").append(format_number(*upper));
+  return "any";
+}
+
+std::string format_number(double v) {
+  // Shortest round trip: the text reads back to the same double, so it is exact in
+  // fingerprints and as short as the user's own number in messages.
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, end);
+}
+
+std::string to_string(Kind kind) {
+  switch (kind) {
+    case Kind::boolean:
+      return "boolean";
+    case Kind::integer:
+      return "integer";
+    case Kind::number:
+      return "number";
+    case Kind::choice:
+      return "choice";
+  }
+  return "?";
+}
+
+std::string to_string(const Value& value) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return v ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, long long>) {
+          return std::to_string(v);
+        } else if constexpr (std::is_same_v<T, double>) {
+          return format_number(v);
+        } else {
+          return v;
+        }
+      },
+      value);
+}
+
+std::string Info::allowed() const {
+  switch (kind) {
+    case Kind::boolean:
+      return "true or false";
+    case Kind::integer:
+      return "an integer " + range.describe();
+    case Kind::number: {
+      std::string s = range.describe() == "any" ? "a finite number" : range.describe();
+      return unit.empty() ? s : s + " " + unit;
+    }
+    case Kind::choice: {
+      std::string list;
+      for (const std::string& c : choices)
+        list.append(list.empty() ? "one of " : ", ").append("\"").append(c).append("\"");
+      return list;
+    }
+  }
+  return "?";
+}
+
+void Info::check(const Value& value) const {
+  const auto fail = [&] {
+    const std::string shown =
+        kind == Kind::choice && std::holds_alternative<std::string>(value)
+            ? "\"" + std::get<std::string>(value) + "\""
+            : to_string(value);
+    throw std::invalid_argument(key + " = " + shown + ": allowed: " + allowed());
+  };
+  switch (kind) {
+    case Kind::boolean:
+      if (!std::holds_alternative<bool>(value)) fail();
+      return;
+    case Kind::integer:
+      // Integer settings are ints.
+      if (!std::holds_alternative<long long>(value) ||
+          std::get<long long>(value) < std::numeric_limits<int>::min() ||
+          std::get<long long>(value) > std::numeric_limits<int>::max() ||
+          !range.contains(static_cast<double>(std::get<long long>(value))))
+        fail();
+      return;
+    case Kind::number:
+      if (!std::holds_alternative<double>(value) || !std::isfinite(std::get<double>(value)) ||
+          !range.contains(std::get<double>(value)))
+        fail();
+      return;
+    case Kind::choice:
+      if (!std::holds_alternative<std::string>(value)) fail();
+      for (const std::string& c : choices) {
+        if (c == std::get<std::string>(value)) return;
+      }
+      fail();
+  }
+}
+
+}  // namespace asperity::settings
