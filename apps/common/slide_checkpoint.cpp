@@ -500,59 +500,10 @@ std::set<std::string> items(const std::string& s) {
 namespace {
 
 // The items both models share: scene, slide, solver and FFT options, build.
+// Every setting of the slide scene (SlideScene::settings(), exact values) and the build.
 std::string common_fingerprint(const SlideScene& scene) {
-  const auto& c = scene.contact;
-  const auto& o = scene.options;
-  const auto& m = o.minimizer;
-  std::string s;
-  // append() rather than " x=" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
-  const auto add = [&s](const char* key, const std::string& value) {
-    s.append(s.empty() ? "" : " ").append(key).append("=").append(value);
-  };
-  add("a", exact(c.a));
-  add("R", exact(c.R));
-  add("alpha", exact(c.alpha));
-  add("G", exact(c.material.G));
-  add("nu", exact(c.material.nu));
-  add("d", exact(c.d));
-  add("protocol", slide::to_string(o.protocol));
-  add("step", exact(o.step));
-  add("max_step", exact(o.max_step));
-  add("min_step", exact(o.min_step));
-  add("distance", exact(o.distance));
-  add("max_distance", exact(o.max_distance));
-  add("slips_to_stop", std::to_string(o.slips_to_stop));
-  add("extrapolate", std::to_string(o.extrapolate));
-  add("replay_cycle", std::to_string(o.replay_cycle));
-  add("cycle_tolerance", exact(o.cycle_tolerance));
-  add("path_frame_every", std::to_string(o.path_frame_every));
-  add("max_path_frames", std::to_string(o.max_path_frames));
-  // A resumed run appends to the paths file it began: the same paths, in the same format.
-  add("path_frame_slips", std::to_string(o.path_frame_slips));
-  add("snapshot_precision", scene.snapshot_format.single_precision ? "float" : "double");
-  add("snapshot_deflate", std::to_string(scene.snapshot_format.deflate_level));
-  add("solver", minimize::to_string(m.method));
-  add("tolerance", exact(m.force_tolerance));
-  add("max_iterations", std::to_string(m.max_iterations));
-  add("memory", std::to_string(m.memory));
-  add("newton_start", exact(m.newton_start));
-  add("max_displacement", exact(m.max_displacement));
-  add("preconditioner", minimize::to_string(m.preconditioner));
-  add("refresh_interval", std::to_string(m.refresh_interval));
-  add("stability", minimize::to_string(m.stability));
-  add("max_escapes", std::to_string(m.max_escapes));
-  add("escape_displacement", exact(m.escape_displacement));
-  add("perturbation", exact(m.perturbation));
-  add("flow_tolerance", exact(m.flow_tolerance));
-  add("flow_scheme", minimize::to_string(m.flow_scheme));
-  add("slip_solver", o.slip_minimizer ? minimize::to_string(o.slip_minimizer->method) + "/" +
-                                            minimize::to_string(o.slip_minimizer->preconditioner)
-                                      : std::string("same"));
-  add("fft_threads", std::to_string(o.fft.threads));
-  add("fft_planner", fft::to_string(o.fft.planner));
   // Another build may round differently: its continuation would not be the same slide.
-  add("code", provenance_token());
-  return s;
+  return settings::fingerprint(scene, SlideScene::settings()) + " code=" + provenance_token();
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
+#include "common/settings_cli.hpp"
 #include "common/snapshot_io.hpp"
 #include "common/snapshot_sink.hpp"
 #include "common/toml_reader.hpp"
@@ -37,10 +38,10 @@ const settings::Table<SlideScene>& SlideScene::settings() {
   using R = settings::Range;
   static const settings::Table<SlideScene> table = [] {
     settings::Table<SlideScene> t;
-    settings::lift(t, interface::ContactScene::settings(), "",
-                   [](auto& s) -> auto& { return s.contact; });
-    settings::lift(t, slide::SlideOptions::settings(), "",
-                   [](auto& s) -> auto& { return s.options; });
+    settings::lift(
+        t, interface::ContactScene::settings(), "", [](auto& s) -> auto& { return s.contact; });
+    settings::lift(
+        t, slide::SlideOptions::settings(), "", [](auto& s) -> auto& { return s.options; });
     t.push_back(settings::choice<SlideScene>(
         "solver.slip_method", [](auto& s) -> auto& { return s.slip_method; },
         {"flow", "fire", "same"}, [](const std::string& m) { return m; },
@@ -53,14 +54,14 @@ const settings::Table<SlideScene>& SlideScene::settings() {
         {"auto", "elastic", "interface"}, [](const std::string& m) { return m; },
         [](const std::string& m) { return m; },
         "metric of the slip solver: interface (G with the interface filter) | elastic | auto"));
-    t.push_back(settings::choice<SlideScene>(
+    t.push_back(settings::neutral(settings::choice<SlideScene>(
         "output.precision", [](auto& s) -> auto& { return s.snapshot_format.single_precision; },
         {"double", "float"}, [](bool single) { return single ? "float" : "double"; },
         [](const std::string& p) { return p == "float"; },
-        "precision of the snapshot fields (the checkpoint is always double)"));
-    t.push_back(settings::integer<SlideScene>(
+        "precision of the snapshot fields (the checkpoint is always double)")));
+    t.push_back(settings::neutral(settings::integer<SlideScene>(
         "output.deflate", [](auto& s) -> auto& { return s.snapshot_format.deflate_level; },
-        R::closed(0, 9), "", "NetCDF deflate level of the snapshots (0: none)"));
+        R::closed(0, 9), "", "NetCDF deflate level of the snapshots (0: none)")));
     return t;
   }();
   return table;
@@ -70,9 +71,9 @@ void SlideScene::make_slip_minimizer() {
   if (slip_method == "same") {
     options.slip_minimizer.reset();
   } else {
-    options.slip_minimizer = slide::slip_minimizer_from(
-        options.minimizer, minimize::method_from_string(slip_method),
-        minimize::preconditioner_from_string(slip_preconditioner));
+    options.slip_minimizer =
+        slide::slip_minimizer_from(options.minimizer, minimize::method_from_string(slip_method),
+                                   minimize::preconditioner_from_string(slip_preconditioner));
   }
 }
 
@@ -128,6 +129,9 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
   const auto& o = scene.options;
   return {
       {"model", "lfm"},
+      // Every setting as its scene key has it (SlideScene::settings()); the flat entries below
+      // repeat a few of them where readers of earlier summaries look for them.
+      {"settings", settings_echo(scene, SlideScene::settings())},
       {"a", c.a},
       {"R", c.R},
       {"alpha", c.alpha},

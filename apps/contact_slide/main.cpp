@@ -25,6 +25,7 @@
 #include "common/cli_checks.hpp"
 #include "common/memory.hpp"
 #include "common/output_files.hpp"
+#include "common/settings_cli.hpp"
 #include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
 #include "common/snapshot_sink.hpp"
@@ -143,39 +144,13 @@ int main(int argc, char** argv) {
     CLI::App cli{"Quasi-static sliding of a sphere on a crystalline flat (lateral force model)"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/contact_slide";
-    std::optional<double> a, R, alpha, nu, distance, tolerance;
-    std::optional<std::string> protocol, solver, preconditioner, slip_solver;
-    std::optional<int> threads;
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    cli.add_option("--a", a, "Contact radius (d)")->check(app::finite_number(1.0, 4096.0));
-    cli.add_option("--R", R, "Sphere radius (d)")->check(app::positive());
-    cli.add_option("--alpha", alpha, "Local friction coefficient")
-        ->check(app::finite_number(0.0, 10.0, true));
-    cli.add_option("--nu", nu, "Poisson ratio")->check(app::finite_number(0.0, 0.5));
-    cli.add_option("--distance", distance, "Sliding distance (d); 0: automatic")
-        ->check(app::non_negative());
-    cli.add_option("--protocol", protocol, "adaptive | reference")
-        ->check(CLI::IsMember({"adaptive", "reference"}));
-    cli.add_option("--solver", solver,
-                   "lbfgs | cg | fire | newton | flow (the reference path: slow, faithful)")
-        ->check(CLI::IsMember({"lbfgs", "cg", "fire", "newton", "flow"}));
-    cli.add_option("--slip-solver", slip_solver,
-                   "Relax again every step the solver calls a slip with this one: flow (the "
-                   "default: the reference path, in the interface filter's metric unless "
-                   "solver.slip_preconditioner says otherwise) | fire | same (no: only with "
-                   "--solver flow or fire; lbfgs, cg and newton are not path-faithful through "
-                   "slips)")
-        ->check(CLI::IsMember({"flow", "fire", "same"}));
-    cli.add_option("--preconditioner", preconditioner,
-                   "auto | elastic (G) | interface (G with the interface filter; lbfgs, newton)")
-        ->check(CLI::IsMember({"auto", "elastic", "interface"}));
-    cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
-        ->check(app::finite_number(0.0, 1.0, true));
-    cli.add_option("--threads", threads,
-                   "FFT threads (also the solvers' vector passes on large contacts)")
-        ->check(CLI::Range(1, 1024));
+    // --a, --R, --alpha, --nu, --distance, --protocol, --solver, --slip-solver,
+    // --preconditioner, --tolerance, --threads: from the slide scene's settings table.
+    app::SettingFlags flags;
+    flags.add(cli, app::SlideScene::settings());
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     bool resume = false;
     double checkpoint_every = 300.0;
@@ -204,8 +179,9 @@ int main(int argc, char** argv) {
 
     // --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
     // from the final minimiser (SlideScene::make_slip_minimizer).
+    const bool slip_solver = flags.given("solver.slip_method");
+    const bool solver = flags.given("solver.method");
     const auto apply_slip_solver = [&](app::SlideScene& scene) {
-      if (slip_solver) scene.slip_method = *slip_solver;
       scene.make_slip_minimizer();
       const slide::SlideOptions& o = scene.options;
       // After every flag, so that a flag can mend a scene's pair; the message names whichever
@@ -216,7 +192,14 @@ int main(int argc, char** argv) {
           : slip_solver ? scene_path + ": solver.method"
                         : std::string("solver.method"));
     };
-    if (model == "explicit" && preconditioner) {
+    // The flags over an explicit scene: the tip's radius and the substrate's Poisson ratio are
+    // the contact's.
+    const auto apply_explicit_flags = [&](app::ExplicitSlideScene& e) {
+      flags.apply(app::SlideScene::settings(), e.slide);
+      if (flags.given("contact.R")) e.model.R = e.slide.contact.R;
+      if (flags.given("material.nu")) e.model.material.nu = e.slide.contact.material.nu;
+    };
+    if (model == "explicit" && flags.given("solver.preconditioner")) {
       throw std::invalid_argument(
           "--preconditioner: not available with --model explicit (the interface filter belongs "
           "to the lateral force model; the explicit model preconditions with G)");
@@ -225,9 +208,10 @@ int main(int argc, char** argv) {
       // Normal loading of the explicit model alone (--slide adds the sliding): the flags that
       // only make sense for a slide are rejected rather than ignored.
       for (const auto& [flag, given] :
-           {std::pair{"--alpha", alpha.has_value()}, std::pair{"--distance", distance.has_value()},
-            std::pair{"--protocol", protocol.has_value()}, std::pair{"--resume", resume},
-            std::pair{"--slip-solver", slip_solver.has_value()}}) {
+           {std::pair{"--alpha", flags.given("contact.alpha")},
+            std::pair{"--distance", flags.given("slide.distance")},
+            std::pair{"--protocol", flags.given("slide.protocol")}, std::pair{"--resume", resume},
+            std::pair{"--slip-solver", slip_solver}}) {
         if (given) {
           throw std::invalid_argument(
               std::string(flag) +
@@ -238,12 +222,7 @@ int main(int argc, char** argv) {
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
       app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
       auto& c = e.slide.contact;
-      if (a) c.a = *a;
-      if (R) c.R = e.model.R = *R;
-      if (nu) c.material.nu = e.model.material.nu = *nu;
-      if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
-      if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
-      if (threads) e.slide.options.fft.threads = *threads;
+      apply_explicit_flags(e);
       c.validate();
       e.model.validate();
       explicit_model::require_small_slope(c.a, c.R);
@@ -287,7 +266,7 @@ int main(int argc, char** argv) {
       // The explicit model: normal loading to the Hertz load of contact.a, then sliding at fixed
       // Fz with the LFM's protocols (explicit/explicit_slide.hpp). alpha is a property of the
       // potential: --alpha is rejected.
-      if (alpha) {
+      if (flags.given("contact.alpha")) {
         throw std::invalid_argument(
             "--alpha: not available with --model explicit (alpha follows from the potential, "
             "alpha_path at the central load)");
@@ -295,14 +274,7 @@ int main(int argc, char** argv) {
       if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
       app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
       auto& c = e.slide.contact;
-      if (a) c.a = *a;
-      if (R) c.R = e.model.R = *R;
-      if (nu) c.material.nu = e.model.material.nu = *nu;
-      if (distance) e.slide.options.distance = *distance;
-      if (protocol) e.slide.options.protocol = slide::protocol_from_string(*protocol);
-      if (solver) e.slide.options.minimizer.method = minimize::method_from_string(*solver);
-      if (tolerance) e.slide.options.minimizer.force_tolerance = *tolerance;
-      if (threads) e.slide.options.fft.threads = *threads;
+      apply_explicit_flags(e);
       apply_slip_solver(e.slide);
       c.validate();
       e.model.validate();
@@ -387,18 +359,7 @@ int main(int argc, char** argv) {
     }
 
     app::SlideScene s = app::read_slide_scene(scene_path, false);
-    if (a) s.contact.a = *a;
-    if (R) s.contact.R = *R;
-    if (alpha) s.contact.alpha = *alpha;
-    if (nu) s.contact.material.nu = *nu;
-    if (distance) s.options.distance = *distance;
-    if (protocol) s.options.protocol = slide::protocol_from_string(*protocol);
-    if (solver) s.options.minimizer.method = minimize::method_from_string(*solver);
-    if (preconditioner) {
-      s.options.minimizer.preconditioner = minimize::preconditioner_from_string(*preconditioner);
-    }
-    if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
-    if (threads) s.options.fft.threads = *threads;
+    flags.apply(app::SlideScene::settings(), s);
     apply_slip_solver(s);
     const auto method = s.options.minimizer.method;
     if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&

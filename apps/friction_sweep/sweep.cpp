@@ -247,52 +247,12 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
   return points;
 }
 
+// The settings that change a point's result (SlideScene::settings(); not a and R, which are the
+// row's own columns, nor threads and output formats), exact, and the build: the code's own
+// defaults are not all settings, so rows of another build are recomputed rather than trusted.
 std::string settings_fingerprint(const SlideScene& scene) {
-  const auto& o = scene.options;
-  const auto& m = o.minimizer;
-  const auto& c = scene.contact;
-  std::string s = slide::to_string(o.protocol);
-  // append() rather than " x=" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
-  const auto add = [&s](const char* key, const std::string& value) {
-    s.append(" ").append(key).append("=").append(value);
-  };
-  if (o.protocol == slide::Protocol::reference) {
-    add("step", exact(o.step));
-  } else {
-    add("step", exact(o.max_step) + "/" + exact(o.min_step));
-  }
-  if (o.distance > 0.0) {
-    add("distance", exact(o.distance));
-  } else {
-    add("distance", "auto");
-    add("cap", exact(o.max_distance));
-    add("slips", std::to_string(o.slips_to_stop));
-  }
-  if (!o.extrapolate) s.append(" no-extrapolation");
-  // Rows made before the cycle replay existed carry the default (replaying) settings: mu is the
-  // same (the peak lies in the computed first cycle; a slide that does not repeat takes the
-  // same path), the kinetic friction may differ in its sampling and the cost is lower.
-  if (!o.replay_cycle) s.append(" no-replay");
-  s.append(" ").append(minimize::to_string(m.method));
-  add("tol", exact(m.force_tolerance));
-  add("iter", std::to_string(m.max_iterations));
-  add("mem", std::to_string(m.memory));
-  add("dmax", exact(m.max_displacement));
-  if (m.method == minimize::Method::flow) add("flowtol", exact(m.flow_tolerance));
-  if (o.slip_minimizer) {
-    s.append(" slips ").append(minimize::to_string(o.slip_minimizer->method));
-    add("slipprecond", minimize::to_string(o.slip_minimizer->preconditioner));
-    add("slipflowtol", exact(o.slip_minimizer->flow_tolerance));
-  }
-  add("precond", minimize::to_string(m.preconditioner));
-  add("stability", minimize::to_string(m.stability));
-  add("alpha", exact(c.alpha));
-  add("G", exact(c.material.G));
-  add("nu", exact(c.material.nu));
-  // The code's own defaults (stability check, warm starts, ...) are not scene keys: rows of
-  // another build are recomputed rather than trusted.
-  add("code", app::provenance_string());
-  return s;
+  return settings::fingerprint(scene, SlideScene::settings(), true, {"contact.a", "contact.R"}) +
+         " code=" + app::provenance_string();
 }
 
 std::string explicit_settings_fingerprint(const SweepScene& s) {

@@ -12,6 +12,7 @@
 // under "solver."), so a setting is described where its struct is declared and nowhere else.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <string>
@@ -65,6 +66,11 @@ struct Info {
   std::string unit;                  // e.g. "d", "G d^2"; empty: dimensionless or none
   std::string meaning;               // one line
   std::string flag;                  // command-line flag of the tools ("--tolerance"); empty: none
+  // false for settings that do not change a result, only how it is computed or written (FFT
+  // threads: the threaded passes give the same bits on any number, common/parallel.hpp; output
+  // formats and path frames): left out of fingerprint(..., results_only) so that a sweep
+  // reuses its rows whatever the threads.
+  bool affects_results = true;
 
   // "(0, 1) G d^2", "integer >= 1", "one of \"lbfgs\", \"cg\"", "true or false".
   [[nodiscard]] std::string allowed() const;
@@ -88,19 +94,19 @@ template <class Root, class Ref>
 Setting<Root> number(std::string key, Ref ref, Range range, std::string unit, std::string meaning,
                      std::string flag = {}) {
   Setting<Root> s;
-  static_cast<Info&>(s) = {std::move(key), Kind::number, range, {}, std::move(unit),
-                           std::move(meaning), std::move(flag)};
+  static_cast<Info&>(s) = {std::move(key),  Kind::number,       range,          {},
+                           std::move(unit), std::move(meaning), std::move(flag)};
   s.get = [ref](const Root& r) { return Value(static_cast<double>(ref(r))); };
   s.set = [ref](Root& r, const Value& v) { ref(r) = std::get<double>(v); };
   return s;
 }
 
 template <class Root, class Ref>
-Setting<Root> integer(std::string key, Ref ref, Range range, std::string unit,
-                      std::string meaning, std::string flag = {}) {
+Setting<Root> integer(std::string key, Ref ref, Range range, std::string unit, std::string meaning,
+                      std::string flag = {}) {
   Setting<Root> s;
-  static_cast<Info&>(s) = {std::move(key), Kind::integer, range, {}, std::move(unit),
-                           std::move(meaning), std::move(flag)};
+  static_cast<Info&>(s) = {std::move(key),  Kind::integer,      range,          {},
+                           std::move(unit), std::move(meaning), std::move(flag)};
   s.get = [ref](const Root& r) { return Value(static_cast<long long>(ref(r))); };
   s.set = [ref](Root& r, const Value& v) {
     ref(r) = static_cast<std::remove_cvref_t<decltype(ref(r))>>(std::get<long long>(v));
@@ -111,8 +117,8 @@ Setting<Root> integer(std::string key, Ref ref, Range range, std::string unit,
 template <class Root, class Ref>
 Setting<Root> boolean(std::string key, Ref ref, std::string meaning, std::string flag = {}) {
   Setting<Root> s;
-  static_cast<Info&>(s) = {std::move(key), Kind::boolean, {}, {}, {}, std::move(meaning),
-                           std::move(flag)};
+  static_cast<Info&>(s) = {std::move(key),     Kind::boolean,  {}, {}, {},
+                           std::move(meaning), std::move(flag)};
   s.get = [ref](const Root& r) { return Value(static_cast<bool>(ref(r))); };
   s.set = [ref](Root& r, const Value& v) { ref(r) = std::get<bool>(v); };
   return s;
@@ -124,18 +130,24 @@ template <class Root, class Ref, class Name, class Parse>
 Setting<Root> choice(std::string key, Ref ref, std::vector<std::string> choices, Name name,
                      Parse parse, std::string meaning, std::string flag = {}) {
   Setting<Root> s;
-  static_cast<Info&>(s) = {std::move(key), Kind::choice,       {}, std::move(choices), {},
+  static_cast<Info&>(s) = {std::move(key),     Kind::choice,   {}, std::move(choices), {},
                            std::move(meaning), std::move(flag)};
   s.get = [ref, name](const Root& r) { return Value(std::string(name(ref(r)))); };
   s.set = [ref, parse](Root& r, const Value& v) { ref(r) = parse(std::get<std::string>(v)); };
   return s;
 }
 
+// The row, marked as not changing results (Info::affects_results).
+template <class Root>
+Setting<Root> neutral(Setting<Root> s) {
+  s.affects_results = false;
+  return s;
+}
+
 // The rows of a member's table under `prefix`, reached through `project`, a generic lambda
 // returning a reference to the member ([](auto& s) -> auto& { return s.minimizer; }).
 template <class Root, class Part, class Project>
-void lift(Table<Root>& into, const Table<Part>& part, const std::string& prefix,
-          Project project) {
+void lift(Table<Root>& into, const Table<Part>& part, const std::string& prefix, Project project) {
   for (const Setting<Part>& p : part) {
     Setting<Root> s;
     static_cast<Info&>(s) = static_cast<const Info&>(p);
@@ -162,12 +174,16 @@ const Setting<Root>* find(const Table<Root>& table, std::string_view key) {
   return nullptr;
 }
 
-// "key=value key=value ..." over every row, values exact (to_string(Value)): equal strings,
-// equal settings.
+// "key=value key=value ..." over every row (results_only: those that affect results), values
+// exact (to_string(Value)): equal strings, equal settings. `skip`: keys left out (a sweep's
+// rows carry a and R in their own columns).
 template <class Root>
-std::string fingerprint(const Root& root, const Table<Root>& table) {
+std::string fingerprint(const Root& root, const Table<Root>& table, bool results_only = false,
+                        const std::vector<std::string>& skip = {}) {
   std::string out;
   for (const Setting<Root>& s : table) {
+    if (results_only && !s.affects_results) continue;
+    if (std::find(skip.begin(), skip.end(), s.key) != skip.end()) continue;
     // append(): GCC 12 warns falsely (-Wrestrict) on " " + string.
     out.append(out.empty() ? "" : " ").append(s.key).append("=").append(to_string(s.get(root)));
   }

@@ -382,18 +382,19 @@ Planner planner_from_string(const std::string& name) {
 const settings::Table<FFTOptions>& FFTOptions::settings() {
   using R = settings::Range;
   static const settings::Table<FFTOptions> table = {
-      settings::integer<FFTOptions>(
+      settings::neutral(settings::integer<FFTOptions>(
           "threads", [](auto& o) -> auto& { return o.threads; }, R::closed(1, 1024), "",
-          "FFT threads (also the solvers' vector passes on large contacts)", "--threads"),
+          "FFT threads (also the solvers' vector passes on large contacts)", "--threads")),
       settings::choice<FFTOptions>(
-          "planner", [](auto& o) -> auto& { return o.planner; },
-          {"estimate", "measure", "patient"}, [](Planner p) { return to_string(p); },
-          planner_from_string,
+          "planner", [](auto& o) -> auto& { return o.planner; }, {"estimate", "measure", "patient"},
+          [](Planner p) { return to_string(p); }, planner_from_string,
           "FFTW planning: estimate (instant, repeats bit for bit) | measure | patient")};
   return table;
 }
 
-void FFTOptions::validate() const { settings::validate(*this, settings()); }
+void FFTOptions::validate() const {
+  settings::validate(*this, settings());
+}
 
 std::span<double> Engine::input(int field) {
   return {input_.at(field), shape_.count()};

@@ -354,16 +354,14 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
         // Half a period or more would alias the registry potential: a step of d/2 lands every
         // atom on the symmetric point of its well, where the forces balance by symmetry.
         settings::number<O>(
-            "slide.max_step", [](auto& o) -> auto& { return o.max_step; }, R::open(0.0, 0.5),
-            "d", "adaptive protocol: largest step"),
+            "slide.max_step", [](auto& o) -> auto& { return o.max_step; }, R::open(0.0, 0.5), "d",
+            "adaptive protocol: largest step"),
         settings::number<O>(
-            "slide.min_step", [](auto& o) -> auto& { return o.min_step; },
-            R::open_closed(0.0, 0.5), "d",
-            "adaptive protocol: instabilities bracketed to this (<= slide.max_step)"),
+            "slide.min_step", [](auto& o) -> auto& { return o.min_step; }, R::open_closed(0.0, 0.5),
+            "d", "adaptive protocol: instabilities bracketed to this (<= slide.max_step)"),
         settings::number<O>(
             "slide.distance", [](auto& o) -> auto& { return o.distance; }, R::non_negative(), "d",
-            "sliding distance; 0: automatic (until the static peak is established)",
-            "--distance"),
+            "sliding distance; 0: automatic (until the static peak is established)", "--distance"),
         settings::number<O>(
             "slide.max_distance", [](auto& o) -> auto& { return o.max_distance; },
             R::non_negative(), "d", "cap of the automatic distance; 0: 3 d + 3 alpha Fz / k"),
@@ -380,20 +378,22 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
         settings::number<O>(
             "slide.cycle_tolerance", [](auto& o) -> auto& { return o.cycle_tolerance; },
             R::positive(), "G d^2", "largest force difference of a site for equal states"),
-        settings::integer<O>(
+        settings::neutral(settings::integer<O>(
             "slide.path_frame_every", [](auto& o) -> auto& { return o.path_frame_every; },
             R::closed(0, 1000000), "",
-            "relaxation-path frames through slip events every N iterations (0: none)"),
-        settings::integer<O>(
+            "relaxation-path frames through slip events every N iterations (0: none)")),
+        settings::neutral(settings::integer<O>(
             "output.path_frames", [](auto& o) -> auto& { return o.path_frame_slips; },
             R::closed(0, 1000000), "",
-            "paths of slip events 1, 1 + N, 1 + 2N, ... are recorded (0: none)"),
-        settings::integer<O>(
+            "paths of slip events 1, 1 + N, 1 + 2N, ... are recorded (0: none)")),
+        settings::neutral(settings::integer<O>(
             "output.max_path_frames", [](auto& o) -> auto& { return o.max_path_frames; },
-            R::closed(2, 100000), "", "frames kept per recorded path")};
-    settings::lift(t, minimize::MinimizerOptions::settings(), "solver.",
-                   [](auto& o) -> auto& { return o.minimizer; });
-    settings::lift(t, fft::FFTOptions::settings(), "fft.", [](auto& o) -> auto& { return o.fft; });
+            R::closed(2, 100000), "", "frames kept per recorded path"))};
+    settings::lift(
+        t, minimize::MinimizerOptions::settings(), "solver.",
+        [](auto& o) -> auto& { return o.minimizer; });
+    settings::lift(
+        t, fft::FFTOptions::settings(), "fft.", [](auto& o) -> auto& { return o.fft; });
     return t;
   }();
   return table;
@@ -402,9 +402,9 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
 void SlideOptions::validate() const {
   settings::validate(*this, settings());
   if (!(min_step <= max_step)) {
-    throw std::invalid_argument("slide.min_step = " + settings::format_number(min_step) +
-                                ": allowed: <= slide.max_step = " +
-                                settings::format_number(max_step));
+    throw std::invalid_argument(
+        "slide.min_step = " + settings::format_number(min_step) +
+        ": allowed: <= slide.max_step = " + settings::format_number(max_step));
   }
   if (slip_minimizer) slip_minimizer->validate();
 }

@@ -1,0 +1,50 @@
+#include "common/settings_cli.hpp"
+
+#include <charconv>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace asperity::app {
+
+settings::Value parse_setting(const settings::Info& setting, const std::string& text) {
+  const auto bad = [&](const std::string& what) {
+    throw std::invalid_argument(setting.key + " = " + text + ": " + what);
+  };
+  settings::Value v;
+  switch (setting.kind) {
+    case settings::Kind::boolean:
+      if (text != "true" && text != "false") bad("allowed: true or false");
+      v = text == "true";
+      break;
+    case settings::Kind::integer: {
+      long long n = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+      if (ec != std::errc() || end != text.data() + text.size()) bad("not an integer");
+      v = n;
+      break;
+    }
+    case settings::Kind::number: {
+      // strtod: also "1e-5", "inf" and "nan", which the check then refuses by name.
+      char* end = nullptr;
+      const double x = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size()) bad("not a number");
+      v = x;
+      break;
+    }
+    case settings::Kind::choice:
+      v = text;
+      break;
+  }
+  setting.check(v);
+  return v;
+}
+
+std::string setting_help(const settings::Info& setting) {
+  std::string help = setting.meaning;
+  return help.append("; scene key ")
+      .append(setting.key)
+      .append(", allowed: ")
+      .append(setting.allowed());
+}
+
+}  // namespace asperity::app

@@ -1,0 +1,79 @@
+// Command-line flags made from a settings table (common/settings.hpp): every setting that names
+// a flag gets one, with its meaning, unit and allowed set as help and its check at parse time.
+// The values are kept as given until the scene is read, then applied over it: a flag overrides
+// the scene's key.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "common/settings.hpp"
+
+namespace asperity::app {
+
+// Parses a flag's text as the setting's kind (a number, an integer, true/false, a choice) and
+// checks it against the setting's allowed set; throws std::invalid_argument with the reason.
+settings::Value parse_setting(const settings::Info& setting, const std::string& text);
+
+// The help line of a setting: "<meaning>; scene key <key>, allowed: <allowed>" (numbers carry
+// their unit in the allowed set).
+std::string setting_help(const settings::Info& setting);
+
+// Every setting of `root` as {key: value} (numbers, integers, booleans, choice names): the
+// echo of a run's settings in its summary.json.
+template <class Root>
+nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& table) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const settings::Setting<Root>& s : table)
+    std::visit([&](const auto& v) { out[s.key] = v; }, s.get(root));
+  return out;
+}
+
+class SettingFlags {
+ public:
+  // Adds a flag for every row of `table` that names one.
+  template <class Root>
+  void add(CLI::App& cli, const settings::Table<Root>& table) {
+    for (const settings::Setting<Root>& s : table) {
+      if (s.flag.empty()) continue;
+      const settings::Info info = s;
+      cli.add_option_function<std::string>(
+             s.flag, [this, info](const std::string& text) { given_[info.key] = text; },
+             setting_help(s))
+          ->check(CLI::Validator(
+              [info](std::string& text) -> std::string {
+                try {
+                  parse_setting(info, text);
+                } catch (const std::invalid_argument& e) {
+                  return e.what();
+                }
+                return {};
+              },
+              ""))
+          ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
+                      : info.kind == settings::Kind::integer ? "INT"
+                      : info.kind == settings::Kind::boolean ? "BOOL"
+                                                             : "NUMBER");
+    }
+  }
+
+  // Whether the flag of `key` was given.
+  [[nodiscard]] bool given(const std::string& key) const { return given_.contains(key); }
+  // Applies every given flag whose setting is in `table` to `root`.
+  template <class Root>
+  void apply(const settings::Table<Root>& table, Root& root) const {
+    for (const settings::Setting<Root>& s : table) {
+      if (const auto found = given_.find(s.key); found != given_.end())
+        s.set(root, parse_setting(s, found->second));
+    }
+  }
+
+ private:
+  std::map<std::string, std::string> given_;  // key -> the flag's text
+};
+
+}  // namespace asperity::app
