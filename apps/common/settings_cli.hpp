@@ -33,6 +33,32 @@ nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& tabl
   return out;
 }
 
+// A Markdown table of the settings: key, default (the value in `defaults`), allowed, flag,
+// meaning. The reference of a tool's scene keys (docs/settings.md is made from it).
+template <class Root>
+std::string settings_markdown(const Root& defaults, const settings::Table<Root>& table) {
+  std::string out = "| key | default | allowed | flag | meaning |\n|---|---|---|---|---|\n";
+  // A "|" inside a cell ends it: escaped.
+  const auto cell = [](const std::string& text) {
+    std::string escaped;
+    for (const char c : text) {
+      if (c == '|') escaped.push_back('\\');
+      escaped.push_back(c);
+    }
+    return escaped;
+  };
+  for (const settings::Setting<Root>& s : table) {
+    std::string value = settings::to_string(s.get(defaults));
+    if (s.kind == settings::Kind::choice) value = "\"" + value + "\"";
+    out.append("| `").append(s.key).append("` | ").append(value).append(" | ");
+    out.append(s.allowed()).append(" | ").append(s.flag.empty() ? "" : "`" + s.flag + "`");
+    out.append(" | ").append(cell(s.meaning)).append(s.affects_results ? ""
+                                                                 : " (does not change results)");
+    out.append(" |\n");
+  }
+  return out;
+}
+
 class SettingFlags {
  public:
   // Adds a flag for every row of `table` that names one.

@@ -140,7 +140,7 @@ std::optional<int> SceneReader::optional_integer(std::string_view key, const Ran
   const int64_t v = *node->value<int64_t>();
   if (v < INT_MIN || v > INT_MAX || !range.contains(static_cast<double>(v))) {
     const std::string allowed =
-        v < INT_MIN || v > INT_MAX ? "fits in a 32-bit int" : range.describe();
+        v < INT_MIN || v > INT_MAX ? "fits in a 32-bit int" : range.describe(true);
     throw std::invalid_argument(source_ + ": " + std::string(key) + " = " + std::to_string(v) +
                                 ": allowed: " + allowed + where(*node));
   }

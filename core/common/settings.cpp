@@ -14,17 +14,20 @@ bool Range::contains(double v) const {
   return true;
 }
 
-std::string Range::describe() const {
+std::string Range::describe(bool integers) const {
+  const auto number = [integers](double v) {
+    return integers ? std::to_string(static_cast<long long>(v)) : format_number(v);
+  };
   // append() rather than "[" + string: GCC 12 warns falsely (-Wrestrict) on the latter.
   if (lower && upper) {
     return std::string(lower_closed ? "[" : "(")
-        .append(format_number(*lower))
+        .append(number(*lower))
         .append(", ")
-        .append(format_number(*upper))
+        .append(number(*upper))
         .append(upper_closed ? "]" : ")");
   }
-  if (lower) return std::string(lower_closed ? ">= " : "> ").append(format_number(*lower));
-  if (upper) return std::string(upper_closed ? "<= " : "< ").append(format_number(*upper));
+  if (lower) return std::string(lower_closed ? ">= " : "> ").append(number(*lower));
+  if (upper) return std::string(upper_closed ? "<= " : "< ").append(number(*upper));
   return "any";
 }
 
@@ -72,7 +75,7 @@ std::string Info::allowed() const {
     case Kind::boolean:
       return "true or false";
     case Kind::integer:
-      return "an integer " + range.describe();
+      return "an integer " + range.describe(true);
     case Kind::number: {
       std::string s = range.describe() == "any" ? "a finite number" : range.describe();
       return unit.empty() ? s : s + " " + unit;
@@ -89,10 +92,9 @@ std::string Info::allowed() const {
 
 void Info::check(const Value& value) const {
   const auto fail = [&] {
-    const std::string shown =
-        kind == Kind::choice && std::holds_alternative<std::string>(value)
-            ? "\"" + std::get<std::string>(value) + "\""
-            : to_string(value);
+    const std::string shown = kind == Kind::choice && std::holds_alternative<std::string>(value)
+                                  ? "\"" + std::get<std::string>(value) + "\""
+                                  : to_string(value);
     throw std::invalid_argument(key + " = " + shown + ": allowed: " + allowed());
   };
   switch (kind) {

@@ -41,7 +41,8 @@ struct Range {
   static Range open_closed(double a, double b) { return {a, b, false, true}; }
 
   [[nodiscard]] bool contains(double v) const;  // false for NaN
-  [[nodiscard]] std::string describe() const;   // e.g. "> 0", ">= 1", "[0, 0.5)", "any"
+  // e.g. "> 0", ">= 1", "[0, 0.5)", "any"; `integers`: bounds written as integers (1000000).
+  [[nodiscard]] std::string describe(bool integers = false) const;
 };
 
 // Shortest text that reads back to the same double ("%.17g" trimmed: 0.1, 1e-05, 4096).
