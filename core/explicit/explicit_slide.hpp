@@ -25,7 +25,7 @@
 #pragma once
 
 #include "explicit/explicit_contact.hpp"
-#include "slide/slider.hpp"
+#include "slide/types.hpp"
 
 namespace asperity::explicit_model {
 

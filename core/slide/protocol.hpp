@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "common/validate.hpp"
-#include "slide/slider.hpp"
+#include "slide/types.hpp"
 
 namespace asperity::slide::detail {
 
