@@ -194,16 +194,6 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
 
 namespace {
 
-// Cattaneo-Mindlin traction of a Hertz contact under Q = mu Fz with local coefficient alpha,
-// over alpha p0: sqrt(1 - rho^2) - (c/a) sqrt(c^2/a^2 - rho^2) inside the stick zone,
-// c/a = (1 - mu/alpha)^(1/3) (Johnson, Contact Mechanics, 7.2).
-double cattaneo_mindlin(double rho, double mu_over_alpha) {
-  if (rho >= 1.0) return 0.0;
-  const double slip = std::sqrt(1.0 - rho * rho);
-  const double c = std::cbrt(std::max(0.0, 1.0 - mu_over_alpha));
-  return rho < c ? slip - c * std::sqrt(c * c - rho * rho) : slip;
-}
-
 // trace.png, stress_profiles.png and stress_map.png (peak snapshot) into dir.
 void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
                    const slide::SlideResult& r, std::vector<std::filesystem::path>& written) {
@@ -281,7 +271,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
     envelope.x.push_back(rho);
     envelope.y.push_back(std::sqrt(std::max(0.0, 1.0 - rho * rho)));
     mindlin.x.push_back(rho);
-    mindlin.y.push_back(cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
+    mindlin.y.push_back(contact::cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
   }
   std::vector<Series> profiles{along_x, along_y, envelope, mindlin};
   if (explicit_model) profiles.push_back(pressure_x);
@@ -435,21 +425,6 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
   return s;
 }
 
-namespace {
-
-// Surface deflection w = -u_z of Hertz (Johnson, Contact Mechanics, 3.41-3.42, with
-// p0 = 2 a E*/(pi R)): w = delta - r^2/(2R) inside (delta = a^2/R), and outside
-// w = [(2 a^2 - r^2) asin(a/r) + a r sqrt(1 - a^2/r^2)] / (pi R).
-double hertz_deflection(const contact::Hertz& h, double r) {
-  const double a = h.a, R = h.R;
-  if (r <= a) return h.approach - r * r / (2.0 * R);
-  const double q = a / r;
-  return ((2.0 * a * a - r * r) * std::asin(q) + a * r * std::sqrt(1.0 - q * q)) /
-         (std::numbers::pi * R);
-}
-
-}  // namespace
-
 std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesystem::path& dir,
                                                                const ExplicitSlideScene& scene,
                                                                const explicit_model::LoadResult& r,
@@ -517,7 +492,7 @@ std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesy
     for (int k = -400; k <= 400; ++k) {
       const double rho = 2.0 * k / 400.0;
       uz_hertz.x.push_back(rho);
-      uz_hertz.y.push_back(-hertz_deflection(hz, std::abs(rho) * hz.a));
+      uz_hertz.y.push_back(-hz.deflection(std::abs(rho) * hz.a));
     }
     char title[240];
     std::snprintf(title, sizeof title,

@@ -3,6 +3,7 @@
 
 #include "common/validate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -33,6 +34,21 @@ Hertz Hertz::from_load(const elastic::Material& m, double R, double load) {
 double Hertz::pressure(double r) const {
   const double s = 1.0 - (r * r) / (a * a);
   return s > 0.0 ? p0 * std::sqrt(s) : 0.0;
+}
+
+double Hertz::deflection(double r) const {
+  if (r <= a) return approach - r * r / (2.0 * R);
+  const double q = a / r;
+  return ((2.0 * a * a - r * r) * std::asin(q) + a * r * std::sqrt(1.0 - q * q)) /
+         (std::numbers::pi * R);
+}
+
+double cattaneo_mindlin(double rho, double mu_over_alpha) {
+  if (rho >= 1.0) return 0.0;
+  const double slip = std::sqrt(1.0 - rho * rho);
+  const double c = std::cbrt(std::max(0.0, 1.0 - mu_over_alpha));
+  // Johnson's (c/a) p0 sqrt(1 - r^2/c^2), over p0: sqrt(c^2 - rho^2) with c in units of a.
+  return rho < c ? slip - std::sqrt(c * c - rho * rho) : slip;
 }
 
 }  // namespace asperity::contact

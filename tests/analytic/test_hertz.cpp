@@ -13,7 +13,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
+#include "contact/hertz.hpp"
 #include "validation/gf_checks.hpp"
 
 using namespace asperity;
@@ -52,4 +54,37 @@ TEST(Hertz, RefinementConverges) {
     previous_radius = std::abs(c.radius_error);
     previous_pressure = pressure;
   }
+}
+
+// Surface deflection (Johnson, Contact Mechanics, 3.41-3.42): continuous at r = a, where both
+// branches give a^2 / (2 R) (to round-off: 1e-14 relative), and far away w ~ 4 a^3 / (3 pi R r)
+// (the next term is O((a/r)^2) relative: 1e-6 at r = 1000 a).
+TEST(Hertz, DeflectionIsContinuousAndDecaysAsAPointLoad) {
+  const auto h = contact::Hertz::from_radius({.G = 1.0, .nu = 0.5}, 1000.0, 40.0);
+  const double at_edge = h.a * h.a / (2.0 * h.R);
+  EXPECT_NEAR(h.deflection(h.a), at_edge, 1e-14 * at_edge);
+  EXPECT_NEAR(h.deflection(h.a * (1.0 + 1e-12)), at_edge, 1e-10 * at_edge);
+  EXPECT_EQ(h.deflection(0.0), h.approach);
+  const double r = 1000.0 * h.a;
+  const double far = 4.0 * h.a * h.a * h.a / (3.0 * std::numbers::pi * h.R * r);
+  EXPECT_NEAR(h.deflection(r), far, 2e-6 * far);
+}
+
+// Cattaneo-Mindlin (Johnson 7.2): the traction carries Q = mu Fz, so int_0^1 2 pi rho q drho =
+// (mu / alpha) 2 pi / 3 in units of alpha p0 a^2 (Fz = 2 pi a^2 p0 / 3); a midpoint rule on
+// 2e5 panels integrates the square-root edges to about 1e-7. Limits: mu = alpha slips
+// everywhere (q = sqrt(1 - rho^2)), mu = 0 carries nothing.
+TEST(Hertz, CattaneoMindlinCarriesTheTangentialLoad) {
+  for (double m : {0.0, 0.25, 0.4, 0.9, 1.0}) {
+    const int n = 200000;
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double rho = (k + 0.5) / n;
+      sum += 2.0 * std::numbers::pi * rho * contact::cattaneo_mindlin(rho, m) / n;
+    }
+    EXPECT_NEAR(sum, m * 2.0 * std::numbers::pi / 3.0, 2e-6) << "mu/alpha = " << m;
+  }
+  EXPECT_EQ(contact::cattaneo_mindlin(0.3, 1.0), std::sqrt(1.0 - 0.09));
+  EXPECT_EQ(contact::cattaneo_mindlin(0.3, 0.0), 0.0);
+  EXPECT_EQ(contact::cattaneo_mindlin(1.2, 0.5), 0.0);
 }
