@@ -221,6 +221,25 @@ inline bool peak_held(std::span<const TraceRow> t, double best, double ratio_now
          }) >= slips_to_stop;
 }
 
+// Kinetic friction of a trace (MODEL.md 5): the mean of Fx/Fz over Dx (trapezoid: adaptive
+// steps are uneven) after the first slip; without slips (smooth sliding) over the last whole
+// period d before Dx_end. NaN if neither exists (no slip, slide shorter than d).
+inline double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d) {
+  auto from = std::find_if(t.begin(), t.end(), [](const TraceRow& row) { return row.slip; });
+  if (from == t.end() && Dx_end >= d) {
+    from = std::find_if(t.begin(), t.end(),
+                        [&](const TraceRow& row) { return row.Dx >= Dx_end - d - 1e-12; });
+  }
+  if (from == t.end()) return std::numeric_limits<double>::quiet_NaN();
+  double area = 0.0, span = 0.0;
+  for (auto a = from; a + 1 != t.end(); ++a) {
+    const double w = (a + 1)->Dx - a->Dx;
+    area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
+    span += w;
+  }
+  return span > 0.0 ? area / span : from->Fx / from->Fz;
+}
+
 template <class Model>
 SlideResult run_protocol(Model& model, const ProtocolParams& params, const SlideOptions& options,
                          const SlideControl& control, std::chrono::steady_clock::time_point t0) {
@@ -988,26 +1007,8 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   }
   res.mu_over_alpha = res.mu / params.alpha;
   res.distance = state.Dx;
-  const auto first_slip = std::find_if(res.trace.begin(), res.trace.end(),
-                                       [](const TraceRow& row) { return row.slip; });
-  // Kinetic friction: the mean of Fx/Fz over Dx (trapezoid: adaptive steps are uneven) after
-  // the first slip; without slips (smooth sliding) over the last whole period d.
-  auto from = first_slip;
-  if (from == res.trace.end() && state.Dx >= d) {
-    from = std::find_if(res.trace.begin(), res.trace.end(),
-                        [&](const TraceRow& row) { return row.Dx >= state.Dx - d - 1e-12; });
-  }
-  res.kinetic = res.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
-  if (from != res.trace.end()) {
-    double area = 0.0, span = 0.0;
-    for (auto a = from; a + 1 != res.trace.end(); ++a) {
-      const double w = (a + 1)->Dx - a->Dx;
-      area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
-      span += w;
-    }
-    res.kinetic = span > 0.0 ? area / span : from->Fx / from->Fz;
-    res.kinetic_over_static = res.kinetic / res.mu;
-  }
+  res.kinetic = kinetic_friction(res.trace, state.Dx, d);
+  res.kinetic_over_static = res.kinetic / res.mu;
   res.peak_snapshot = model.snapshot(*peak, "peak");
   if (control.frames) {
     control.frames->state(res.peak_snapshot);

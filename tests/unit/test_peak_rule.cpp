@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -99,4 +100,20 @@ TEST(PeakRule, NoStopWithinTheTieOrOnAStableRow) {
   EXPECT_FALSE(slide::detail::peak_held(t, 0.3, 0.1, 1.8, 1.0, 2));  // a stable row
   t.back().slip = true;
   EXPECT_TRUE(slide::detail::peak_held(t, 0.3, 0.1, 1.8, 1.0, 2));
+}
+
+// Kinetic friction (detail::kinetic_friction): the Dx-weighted mean of Fx/Fz after the first
+// slip, by trapezoids on uneven steps: rows (1, 0.2 slip), (1.5, 0.4), (3, 0.1) give
+// (0.5 * 0.3 + 1.5 * 0.25) / 2 = 0.2625. Without slips, over the last period d; NaN on a slide
+// shorter than d without slips.
+TEST(KineticFriction, TrapezoidMeanAfterTheFirstSlipOrOverTheLastPeriod) {
+  const std::vector<TraceRow> slipping = {row(0.0, 0.0, false), row(0.5, 0.9, false),
+                                          row(1.0, 0.2, true), row(1.5, 0.4, false),
+                                          row(3.0, 0.1, false)};
+  EXPECT_DOUBLE_EQ(slide::detail::kinetic_friction(slipping, 3.0, 1.0), 0.2625);
+  const std::vector<TraceRow> smooth = {row(0.0, 0.0, false), row(1.0, 0.8, false),
+                                        row(1.5, 0.4, false), row(2.5, 0.6, false)};
+  // The last period starts at Dx = 1.5: (1.0 * 0.5) / 1.0.
+  EXPECT_DOUBLE_EQ(slide::detail::kinetic_friction(smooth, 2.5, 1.0), 0.5);
+  EXPECT_TRUE(std::isnan(slide::detail::kinetic_friction(smooth, 0.8, 1.0)));
 }
