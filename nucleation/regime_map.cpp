@@ -1,6 +1,8 @@
 // Predictions across regimes and the regime of a point (MODEL.md 5, 8); see regime_map.hpp.
 #include "nucleation/regime_map.hpp"
 
+#include "contact/hertz.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -80,7 +82,7 @@ Crossover regime_two_three_crossover(double R, double alpha, double nu, const Mo
   require_positive("regime_two_three_crossover.a_min", a_min);
   if (!(a_max > a_min))
     reject("regime_two_three_crossover.a_max", std::to_string(a_max), "> a_min");
-  const double c = 4.0 / (std::numbers::pi * (1.0 - nu));
+  const double c = contact::bcore_factor(nu);
   // ln(Regime III) - ln(nucleation): increasing in a (III rises, II falls or stays at 1).
   const auto gap = [&](double a) {
     const double x = c * alpha * a * a / R;

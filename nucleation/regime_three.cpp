@@ -2,6 +2,8 @@
 // regime_three.hpp.
 #include "nucleation/regime_three.hpp"
 
+#include "contact/hertz.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -84,7 +86,7 @@ double bcore0(double a, double R, double alpha, double nu) {
   require_positive("bcore0.R", R);
   require_positive("bcore0.alpha", alpha);
   if (!(nu >= 0.0 && nu < 1.0)) reject("bcore0.nu", std::to_string(nu), "[0, 1)");
-  const double c = 4.0 / (std::numbers::pi * (1.0 - nu));
+  const double c = contact::bcore_factor(nu);
   return R / (c * alpha * a);
 }
 

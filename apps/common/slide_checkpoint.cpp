@@ -101,11 +101,7 @@ class DepthLimitedDom {
 };
 
 // Shortest form that reads back to the same double: fingerprints compare exactly.
-std::string exact(double v) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, end);
-}
+using settings::format_number;
 
 // ---- writing ----
 
@@ -518,8 +514,8 @@ std::string explicit_slide_fingerprint(const ExplicitSlideScene& scene,
   // alpha enters through contact.alpha (mu/alpha, tau_max of the snapshots); the tip follows
   // from R, the potential from G in eps/sigma^3 and sigma/d.
   return common_fingerprint(explicit_as_slide_scene(scene, alpha)) +
-         " model=explicit G_eps_sigma3=" + exact(m.G_eps_sigma3) +
-         " sigma_over_d=" + exact(m.sigma_over_d) + " tip_R=" + exact(m.R);
+         " model=explicit G_eps_sigma3=" + format_number(m.G_eps_sigma3) +
+         " sigma_over_d=" + format_number(m.sigma_over_d) + " tip_R=" + format_number(m.R);
 }
 
 std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {

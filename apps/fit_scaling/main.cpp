@@ -32,6 +32,7 @@
 #include "common/output_files.hpp"
 #include "common/peierls_summary.hpp"
 #include "common/plot.hpp"
+#include "contact/hertz.hpp"
 #include "nucleation/regime_map.hpp"
 #include "nucleation/regime_three.hpp"
 #include "nucleation/regime_two.hpp"
@@ -278,7 +279,7 @@ LawSource read_law(const Options& o) {
 }
 
 double c_factor(double nu) {
-  return 4.0 / (std::numbers::pi * (1.0 - nu));
+  return contact::bcore_factor(nu);
 }
 
 // Least-squares slope of ln y against ln x.

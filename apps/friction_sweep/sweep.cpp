@@ -23,11 +23,7 @@ namespace {
 constexpr double kMinA = 1.0, kMaxA = 4096.0;
 
 // Shortest form that reads back to the same double: fingerprints compare exactly.
-std::string exact(double v) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, end);
-}
+using settings::format_number;
 
 std::string element(const ValueList& list, std::size_t i) {
   return list.key + "[" + std::to_string(i) + "]";
@@ -39,7 +35,7 @@ bool close(double x, double y) {
 
 // c = 4 / (pi (1 - nu)) in a / b_core^0 = c alpha a^2 / (R d).
 double bcore_factor(const interface::ContactScene& c) {
-  return 4.0 / (std::numbers::pi * (1.0 - c.material.nu));
+  return contact::bcore_factor(c.material.nu);
 }
 
 void check_list(const ValueList& list) {
@@ -49,7 +45,7 @@ void check_list(const ValueList& list) {
   for (std::size_t i = 0; i < list.values.size(); ++i) {
     const double v = list.values[i];
     if (!std::isfinite(v) || !(v > 0.0)) {
-      throw std::invalid_argument(element(list, i) + " = " + exact(v) + ": allowed: > 0");
+      throw std::invalid_argument(element(list, i) + " = " + format_number(v) + ": allowed: > 0");
     }
   }
 }
@@ -144,9 +140,9 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
         points.push_back({a, c.R});
         continue;
       }
-      const std::string with_R = " with R = " + exact(c.R) + " d (" + element(s.R, j) + ")";
+      const std::string with_R = " with R = " + format_number(c.R) + " d (" + element(s.R, j) + ")";
       if (s.a) {
-        throw std::invalid_argument(element(list, i) + " = " + exact(v) + with_R +
+        throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
                                     ": allowed: [1, 4096] d and < R");
       }
       // The same limits expressed in the target: x = c alpha a^2 / (R d) is increasing in a.
@@ -155,8 +151,8 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
       char allowed[160];
       std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * kMinA * kMinA,
                     k * (capped ? kMaxA * kMaxA : c.R * c.R), capped ? "]" : ")");
-      throw std::invalid_argument(element(list, i) + " = " + exact(v) + with_R +
-                                  " needs a = " + exact(a) + " d: allowed: " + allowed +
+      throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
+                                  " needs a = " + format_number(a) + " d: allowed: " + allowed +
                                   " (a in [1, 4096] d and a < R)");
     }
   }
@@ -226,10 +222,10 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
         points.push_back({a, R});
         continue;
       }
-      const std::string with_R = " with R = " + exact(R) + " d (" + element(s.R, j) + ")";
+      const std::string with_R = " with R = " + format_number(R) + " d (" + element(s.R, j) + ")";
       throw std::invalid_argument(
-          element(list, i) + " = " + exact(v) + with_R +
-          (s.a ? std::string() : " needs a = " + exact(a) + " d, which") +
+          element(list, i) + " = " + format_number(v) + with_R +
+          (s.a ? std::string() : " needs a = " + format_number(a) + " d, which") +
           " is outside the explicit model's range: a in [1, 4096] d and a/R < 0.1 (small "
           "slopes, MODEL.md 4): raise R");
     }
@@ -260,8 +256,8 @@ std::string explicit_settings_fingerprint(const SweepScene& s) {
   SlideScene base = s.base;
   base.contact.alpha = 0.0;
   return settings_fingerprint(base) +
-         " model=explicit G_eps_sigma3=" + exact(s.potential.G_eps_sigma3) +
-         " sigma_over_d=" + exact(s.potential.sigma_over_d);
+         " model=explicit G_eps_sigma3=" + format_number(s.potential.G_eps_sigma3) +
+         " sigma_over_d=" + format_number(s.potential.sigma_over_d);
 }
 
 const std::vector<std::string>& sweep_columns() {

@@ -50,12 +50,8 @@ struct Scene {
   double fit_b_min = 2.0, fit_b_max = 1e9;
 };
 
-// Shortest round-trip text of a double: fingerprints compare exactly.
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+// Shortest form that reads back to the same double: fingerprints compare exactly.
+using settings::format_number;
 
 Scene read_scene(const std::string& path) {
   app::SceneReader r = app::SceneReader::from_file(path);
@@ -97,8 +93,8 @@ Scene read_scene(const std::string& path) {
     throw std::invalid_argument(path + ": scan.b_core: empty, give at least one");
   if (s.theta.empty()) throw std::invalid_argument(path + ": scan.theta: empty, give at least one");
   if (s.fit_b_min >= s.fit_b_max) {
-    throw std::invalid_argument(path + ": fit.b_min = " + exact(s.fit_b_min) +
-                                " must be below fit.b_max = " + exact(s.fit_b_max));
+    throw std::invalid_argument(path + ": fit.b_min = " + format_number(s.fit_b_min) +
+                                " must be below fit.b_max = " + format_number(s.fit_b_max));
   }
   return s;
 }
@@ -112,19 +108,19 @@ std::string fingerprint(const Scene& s) {
     f.append(key).append("=").append(value);
   };
   add("L", std::to_string(o.cell.L));
-  add("L_tol", exact(s.cell_size.tolerance));
+  add("L_tol", format_number(s.cell_size.tolerance));
   add("max_L", std::to_string(s.cell_size.max_L));
   add("model", peierls::to_string(o.cell.model));
   add("alias", std::to_string(o.cell.alias_images));
-  add("G", exact(o.cell.material.G));
-  add("nu", exact(o.cell.material.nu));
-  add("precision", exact(o.precision));
-  add("tol", exact(o.tolerance));
-  add("glide", exact(o.glide_threshold));
+  add("G", format_number(o.cell.material.G));
+  add("nu", format_number(o.cell.material.nu));
+  add("precision", format_number(o.precision));
+  add("tol", format_number(o.tolerance));
+  add("glide", format_number(o.glide_threshold));
   add("iter", std::to_string(o.minimizer.max_iterations));
   add("mem", std::to_string(o.minimizer.memory));
-  add("maxdisp", exact(o.minimizer.max_displacement));
-  if (o.cell.model == peierls::CellModel::full) add("push", exact(o.perturbation));
+  add("maxdisp", format_number(o.minimizer.max_displacement));
+  if (o.cell.model == peierls::CellModel::full) add("push", format_number(o.perturbation));
   // Another build may resolve a threshold differently: its rows are not reused.
   add("code", app::provenance_token());
   return f;

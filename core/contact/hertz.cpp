@@ -43,6 +43,10 @@ double Hertz::deflection(double r) const {
          (std::numbers::pi * R);
 }
 
+double bcore_factor(double nu) {
+  return 4.0 / (std::numbers::pi * (1.0 - nu));
+}
+
 double cattaneo_mindlin(double rho, double mu_over_alpha) {
   if (rho >= 1.0) return 0.0;
   const double slip = std::sqrt(1.0 - rho * rho);

@@ -28,6 +28,10 @@ struct Hertz {
   [[nodiscard]] double deflection(double r) const;
 };
 
+// c in the control parameter of the lateral force model, a / b_core^0 = c alpha a^2 / (R d)
+// (MODEL.md 3): c = 2 E* / (pi G) = 4 / (pi (1 - nu)), 8/pi at nu = 0.5.
+double bcore_factor(double nu);
+
 // Cattaneo-Mindlin tangential traction of a Hertz contact under Q = mu Fz with local friction
 // coefficient alpha (Johnson 7.2), over alpha p0, at rho = r/a: sqrt(1 - rho^2) in the slip
 // annulus, minus sqrt(c^2 - rho^2) inside the stick zone rho < c (Johnson's
