@@ -30,12 +30,27 @@ const settings::Table<ContactScene>& ContactScene::settings() {
             "sphere radius", "--R"),
         settings::number<ContactScene>(
             "contact.alpha", [](auto& c) -> auto& { return c.alpha; }, R::open_closed(0.0, 10.0),
-            "", "local friction coefficient: peak shear stress / pressure", "--alpha")};
-    settings::lift(t, elastic::Material::settings(), "material.",
-                   [](auto& c) -> auto& { return c.material; });
+            "", "local friction coefficient: peak shear stress / pressure", "--alpha"),
+        settings::choice<ContactScene>(
+            "contact.envelope", [](auto& c) -> auto& { return c.envelope; }, envelope_names(),
+            [](const std::string& e) { return e; }, [](const std::string& e) { return e; },
+            "interface envelope: hertz (tau_max = alpha p, Hertz p)")};
+    settings::lift(
+        t, elastic::Material::settings(), "material.", [](auto& c) -> auto& { return c.material; });
     return t;
   }();
   return table;
+}
+
+const std::vector<std::string>& envelope_names() {
+  static const std::vector<std::string> names = {"hertz"};
+  return names;
+}
+
+std::unique_ptr<Envelope> make_envelope(const ContactScene& scene) {
+  if (scene.envelope == "hertz") return std::make_unique<HertzEnvelope>(scene.hertz(), scene.alpha);
+  throw std::invalid_argument("contact.envelope = \"" + scene.envelope +
+                              "\": not an envelope of this build");
 }
 
 void ContactScene::validate() const {
@@ -64,8 +79,9 @@ double ContactScene::lambda() const {
 }
 
 LateralForceModel::LateralForceModel(const ContactScene& scene, LatticeBlock block)
-    : scene_(scene), hertz_(scene.hertz()), block_(block) {
+    : scene_(scene), block_(block) {
   scene.validate();
+  envelope_ = make_envelope(scene);
   tau_max_.assign(block.shape.count(), 0.0);
   pressure_.assign(block.shape.count(), 0.0);
   set_tip(0.0);
@@ -83,10 +99,11 @@ void LateralForceModel::set_tip(double Dx) {
     for (int i1 = 0; i1 < block_.shape.n1; ++i1) {
       const std::size_t i = block_.shape.index(i0, i1);
       const double y = block_.y(i1, d);
-      const double p = hertz_.pressure(std::hypot(x, y));
+      const double r = std::hypot(x, y);
+      const double p = envelope_->pressure(r);
       pressure_[i] = p;
-      tau_max_[i] = scene_.alpha * p;
-      if (p > 0.0) {
+      tau_max_[i] = envelope_->tau_max(r);
+      if (tau_max_[i] > 0.0) {
         sites_.push_back(i);
         site_tau_.push_back(tau_max_[i]);
         // (X - Dx)/d reduced to [-1/2, 1/2]: only the registry phase matters.

@@ -10,20 +10,23 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "common/shape.hpp"
 #include "contact/hertz.hpp"
 #include "elastic/material.hpp"
+#include "interface/envelope.hpp"
 
 namespace asperity::interface {
 
 struct ContactScene {
-  double a = 43.0;               // Hertz contact radius (d)
-  double R = 535.0;              // sphere radius (d)
-  double alpha = 0.7;            // local friction coefficient: peak shear stress / pressure
-  elastic::Material material{};  // substrate: G (unit of stress), nu
-  double d = 1.0;                // lattice spacing (unit of length)
+  double a = 43.0;                 // Hertz contact radius (d)
+  double R = 535.0;                // sphere radius (d)
+  double alpha = 0.7;              // local friction coefficient: peak shear stress / pressure
+  elastic::Material material{};    // substrate: G (unit of stress), nu
+  double d = 1.0;                  // lattice spacing (unit of length)
+  std::string envelope = "hertz";  // interface envelope (envelope.hpp): "hertz"
 
   // The settings, keyed as in a scene ("contact.a", "contact.R", "contact.alpha",
   // "material.G", "material.nu"): common/settings.hpp. d is the unit of length, not a setting.
@@ -52,10 +55,10 @@ class LateralForceModel {
   [[nodiscard]] const ContactScene& scene() const { return scene_; }
   // Block indices of the sites with tau_max > 0, the unknowns of the problem.
   [[nodiscard]] const std::vector<std::size_t>& contact_sites() const { return sites_; }
-  // Envelope tau_max and Hertz pressure per block site (zero outside the contact).
+  // Envelope tau_max and pressure per block site (zero outside the contact).
   [[nodiscard]] const std::vector<double>& tau_max() const { return tau_max_; }
   [[nodiscard]] const std::vector<double>& pressure() const { return pressure_; }
-  // Discrete Hertz load sum_i p(r_i) d^2 at the current tip position.
+  // Discrete load sum_i p(r_i) d^2 at the current tip position.
   [[nodiscard]] double load() const { return load_; }
 
   // Relative position s = X + u - (Dx, 0) of block site i.
@@ -72,7 +75,7 @@ class LateralForceModel {
 
  private:
   ContactScene scene_;
-  contact::Hertz hertz_;
+  std::shared_ptr<const Envelope> envelope_;  // shared: copies of a model share it
   LatticeBlock block_;
   double Dx_ = 0.0;
   std::vector<double> tau_max_, pressure_;

@@ -1,0 +1,105 @@
+// The settings tables (core/common/settings.hpp) and the envelope plug-in point
+// (core/interface/envelope.hpp), issue 24.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "common/settings.hpp"
+#include "interface/envelope.hpp"
+#include "interface/lfm.hpp"
+#include "slide/slider.hpp"
+
+using namespace asperity;
+
+namespace {
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Settings, ValidateNamesTheKeyValueAndAllowedSet) {
+  slide::SlideOptions o;
+  o.minimizer.force_tolerance = 2.0;
+  EXPECT_EQ(message_of([&] { o.validate(); }), "solver.tolerance = 2: allowed: (0, 1) G d^2");
+  o = {};
+  o.max_step = 0.1;
+  o.min_step = 0.2;  // each in its range, the pair not
+  EXPECT_EQ(message_of([&] { o.validate(); }),
+            "slide.min_step = 0.2: allowed: <= slide.max_step = 0.1");
+  o = {};
+  o.minimizer.max_displacement = std::nan("");
+  EXPECT_NE(message_of([&] { o.validate(); }).find("solver.max_displacement = nan"),
+            std::string::npos);
+  interface::ContactScene c;
+  c.a = 600.0;  // in [1, 4096], but not below R = 535
+  EXPECT_EQ(message_of([&] { c.validate(); }), "contact.a = 600: allowed: < contact.R = 535");
+  EXPECT_NO_THROW(slide::SlideOptions{}.validate());
+}
+
+TEST(Settings, TablesComposeWithPrefixesAndSetThroughTheirRows) {
+  const auto& t = slide::SlideOptions::settings();
+  const auto* tol = settings::find(t, "solver.tolerance");
+  const auto* threads = settings::find(t, "fft.threads");
+  ASSERT_NE(tol, nullptr);
+  ASSERT_NE(threads, nullptr);
+  EXPECT_EQ(tol->flag, "--tolerance");
+  EXPECT_FALSE(threads->affects_results);
+  slide::SlideOptions o;
+  tol->set(o, settings::Value(3e-6));
+  EXPECT_EQ(o.minimizer.force_tolerance, 3e-6);
+  EXPECT_EQ(std::get<double>(tol->get(o)), 3e-6);
+  // Keys are unique: one description per setting.
+  for (std::size_t i = 0; i < t.size(); ++i)
+    for (std::size_t j = i + 1; j < t.size(); ++j)
+      EXPECT_NE(t[i].key, t[j].key);
+  // Fingerprints: exact values, and without the rows that do not change results.
+  const std::string all = settings::fingerprint(o, t);
+  const std::string results = settings::fingerprint(o, t, true);
+  EXPECT_NE(all.find("solver.tolerance=3e-06"), std::string::npos);
+  EXPECT_NE(all.find("fft.threads=1"), std::string::npos);
+  EXPECT_EQ(results.find("fft.threads"), std::string::npos);
+  o.fft.threads = 2;
+  EXPECT_EQ(settings::fingerprint(o, t, true), results);
+  EXPECT_NE(settings::fingerprint(o, t), all);
+}
+
+TEST(Settings, CheckRefusesWrongKindsAndOutOfRangeValues) {
+  const auto& t = minimize::MinimizerOptions::settings();
+  const auto& memory = *settings::find(t, "memory");
+  EXPECT_NO_THROW(memory.check(settings::Value(8LL)));
+  EXPECT_THROW(memory.check(settings::Value(0LL)), std::invalid_argument);
+  EXPECT_THROW(memory.check(settings::Value(8.0)), std::invalid_argument);  // not an integer
+  EXPECT_THROW(memory.check(settings::Value(1LL << 40)), std::invalid_argument);
+  const auto& method = *settings::find(t, "method");
+  EXPECT_NO_THROW(method.check(settings::Value(std::string("flow"))));
+  EXPECT_EQ(message_of([&] { method.check(settings::Value(std::string("bfgs"))); }),
+            "method = \"bfgs\": allowed: one of \"lbfgs\", \"cg\", \"fire\", \"newton\", \"flow\"");
+  EXPECT_EQ(settings::Range::closed(0, 1000000).describe(true), "[0, 1000000]");
+  EXPECT_FALSE(settings::Range::any().contains(std::nan("")));
+}
+
+// The Hertz envelope: tau_max = alpha p(r) with the Hertz p (MODEL.md 3), zero outside a.
+TEST(Envelope, HertzIsAlphaTimesTheHertzPressure) {
+  interface::ContactScene c;
+  const auto e = interface::make_envelope(c);
+  const auto h = c.hertz();
+  for (double r : {0.0, 10.0, 42.9, 43.0, 50.0}) {
+    EXPECT_EQ(e->pressure(r), h.pressure(r));
+    EXPECT_EQ(e->tau_max(r), c.alpha * h.pressure(r));
+  }
+  EXPECT_EQ(e->tau_max(43.5), 0.0);
+  c.envelope = "adhesive";
+  EXPECT_THROW(interface::make_envelope(c), std::invalid_argument);
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  EXPECT_EQ(interface::envelope_names().front(), "hertz");
+}
+
+}  // namespace
