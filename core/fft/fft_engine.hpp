@@ -58,6 +58,20 @@ struct FourierBlock {
 // throw (the workers of a convolution wait for each other).
 using Multiplier = std::function<void(const FourierBlock&)>;
 
+// Which part of an engine's grids this process holds (issue 24; the distributed backend of
+// issue 26 fills it in). The serial engine holds everything. A slab-decomposed engine (FFTW-MPI)
+// holds real-space rows [row_begin, row_begin + rows) of the global grid and, with its output
+// transposed, Fourier columns [k1_begin, k1_begin + k1_count) of the half-grid for every k0:
+// the pointwise multiply of a convolution then needs no transpose back.
+struct Layout {
+  Shape2 global;  // the real grid of every process together
+  int ranks = 1, rank = 0;
+  int row_begin = 0, rows = 0;      // real-space rows held here (of global.n0)
+  int k1_begin = 0, k1_count = 0;   // Fourier columns held here (of global.n1 / 2 + 1)
+  bool fourier_transposed = false;  // Fourier data stored k1-major (FFTW_MPI_TRANSPOSED_OUT)
+  [[nodiscard]] bool whole() const { return ranks == 1; }
+};
+
 // Batched transforms of `fields` real 2D arrays of one shape. The engine owns three aligned
 // buffers per field: an input grid (kept between calls, so zero padding is written once), the
 // Fourier half-grid, and an output grid. Plans are made once, in the constructor.
@@ -94,6 +108,20 @@ class Engine {
   // took a fifth of an L-BFGS iteration's CPU time).
   [[nodiscard]] virtual std::vector<std::size_t> block_order() const = 0;
   [[nodiscard]] virtual std::string backend() const = 0;
+
+  // The part of the grids this process holds; the serial engine: all of it.
+  [[nodiscard]] virtual Layout layout() const {
+    return {.global = shape_,
+            .row_begin = 0,
+            .rows = shape_.n0,
+            .k1_begin = 0,
+            .k1_count = shape_.n1 / 2 + 1};
+  }
+  // Reductions of a value over every process holding a part of the grids: what the solvers'
+  // dot products, norms and maxima over the sites go through once the sites are distributed
+  // (issue 26). Serial: the value itself.
+  [[nodiscard]] virtual double reduce_sum(double local) const { return local; }
+  [[nodiscard]] virtual double reduce_max(double local) const { return local; }
 
  protected:
   Engine(Shape2 shape, int fields, int support_rows)

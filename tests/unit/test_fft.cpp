@@ -114,3 +114,20 @@ TEST(FFTEngine, RejectsBadInput) {
   EXPECT_THROW(fft::planner_from_string("fast"), std::invalid_argument);
   EXPECT_EQ(fft::planner_from_string("measure"), fft::Planner::measure);
 }
+
+// The serial engine holds the whole grid (fft::Layout), and its reductions are identities: the
+// interface a distributed engine implements (issue 26).
+TEST(FFTEngine, SerialLayoutIsTheWholeGrid) {
+  const auto e = fft::make_engine({12, 10}, 1);
+  const fft::Layout l = e->layout();
+  EXPECT_TRUE(l.whole());
+  EXPECT_EQ(l.global.n0, 12);
+  EXPECT_EQ(l.global.n1, 10);
+  EXPECT_EQ(l.row_begin, 0);
+  EXPECT_EQ(l.rows, 12);
+  EXPECT_EQ(l.k1_begin, 0);
+  EXPECT_EQ(l.k1_count, 6);
+  EXPECT_FALSE(l.fourier_transposed);
+  EXPECT_EQ(e->reduce_sum(2.5), 2.5);
+  EXPECT_EQ(e->reduce_max(-1.0), -1.0);
+}
