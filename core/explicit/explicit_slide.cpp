@@ -339,6 +339,7 @@ class ExplicitSlider {
   double hertz_slope_;  // dFz/dh of the Hertz contact, -2 a E* (G d)
   int snap_half_;
 };
+static_assert(slide::detail::SlideModel<ExplicitSlider>);
 
 }  // namespace
 

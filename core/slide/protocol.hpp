@@ -3,8 +3,8 @@
 // the contact so that the lateral force model (slider.cpp) and the explicit atomistic model
 // (explicit/explicit_slide.cpp) slide through the same code.
 //
-// A Model provides (State = SlideFields; its fields live on a block of sites that the model
-// chooses, identified by State::shift and the field size):
+// A Model (the concept SlideModel below) provides (State = SlideFields; its fields live on a block
+// of sites that the model chooses, identified by State::shift and the field size):
 //   State initial();                           the state the slide starts from (unrelaxed)
 //   MinimizeResult relax(State& s, double Dx, std::vector<PathFrame>* frames, bool stop_on_slip,
 //                        const MinimizerOptions* solver = nullptr);
@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <concepts>
 #include <cstdio>
 #include <limits>
 #include <optional>
@@ -79,6 +80,29 @@ struct RelaxPausing {
 };
 
 // What the protocol needs to know of the scene.
+// The contact model a slide runs on (the list at the top of this file), as a type: the lateral
+// force model (slider.cpp) and the explicit model (explicit/explicit_slide.cpp) satisfy it, and a
+// third model is one class that does. Optional: `heartbeat` (progress from inside relaxations)
+// and period_mismatch(later, earlier) (the cycle replay).
+template <class M>
+concept SlideModel = requires(M& m, const M& cm, SlideFields& s, const SlideFields& cs, double Dx,
+                              std::vector<PathFrame>* frames,
+                              const minimize::MinimizerOptions* solver) {
+  { m.initial() } -> std::same_as<SlideFields>;
+  { m.relax(s, Dx, frames) } -> std::same_as<minimize::MinimizeResult>;
+  { m.relax(s, Dx, frames, true, solver) } -> std::same_as<minimize::MinimizeResult>;
+  m.align(s, cs);
+  { m.slipped_sites(cs, cs) } -> std::convertible_to<int>;
+  { m.snapshot(cs, std::string()) } -> std::same_as<Snapshot>;
+  { m.snapshot(cs, std::string(), 0) } -> std::same_as<Snapshot>;
+  { cm.check_fields(cs) } -> std::convertible_to<std::string>;
+  { cm.field_size() } -> std::convertible_to<std::size_t>;
+  { cm.contact_sites() } -> std::convertible_to<std::size_t>;
+  { cm.gf_applications() } -> std::convertible_to<std::size_t>;
+  { cm.block_shape() } -> std::same_as<Shape2>;
+  { cm.fft_grid() } -> std::same_as<Shape2>;
+};
+
 struct ProtocolParams {
   double d = 1.0;             // lattice spacing (d)
   double alpha = 1.0;         // local friction coefficient, for mu / alpha
@@ -88,7 +112,7 @@ struct ProtocolParams {
 
 // A start state must come from a slide of the same scene: every field on a block of that
 // scene (the model says which blocks it accepts).
-template <class Model>
+template <SlideModel Model>
 void check_start(const SlideState& st, const Model& model) {
   const auto fields = [&](const SlideFields& f, const char* name) {
     if (const std::string why = model.check_fields(f); !why.empty()) {
@@ -240,7 +264,7 @@ inline double kinetic_friction(std::span<const TraceRow> t, double Dx_end, doubl
   return span > 0.0 ? area / span : from->Fx / from->Fz;
 }
 
-template <class Model>
+template <SlideModel Model>
 SlideResult run_protocol(Model& model, const ProtocolParams& params, const SlideOptions& options,
                          const SlideControl& control, std::chrono::steady_clock::time_point t0) {
   using State = SlideFields;

@@ -309,6 +309,7 @@ class Slider {
   LfmProblem problem_;
   std::size_t uncounted_gf_ = 0;  // GF applications repeated by continued pauses
 };
+static_assert(detail::SlideModel<Slider>);
 
 }  // namespace
 
