@@ -95,16 +95,14 @@ namespace {
 // Constraints between keys; checked after reject_unknown() where possible, so that a misspelled
 // key is reported as such rather than through the default that replaced it.
 void check_relations(const SlideScene& s, const std::string& path, bool check_slips = true) {
-  const auto& c = s.contact;
-  const auto& o = s.options;
-  if (check_slips) check_slip_relaxation(o, path + ": solver.slip_method", "solver.method");
-  if (o.min_step > o.max_step) {
-    throw std::invalid_argument(path + ": slide.min_step = " + std::to_string(o.min_step) +
-                                ": allowed: <= slide.max_step = " + std::to_string(o.max_step));
-  }
-  if (!(c.a < c.R)) {
-    throw std::invalid_argument(path + ": contact.a = " + std::to_string(c.a) +
-                                ": allowed: < contact.R = " + std::to_string(c.R));
+  if (check_slips) check_slip_relaxation(s.options, path + ": solver.slip_method", "solver.method");
+  // The structs' own checks (the relations between keys among them: a < R, min_step <=
+  // max_step), named by the file.
+  try {
+    s.contact.validate();
+    s.options.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
   }
 }
 

@@ -20,7 +20,12 @@ namespace asperity::app {
 namespace {
 
 // Limits of contact.a in a slide scene (slide_io.cpp), applied to every point.
-constexpr double kMinA = 1.0, kMaxA = 4096.0;
+// The allowed contact radii: contact.a's range (interface::ContactScene::settings()).
+const settings::Range& a_range() {
+  static const settings::Range r =
+      settings::find(interface::ContactScene::settings(), "contact.a")->range;
+  return r;
+}
 
 // Shortest form that reads back to the same double: fingerprints compare exactly.
 using settings::format_number;
@@ -129,7 +134,8 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
     for (std::size_t i = 0; i < list.values.size(); ++i) {
       const double v = list.values[i];
       const double a = s.a ? v : contact_radius_for(c, v);
-      if (a >= kMinA && a <= kMaxA && a < c.R) {
+      const double a_min = *a_range().lower, a_max = *a_range().upper;
+      if (a_range().contains(a) && a < c.R) {
         interface::ContactScene point = c;
         point.a = a;
         try {
@@ -143,17 +149,17 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
       const std::string with_R = " with R = " + format_number(c.R) + " d (" + element(s.R, j) + ")";
       if (s.a) {
         throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
-                                    ": allowed: [1, 4096] d and < R");
+                                    ": allowed: " + a_range().describe() + " d and < R");
       }
       // The same limits expressed in the target: x = c alpha a^2 / (R d) is increasing in a.
       const double k = bcore_factor(c) * c.alpha / (c.R * c.d);
-      const bool capped = kMaxA < c.R;
+      const bool capped = a_max < c.R;
       char allowed[160];
-      std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * kMinA * kMinA,
-                    k * (capped ? kMaxA * kMaxA : c.R * c.R), capped ? "]" : ")");
+      std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * a_min * a_min,
+                    k * (capped ? a_max * a_max : c.R * c.R), capped ? "]" : ")");
       throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
                                   " needs a = " + format_number(a) + " d: allowed: " + allowed +
-                                  " (a in [1, 4096] d and a < R)");
+                                  " (a in " + a_range().describe() + " d and a < R)");
     }
   }
   std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
@@ -206,14 +212,14 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
         c.alpha = 0.7;  // first guess; alpha_path gives 0.71-0.72 at sigma/d = 2^(-1/6)
         for (int round = 0; round < 3; ++round) {
           a = contact_radius_for(c, v);
-          if (!(a >= kMinA && a < 0.1 * R)) break;
+          if (!(a >= *a_range().lower && a < 0.1 * R)) break;
           const double alpha = explicit_alpha(explicit_point_scene(s, {a, R})).alpha;
           if (!std::isfinite(alpha)) break;
           c.alpha = alpha;
         }
         a = contact_radius_for(c, v);
       }
-      if (a >= kMinA && a <= kMaxA && a < 0.1 * R) {
+      if (a_range().contains(a) && a < 0.1 * R) {
         try {
           explicit_point_scene(s, {a, R}).slide.contact.validate();
         } catch (const std::invalid_argument& e) {
@@ -226,7 +232,8 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
       throw std::invalid_argument(
           element(list, i) + " = " + format_number(v) + with_R +
           (s.a ? std::string() : " needs a = " + format_number(a) + " d, which") +
-          " is outside the explicit model's range: a in [1, 4096] d and a/R < 0.1 (small "
+          " is outside the explicit model's range: a in " + a_range().describe() +
+          " d and a/R < 0.1 (small "
           "slopes, MODEL.md 4): raise R");
     }
   }
