@@ -18,6 +18,11 @@ std::uint64_t physical_memory_bytes();
 // `what` names the input (key, flag or file), so the message says what to change.
 void check_fits_in_memory(const std::string& what, double bytes, const std::string& how);
 
+// Peak resident memory of this process so far, in bytes (getrusage: ru_maxrss; 0 if it cannot be
+// read). A sweep running one point at a time in order of growing contact reports each point's
+// own peak; points run side by side share one.
+std::uint64_t peak_memory_bytes();
+
 // Free disk space of the file system holding `dir` (or its nearest existing parent), in bytes:
 // the environment variable ASPERITY_DISK_GIB if set (a positive number: for tests), otherwise
 // what statvfs gives an unprivileged writer (0 if it cannot be read).

@@ -186,7 +186,10 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"threads", o.fft.threads},
       // What differs between runs of the same scene with the same threads: everything outside
       // "run" is bit-identical between such runs (tests/regression/test_slide_resume.cpp).
-      {"run", {{"wall_s", r.wall_s}, {"provenance", provenance_json()}}},
+      {"run",
+       {{"wall_s", r.wall_s},
+        {"peak_memory_bytes", peak_memory_bytes()},
+        {"provenance", provenance_json()}}},
   };
 }
 
@@ -565,7 +568,10 @@ std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesy
          {"fft_grid", {r.fft_grid.n0, r.fft_grid.n1}},
          {"active_sites", r.active_sites}}},
        {"threads", o.fft.threads},
-       {"run", {{"wall_s", r.wall_s}, {"provenance", provenance_json()}}}});
+       {"run",
+        {{"wall_s", r.wall_s},
+         {"peak_memory_bytes", peak_memory_bytes()},
+         {"provenance", provenance_json()}}}});
   written.push_back(dir / "summary.json");
   return written;
 }
