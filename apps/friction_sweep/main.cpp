@@ -37,6 +37,7 @@
 #include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
+#include "common/point_runner.hpp"
 #include "common/slide_checkpoint.hpp"
 #include "common/slide_io.hpp"
 #include "common/snapshot_sink.hpp"
@@ -466,7 +467,6 @@ int main(int argc, char** argv) {
 
     std::mutex table_mutex;   // rows, sweep.csv and the progress lines
     std::mutex output_mutex;  // the NetCDF library is not thread-safe
-    std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::exception_ptr fatal;  // failure to write sweep.csv: ends the sweep
     std::size_t finished = 0;
@@ -655,18 +655,8 @@ int main(int argc, char** argv) {
         record(job, app::error_row(ps, e.what(), seconds, job.x ? settings_x : settings));
       }
     };
-    {
-      std::vector<std::jthread> pool;
-      for (int j = 0; j < n_jobs; ++j) {
-        pool.emplace_back([&] {
-          while (!stop && !app::stop_requested()) {
-            const std::size_t i = next++;
-            if (i >= order.size()) break;
-            run_point(order[i]);
-          }
-        });
-      }
-    }  // joins
+    app::run_points(
+        order.size(), n_jobs, [&](std::size_t i) { run_point(order[i]); }, stop);
     if (fatal) std::rethrow_exception(fatal);
     const auto missing = [](const auto& r) { return !r.has_value(); };
     if (app::stop_requested() && (std::any_of(rows.begin(), rows.end(), missing) ||

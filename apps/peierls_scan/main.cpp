@@ -28,6 +28,7 @@
 #include "common/memory.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
+#include "common/point_runner.hpp"
 #include "common/snapshot_io.hpp"
 #include "common/toml_reader.hpp"
 #include "peierls/fit.hpp"
@@ -591,7 +592,6 @@ int main(int argc, char** argv) {
                    o.theta_deg, o.mx, o.my);
 
     std::mutex table_mutex, netcdf_mutex;
-    std::atomic<std::size_t> next{0};
     std::exception_ptr fatal;
     std::atomic<bool> stop{false};
     std::size_t finished = 0;
@@ -660,24 +660,8 @@ int main(int argc, char** argv) {
         stop = true;
       }
     };
-    {
-      std::vector<std::jthread> pool;
-      for (int j = 0; j < n_jobs; ++j) {
-        pool.emplace_back([&] {
-          while (!stop && !app::stop_requested()) {
-            const std::size_t i = next++;
-            if (i >= order.size()) break;
-            try {
-              run_point(order[i]);
-            } catch (...) {
-              const std::lock_guard lock(table_mutex);
-              if (!fatal) fatal = std::current_exception();
-              stop = true;
-            }
-          }
-        });
-      }
-    }
+    app::run_points(
+        order.size(), n_jobs, [&](std::size_t i) { run_point(order[i]); }, stop);
     if (fatal) std::rethrow_exception(fatal);
     if (app::stop_requested() &&
         std::any_of(rows.begin(), rows.end(), [](const auto& r) { return !r.has_value(); })) {

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -24,6 +26,7 @@
 #include "common/cli.hpp"
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
+#include "common/point_runner.hpp"
 #include "common/toml_reader.hpp"
 
 namespace asperity::app {
@@ -416,3 +419,39 @@ TEST(Progress, PrintsALineEveryStepInLogs) {
 
 }  // namespace
 }  // namespace asperity::app
+
+// The point runner (point_runner.hpp): every point once over several threads; a point that
+// throws stops the others from starting new points and its exception comes out; a point that
+// sets `stop` likewise ends the run.
+TEST(PointRunner, RunsEveryPointOnceAndStopsOnFailure) {
+  std::vector<std::atomic<int>> runs(50);
+  std::atomic<bool> stop{false};
+  asperity::app::run_points(
+      runs.size(), 3, [&](std::size_t i) { ++runs[i]; }, stop);
+  for (const auto& r : runs)
+    EXPECT_EQ(r.load(), 1);
+  EXPECT_FALSE(stop);
+
+  std::atomic<int> started{0};
+  EXPECT_THROW(asperity::app::run_points(
+                   1000, 2,
+                   [&](std::size_t i) {
+                     ++started;
+                     if (i == 3) throw std::runtime_error("point 3 failed");
+                   },
+                   stop),
+               std::runtime_error);
+  EXPECT_TRUE(stop);
+  EXPECT_LT(started.load(), 1000);
+
+  stop = false;
+  started = 0;
+  asperity::app::run_points(
+      1000, 1,
+      [&](std::size_t i) {
+        ++started;
+        if (i == 9) stop = true;
+      },
+      stop);
+  EXPECT_EQ(started.load(), 10);
+}
