@@ -266,6 +266,98 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   return record;
 }
 
+// What the tool does with each frame, besides the options of the libraries.
+struct FrameOptions {
+  tracking::DetectOptions detect;
+  tracking::TrackOptions track;
+  int plot_every = 1;
+  bool profiles = false;
+  LocalPeierls peierls;
+};
+
+// Where a frame of the sequence came from (events.csv).
+struct FrameInfo {
+  std::string file, label;
+  int frame_in_file = 0, iteration = -1;
+  double Dx = 0.0;
+};
+
+// Counts over the sequence (summary.json).
+struct Tally {
+  std::map<std::string, int> kinds;
+  std::size_t max_lines = 0, figures = 0;
+  double detect_s = 0.0, detect_max_s = 0.0;
+};
+
+// One frame: its lines found and followed (MODEL.md 7), its figures, and its entry of
+// lines.json.
+nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int index,
+                           const FrameInfo& where, bool periodic, const FrameOptions& o,
+                           tracking::Tracker& tracker, Tally& tally) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const tracking::FrameLines f = tracking::find_lines(tracking::view_of(s, periodic), o.detect);
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  tally.detect_s += dt;
+  tally.detect_max_s = std::max(tally.detect_max_s, dt);
+  const std::vector<int> ids = tracker.add(f);
+  tally.max_lines = std::max(tally.max_lines, f.lines.size());
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t j = 0; j < f.lines.size(); ++j) {
+    lines.push_back(line_json(f.lines[j], ids[j], f, o.track.centre_fraction));
+    ++tally.kinds[tracking::to_string(f.lines[j].kind)];
+  }
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04d.png", index);
+  const bool plot = o.plot_every > 0 && index % o.plot_every == 0;
+  nlohmann::json profile = nullptr;
+  if (plot) {
+    std::ostringstream title;
+    title << s.label << " #" << where.frame_in_file << " (iteration " << s.iteration
+          << ", Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
+    plot_frame(dir / name, s, f, title.str());
+    ++tally.figures;
+    if (o.profiles) {
+      std::ostringstream short_title;
+      short_title << s.label << " (Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
+      profile = write_profiles(dir, index, s, f, ids, o.peierls, short_title.str());
+    }
+  }
+  return {{"frame", index},
+          {"file", where.file},
+          {"frame_in_file", where.frame_in_file},
+          {"label", s.label},
+          {"iteration", s.iteration},
+          {"Dx", s.Dx},
+          {"periodic", periodic},
+          {"contact_sites", f.contact_sites},
+          {"contact_centre", {f.contact_centre.x, f.contact_centre.y}},
+          {"contact_radius", f.contact_radius},
+          {"core_crossings", f.core_crossings},
+          {"registry_crossings_rejected", f.registry_crossings},
+          {"dropped_short", f.dropped_short},
+          {"figure", plot ? nlohmann::json(name) : nullptr},
+          {"profiles", profile},
+          {"lines", lines}};
+}
+
+// events.csv from the tracker's events; returns their counts by type.
+std::map<std::string, int> write_events(const fs::path& csv, const tracking::Tracker& tracker,
+                                        const std::vector<FrameInfo>& info) {
+  app::CsvTable events({"frame", "file", "label", "iteration", "Dx", "type", "before_ids",
+                        "after_ids", "x", "y", "location", "slipped_area_change"});
+  std::map<std::string, int> counts;
+  for (const auto& e : tracker.events()) {
+    const FrameInfo& fi = info[static_cast<std::size_t>(e.frame)];
+    events.add_row({static_cast<long long>(e.frame), fi.file, fi.label,
+                    static_cast<long long>(fi.iteration), fi.Dx, tracking::to_string(e.type),
+                    join_ids(e.before), join_ids(e.after), e.where.x, e.where.y, e.location,
+                    e.slipped_area_change});
+    ++counts[tracking::to_string(e.type)];
+  }
+  events.write(csv);
+  return counts;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -273,9 +365,10 @@ int main(int argc, char** argv) {
     CLI::App cli{"Find, trace and follow dislocation lines and loops in NetCDF snapshots"};
     std::vector<std::string> files;
     std::string out = "results/track_loops";
-    tracking::DetectOptions detect;
-    tracking::TrackOptions track;
-    int plot_every = 1;
+    FrameOptions o;
+    tracking::DetectOptions& detect = o.detect;
+    tracking::TrackOptions& track = o.track;
+    int& plot_every = o.plot_every;
     bool force_periodic = false;
     cli.add_option("snapshots", files,
                    "NetCDF snapshot files (contact_slide snapshots/*.nc, peierls_scan cells); "
@@ -320,7 +413,7 @@ int main(int argc, char** argv) {
     cli.add_option("--plot-every", plot_every, "A figure every N frames (0: none)")
         ->check(CLI::Range(0, 1000000))
         ->capture_default_str();
-    bool profiles = false;
+    bool& profiles = o.profiles;
     cli.add_flag("--profiles", profiles,
                  "Per plotted frame also the stress along x and along y through the tip centre "
                  "(profile_NNNN.csv, profile_x/y_NNNN.png): tau_x / (alpha p0), +-alpha p and the "
@@ -336,7 +429,7 @@ int main(int argc, char** argv) {
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     detect.validate();
     track.validate();
-    LocalPeierls peierls;
+    LocalPeierls& peierls = o.peierls;
     nlohmann::json peierls_json = nullptr;
     if (!peierls_path.empty()) {
       if (!profiles) throw std::invalid_argument("--peierls is drawn beside --profiles: add it");
@@ -353,15 +446,8 @@ int main(int argc, char** argv) {
     const fs::path dir = app::ensure_directory(out);
     tracking::Tracker tracker(track);
     nlohmann::json frames_json = nlohmann::json::array(), inputs = nlohmann::json::array();
-    struct FrameInfo {
-      std::string file, label;
-      int frame_in_file = 0, iteration = -1;
-      double Dx = 0.0;
-    };
     std::vector<FrameInfo> info;
-    std::map<std::string, int> kinds;
-    std::size_t max_lines = 0, figures = 0;
-    double detect_s = 0.0, detect_max_s = 0.0;
+    Tally tally;
     // A bad file anywhere in the list stops the run before any work (fields are read later).
     for (const auto& file : files)
       app::check_snapshot_file(file);
@@ -387,55 +473,10 @@ int main(int argc, char** argv) {
                         {"frames", snaps.size()},
                         {"periodic", periodic}});
       for (std::size_t k = 0; k < snaps.size(); ++k) {
-        const auto& s = snaps[k];
-        const int index = static_cast<int>(info.size());
-        const auto t0 = std::chrono::steady_clock::now();
-        const tracking::FrameLines f = tracking::find_lines(tracking::view_of(s, periodic), detect);
-        const double dt =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        detect_s += dt;
-        detect_max_s = std::max(detect_max_s, dt);
-        const std::vector<int> ids = tracker.add(f);
-        info.push_back(
-            {fs::path(file).filename().string(), s.label, static_cast<int>(k), s.iteration, s.Dx});
-        max_lines = std::max(max_lines, f.lines.size());
-        nlohmann::json lines = nlohmann::json::array();
-        for (std::size_t j = 0; j < f.lines.size(); ++j) {
-          lines.push_back(line_json(f.lines[j], ids[j], f, track.centre_fraction));
-          ++kinds[tracking::to_string(f.lines[j].kind)];
-        }
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%04d.png", index);
-        const bool plot = plot_every > 0 && index % plot_every == 0;
-        if (plot) {
-          std::ostringstream title;
-          title << s.label << " #" << k << " (iteration " << s.iteration << ", Dx = " << s.Dx
-                << " d): " << f.lines.size() << " line(s)";
-          plot_frame(dir / name, s, f, title.str());
-          ++figures;
-        }
-        nlohmann::json profile = nullptr;
-        if (plot && profiles) {
-          std::ostringstream title;
-          title << s.label << " (Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
-          profile = write_profiles(dir, index, s, f, ids, peierls, title.str());
-        }
-        frames_json.push_back({{"frame", index},
-                               {"file", info.back().file},
-                               {"frame_in_file", k},
-                               {"label", s.label},
-                               {"iteration", s.iteration},
-                               {"Dx", s.Dx},
-                               {"periodic", periodic},
-                               {"contact_sites", f.contact_sites},
-                               {"contact_centre", {f.contact_centre.x, f.contact_centre.y}},
-                               {"contact_radius", f.contact_radius},
-                               {"core_crossings", f.core_crossings},
-                               {"registry_crossings_rejected", f.registry_crossings},
-                               {"dropped_short", f.dropped_short},
-                               {"figure", plot ? nlohmann::json(name) : nullptr},
-                               {"profiles", profile},
-                               {"lines", lines}});
+        info.push_back({fs::path(file).filename().string(), snaps[k].label, static_cast<int>(k),
+                        snaps[k].iteration, snaps[k].Dx});
+        frames_json.push_back(track_frame(dir, snaps[k], static_cast<int>(info.size()) - 1,
+                                          info.back(), periodic, o, tracker, tally));
       }
     }
     if (info.empty()) {
@@ -444,18 +485,7 @@ int main(int argc, char** argv) {
                    : "--label " + label + ": no frame with this label in the files");
     }
 
-    app::CsvTable events({"frame", "file", "label", "iteration", "Dx", "type", "before_ids",
-                          "after_ids", "x", "y", "location", "slipped_area_change"});
-    std::map<std::string, int> counts;
-    for (const auto& e : tracker.events()) {
-      const FrameInfo& fi = info[static_cast<std::size_t>(e.frame)];
-      events.add_row({static_cast<long long>(e.frame), fi.file, fi.label,
-                      static_cast<long long>(fi.iteration), fi.Dx, tracking::to_string(e.type),
-                      join_ids(e.before), join_ids(e.after), e.where.x, e.where.y, e.location,
-                      e.slipped_area_change});
-      ++counts[tracking::to_string(e.type)];
-    }
-    events.write(dir / "events.csv");
+    const std::map<std::string, int> counts = write_events(dir / "events.csv", tracker, info);
     app::write_json(dir / "lines.json",
                     {{"description",
                       "per frame of the sequence: the dislocation lines found (MODEL.md 7); "
@@ -480,22 +510,23 @@ int main(int argc, char** argv) {
                                              {"peierls", peierls_json}}},
                                            {"results",
                                             {{"frames", info.size()},
-                                             {"max_lines_per_frame", max_lines},
-                                             {"lines_by_kind", kinds},
+                                             {"max_lines_per_frame", tally.max_lines},
+                                             {"lines_by_kind", tally.kinds},
                                              {"events_by_type", counts},
-                                             {"figures", figures}}},
+                                             {"figures", tally.figures}}},
                                            {"run",
-                                            {{"detect_s", detect_s},
-                                             {"detect_max_frame_s", detect_max_s},
+                                            {{"detect_s", tally.detect_s},
+                                             {"detect_max_frame_s", tally.detect_max_s},
                                              {"wall_s", wall},
                                              {"provenance", app::provenance_json()}}}});
 
-    std::printf("%zu frame(s), at most %zu line(s) per frame; events:", info.size(), max_lines);
+    std::printf("%zu frame(s), at most %zu line(s) per frame; events:", info.size(),
+                tally.max_lines);
     if (counts.empty()) std::printf(" none");
     for (const auto& [type, count] : counts)
       std::printf(" %s %d", type.c_str(), count);
     std::printf("\nresults: %s, %s, %s (%zu figure(s))\n", (dir / "lines.json").c_str(),
-                (dir / "events.csv").c_str(), (dir / "summary.json").c_str(), figures);
+                (dir / "events.csv").c_str(), (dir / "summary.json").c_str(), tally.figures);
     return 0;
   });
 }
