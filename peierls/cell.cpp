@@ -99,19 +99,38 @@ CellModel cell_model_from_string(const std::string& name) {
   throw std::invalid_argument("cell model: got '" + name + "', allowed: reduced, full");
 }
 
+const settings::Table<CellOptions>& CellOptions::settings() {
+  using R = settings::Range;
+  using O = CellOptions;
+  static const settings::Table<O> table = [] {
+    settings::Table<O> t = {
+        settings::integer<O>(
+            "cell.L", [](auto& o) -> auto& { return o.L; }, R::closed(8, 1 << 16), "",
+            "cell size: sites per period along x and y (even)", "--L"),
+        settings::choice<O>(
+            "cell.model", [](auto& o) -> auto& { return o.model; }, {"reduced", "full"},
+            [](CellModel m) { return to_string(m); }, cell_model_from_string,
+            "cell model: reduced (the line's profile) | full (every site)", "--model"),
+        settings::integer<O>(
+            "cell.alias_images", [](auto& o) -> auto& { return o.alias_images; },
+            R::closed(1, 1000), "", "reciprocal images per direction in the periodic kernel")};
+    settings::lift(
+        t, elastic::Material::settings(), "material.", [](auto& o) -> auto& { return o.material; });
+    return t;
+  }();
+  return table;
+}
+
 void CellOptions::validate() const {
-  const std::string where = "CellOptions";
-  require_at_least(where + ".L", L, 8);
-  if (L % 2 != 0) reject(where + ".L", std::to_string(L), "even");
+  settings::validate(*this, settings());
+  if (L % 2 != 0) reject("cell.L", std::to_string(L), "even");
   if (mx < 0 || my < 0 || std::gcd(mx, my) != 1) {
     std::string value = std::to_string(mx);
     value.append(", ").append(std::to_string(my));
-    reject(where + ".(mx, my)", value, "non-negative integers with gcd 1 (one line per cell)");
+    reject("CellOptions.(mx, my)", value, "non-negative integers with gcd 1 (one line per cell)");
   }
-  require_positive(where + ".b_core", b_core);
-  material.validate();
-  require_at_least(where + ".alias_images", alias_images, 1);
-  require_at_least(where + ".threads", threads, 1);
+  require_positive("CellOptions.b_core", b_core);
+  require_at_least("CellOptions.threads", threads, 1);
 }
 
 PeierlsCell::PeierlsCell(const CellOptions& options) : options_(options) {

@@ -65,6 +65,9 @@ struct CellOptions {
   int alias_images = 12;                 // reciprocal images per direction in the periodic kernel
   int threads = 1;                       // FFT threads (full model)
 
+  // The settings of a scan's cell (keys "cell.L", "cell.model", "cell.alias_images",
+  // "material.G", "material.nu"); b_core and (mx, my) are a point's own, threads the run's.
+  static const settings::Table<CellOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

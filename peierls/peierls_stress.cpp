@@ -14,17 +14,39 @@
 
 namespace asperity::peierls {
 
+const settings::Table<PeierlsOptions>& PeierlsOptions::settings() {
+  using R = settings::Range;
+  using O = PeierlsOptions;
+  static const settings::Table<O> table = [] {
+    settings::Table<O> t;
+    settings::lift(
+        t, CellOptions::settings(), "", [](auto& o) -> auto& { return o.cell; });
+    t.push_back(settings::number<O>(
+        "solver.precision", [](auto& o) -> auto& { return o.precision; }, R::open(0.0, 0.5), "",
+        "relative half-width of the final bracket of tau_P", "--precision"));
+    t.push_back(settings::number<O>(
+        "solver.tolerance", [](auto& o) -> auto& { return o.tolerance; }, R::open_closed(0.0, 0.1),
+        "", "force tolerance per site as a fraction of tau d^2", "--tolerance"));
+    t.push_back(settings::number<O>(
+        "solver.glide_threshold", [](auto& o) -> auto& { return o.glide_threshold; },
+        R::closed(0.5, 2.0), "d", "displacement from the zero-stress state that means glide"));
+    t.push_back(settings::boolean<O>(
+        "solver.both_signs", [](auto& o) -> auto& { return o.both_signs; },
+        "also the threshold for negative stress"));
+    t.push_back(settings::number<O>(
+        "solver.perturbation", [](auto& o) -> auto& { return o.perturbation; }, R::closed(0.0, 0.1),
+        "d", "largest random displacement of the full cell's initial state"));
+    settings::lift(
+        t, minimize::StiffnessOptions::settings(), "solver.",
+        [](auto& o) -> auto& { return o.minimizer; });
+    return t;
+  }();
+  return table;
+}
+
 void PeierlsOptions::validate() const {
-  const std::string where = "PeierlsOptions";
-  cell.validate();
-  if (!(precision > 0.0 && precision < 0.5))
-    reject(where + ".precision", std::to_string(precision), "in (0, 0.5)");
-  if (!(tolerance > 0.0 && tolerance <= 0.1))
-    reject(where + ".tolerance", std::to_string(tolerance), "in (0, 0.1]");
-  if (!(glide_threshold >= 0.5 && glide_threshold <= 2.0))
-    reject(where + ".glide_threshold", std::to_string(glide_threshold), "in [0.5, 2] d");
-  if (!(perturbation >= 0.0 && perturbation <= 0.1))
-    reject(where + ".perturbation", std::to_string(perturbation), "in [0, 0.1] d");
+  cell.validate();  // the cell's relations (even L, the point's own b_core and line)
+  settings::validate(*this, settings());
   minimizer.validate();
 }
 
@@ -217,11 +239,24 @@ PeierlsResult peierls_stress(const PeierlsOptions& options) {
   return result;
 }
 
+const settings::Table<CellSizeOptions>& CellSizeOptions::settings() {
+  using R = settings::Range;
+  using O = CellSizeOptions;
+  static const settings::Table<O> table = {
+      settings::number<O>(
+          "cell.L_tolerance", [](auto& o) -> auto& { return o.tolerance; },
+          R::closed_open(0.0, 1.0), "",
+          "relative change of tau_P on doubling L below which the cell is large enough (0: "
+          "one cell)",
+          "--L-tolerance"),
+      settings::integer<O>(
+          "cell.max_L", [](auto& o) -> auto& { return o.max_L; }, R::closed(8, 1 << 16), "",
+          "largest cell tried when doubling L", "--max-L")};
+  return table;
+}
+
 void CellSizeOptions::validate() const {
-  if (!(tolerance >= 0.0 && tolerance < 1.0))
-    reject("CellSizeOptions.tolerance", std::to_string(tolerance), "in [0, 1)");
-  if (!(max_L >= 8 && max_L <= (1 << 16)))
-    reject("CellSizeOptions.max_L", std::to_string(max_L), "in [8, 65536]");
+  settings::validate(*this, settings());
 }
 
 CellSizeResult peierls_stress_converged(const PeierlsOptions& options,

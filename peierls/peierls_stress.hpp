@@ -43,6 +43,9 @@ struct PeierlsOptions {
   // Minimiser settings (its force_tolerance is set per relaxation from `tolerance`).
   minimize::StiffnessOptions minimizer;
 
+  // The settings (the cell's, "solver.precision", "solver.tolerance", "solver.glide_threshold",
+  // "solver.both_signs", "solver.perturbation", and the minimiser's under "solver.").
+  static const settings::Table<PeierlsOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };
@@ -101,6 +104,8 @@ struct CellSizeOptions {
   // L as given (one cell).
   double tolerance = 0.01;
   int max_L = 4096;  // largest cell tried (sites per period); the last change is reported
+  // The settings ("cell.L_tolerance", "cell.max_L").
+  static const settings::Table<CellSizeOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

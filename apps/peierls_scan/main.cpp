@@ -29,6 +29,7 @@
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/point_runner.hpp"
+#include "common/settings_cli.hpp"
 #include "common/snapshot_io.hpp"
 #include "common/toml_reader.hpp"
 #include "peierls/fit.hpp"
@@ -54,6 +55,40 @@ struct Scene {
 // Shortest form that reads back to the same double: fingerprints compare exactly.
 using settings::format_number;
 
+// Every setting of a scan scene but its lists (scan.b_core, scan.theta): the cell's, the
+// solver's and the cell-size search's (peierls/), and the scan's own.
+const settings::Table<Scene>& scene_settings() {
+  using R = settings::Range;
+  static const settings::Table<Scene> table = [] {
+    settings::Table<Scene> t;
+    settings::lift(
+        t, peierls::PeierlsOptions::settings(), "", [](auto& s) -> auto& { return s.options; });
+    settings::lift(
+        t, peierls::CellSizeOptions::settings(), "", [](auto& s) -> auto& { return s.cell_size; });
+    t.push_back(settings::number<Scene>(
+        "scan.angle_tolerance", [](auto& s) -> auto& { return s.angle_tolerance; },
+        R::closed(0.0, 45.0), "degrees",
+        "largest difference of a cell's line angle from a wanted one"));
+    t.push_back(settings::neutral(settings::integer<Scene>(
+        "scan.jobs", [](auto& s) -> auto& { return s.jobs; }, R::closed(0, 1024), "",
+        "points run at once (0: hardware threads)")));
+    t.push_back(settings::neutral(settings::boolean<Scene>(
+        "scan.snapshots", [](auto& s) -> auto& { return s.snapshots; },
+        "NetCDF snapshots of each point's cell")));
+    t.push_back(settings::number<Scene>(
+        "cell.min_line_spacing", [](auto& s) -> auto& { return s.min_line_spacing; }, R::positive(),
+        "d", "smallest distance between a line and its periodic images"));
+    t.push_back(settings::number<Scene>(
+        "fit.b_min", [](auto& s) -> auto& { return s.fit_b_min; }, R::non_negative(), "d",
+        "fit window of tau_P = k1 tau_max exp(-k2 b_core/d): smallest core width"));
+    t.push_back(settings::number<Scene>(
+        "fit.b_max", [](auto& s) -> auto& { return s.fit_b_max; }, R::positive(), "d",
+        "fit window: largest core width"));
+    return t;
+  }();
+  return table;
+}
+
 Scene read_scene(const std::string& path) {
   app::SceneReader r = app::SceneReader::from_file(path);
   using app::Range;
@@ -61,34 +96,7 @@ Scene read_scene(const std::string& path) {
   s.source = path;
   s.b_core = r.numbers("scan.b_core", {1, 2, 3, 4, 5, 6}, Range::closed(0.1, 1000));
   s.theta = r.numbers("scan.theta", {0, 45, 63.4, 90}, Range::closed(0, 90));
-  s.angle_tolerance = r.number("scan.angle_tolerance", 0.5, Range::closed(0, 45));
-  s.jobs = r.integer("scan.jobs", 0, Range::closed(0, 1024));
-  s.snapshots = r.boolean("scan.snapshots", false);
-  auto& c = s.options.cell;
-  c.L = r.integer("cell.L", 256, Range::closed(8, 1 << 16));
-  s.cell_size.tolerance = r.number("cell.L_tolerance", 0.01, Range::closed_open(0, 1));
-  s.cell_size.max_L = r.integer("cell.max_L", 4096, Range::closed(8, 1 << 16));
-  const std::string model = r.string("cell.model", "reduced");
-  try {
-    c.model = peierls::cell_model_from_string(model);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": cell.model: " + e.what());
-  }
-  c.alias_images = r.integer("cell.alias_images", 12, Range::closed(1, 1000));
-  s.min_line_spacing = r.number("cell.min_line_spacing", 16.0, Range::positive());
-  c.material.G = r.number("material.G", 1.0, Range::positive());
-  c.material.nu = r.number("material.nu", 0.5, Range::closed(0, 0.5));
-  auto& o = s.options;
-  o.precision = r.number("solver.precision", 1e-3, Range::open(0, 0.5));
-  o.tolerance = r.number("solver.tolerance", 1e-3, Range::open_closed(0, 0.1));
-  o.glide_threshold = r.number("solver.glide_threshold", 0.75, Range::closed(0.5, 2));
-  o.minimizer.max_iterations =
-      r.integer("solver.max_iterations", 50000, Range::closed(1, 100000000));
-  o.minimizer.memory = r.integer("solver.memory", 8, Range::closed(1, 100));
-  o.minimizer.max_displacement = r.number("solver.max_displacement", 0.1, Range::open_closed(0, 1));
-  o.perturbation = r.number("solver.perturbation", 1e-3, Range::closed(0, 0.1));
-  s.fit_b_min = r.number("fit.b_min", 2.0, Range::non_negative());
-  s.fit_b_max = r.number("fit.b_max", 1e9, Range::positive());
+  r.read(scene_settings(), s);
   r.reject_unknown();
   if (s.b_core.empty())
     throw std::invalid_argument(path + ": scan.b_core: empty, give at least one");
@@ -100,31 +108,14 @@ Scene read_scene(const std::string& path) {
   return s;
 }
 
-// Everything but the point's own (b_core, orientation) that changes a result.
+// Everything but the point's own (b_core, orientation) that changes a result: the scene's
+// settings that do, exact, and the build (another build may resolve a threshold differently:
+// its rows are not reused).
 std::string fingerprint(const Scene& s) {
-  const auto& o = s.options;
-  std::string f;
-  const auto add = [&f](const char* key, const std::string& value) {
-    if (!f.empty()) f.append(" ");
-    f.append(key).append("=").append(value);
-  };
-  add("L", std::to_string(o.cell.L));
-  add("L_tol", format_number(s.cell_size.tolerance));
-  add("max_L", std::to_string(s.cell_size.max_L));
-  add("model", peierls::to_string(o.cell.model));
-  add("alias", std::to_string(o.cell.alias_images));
-  add("G", format_number(o.cell.material.G));
-  add("nu", format_number(o.cell.material.nu));
-  add("precision", format_number(o.precision));
-  add("tol", format_number(o.tolerance));
-  add("glide", format_number(o.glide_threshold));
-  add("iter", std::to_string(o.minimizer.max_iterations));
-  add("mem", std::to_string(o.minimizer.memory));
-  add("maxdisp", format_number(o.minimizer.max_displacement));
-  if (o.cell.model == peierls::CellModel::full) add("push", format_number(o.perturbation));
-  // Another build may resolve a threshold differently: its rows are not reused.
-  add("code", app::provenance_token());
-  return f;
+  return settings::fingerprint(
+             s, scene_settings(), true,
+             {"scan.angle_tolerance", "cell.min_line_spacing", "fit.b_min", "fit.b_max"}) +
+         " code=" + app::provenance_token();
 }
 
 struct Point {
@@ -470,10 +461,7 @@ int main(int argc, char** argv) {
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
     std::string out = "results/peierls_scan";
     std::vector<double> b_core, theta;
-    std::optional<int> L, jobs;
-    std::optional<std::string> model;
-    std::optional<double> nu, precision, tolerance, L_tolerance;
-    std::optional<int> max_L;
+    std::optional<int> jobs;
     bool snapshots = false, list_angles = false;
     cli.add_option("scene", scene_path, "Scan scene file (TOML)")
         ->check(CLI::ExistingFile)
@@ -484,20 +472,10 @@ int main(int argc, char** argv) {
     cli.add_option("--theta", theta, "Line angles (degrees, 0 screw, 90 edge), comma-separated")
         ->delimiter(',')
         ->check(app::finite_number(0, 90));
-    cli.add_option("--L", L, "Cell size (sites per period)")->check(CLI::Range(8, 1 << 16));
-    cli.add_option("--L-tolerance", L_tolerance,
-                   "Double L until tau_P changes by less than this (relative; 0: L as given)")
-        ->check(app::finite_number(0, 1));
-    cli.add_option("--max-L", max_L, "Largest cell tried when doubling L")
-        ->check(CLI::Range(8, 1 << 16));
-    cli.add_option("--model", model, "Cell model: reduced | full")
-        ->check(CLI::IsMember({"reduced", "full"}));
-    cli.add_option("--nu", nu, "Poisson ratio")->check(app::finite_number(0, 0.5));
-    cli.add_option("--precision", precision, "Relative half-width of the tau_P bracket")
-        ->check(app::finite_number(0, 0.5, true));
-    cli.add_option("--tolerance", tolerance,
-                   "Force tolerance per site as a fraction of the applied stress")
-        ->check(app::finite_number(0, 0.1, true));
+    // --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance: from the scene's
+    // settings table.
+    app::SettingFlags flags;
+    flags.add(cli, scene_settings());
     cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads)")
         ->check(CLI::Range(1, 1024));
     cli.add_flag("--snapshots", snapshots, "NetCDF snapshots of each point's cell");
@@ -508,13 +486,7 @@ int main(int argc, char** argv) {
     Scene s = read_scene(scene_path);
     if (!b_core.empty()) s.b_core = b_core;
     if (!theta.empty()) s.theta = theta;
-    if (L) s.options.cell.L = *L;
-    if (L_tolerance) s.cell_size.tolerance = *L_tolerance;
-    if (max_L) s.cell_size.max_L = *max_L;
-    if (model) s.options.cell.model = peierls::cell_model_from_string(*model);
-    if (nu) s.options.cell.material.nu = *nu;
-    if (precision) s.options.precision = *precision;
-    if (tolerance) s.options.tolerance = *tolerance;
+    flags.apply(scene_settings(), s);
     if (jobs) s.jobs = *jobs;
     if (snapshots) s.snapshots = true;
     s.options.validate();

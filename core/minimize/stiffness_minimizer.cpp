@@ -12,18 +12,36 @@
 
 namespace asperity::minimize {
 
+const settings::Table<StiffnessOptions>& StiffnessOptions::settings() {
+  using R = settings::Range;
+  using O = StiffnessOptions;
+  static const settings::Table<O> table = {
+      settings::integer<O>(
+          "max_iterations", [](auto& o) -> auto& { return o.max_iterations; },
+          R::closed(1, 100000000), "", "iterations per minimisation"),
+      settings::integer<O>(
+          "memory", [](auto& o) -> auto& { return o.memory; }, R::closed(1, 100), "",
+          "L-BFGS pairs kept"),
+      settings::number<O>(
+          "max_displacement", [](auto& o) -> auto& { return o.max_displacement; },
+          R::open_closed(0.0, 1.0), "d", "largest displacement of a site in one iteration"),
+      settings::integer<O>(
+          "refresh_interval", [](auto& o) -> auto& { return o.refresh_interval; }, R::at_least(1),
+          "", "recompute K u every this many iterations (drift)"),
+      settings::integer<O>(
+          "stall_window", [](auto& o) -> auto& { return o.stall_window; }, R::at_least(10), "",
+          "stalled when the best residual has not fallen by 1% over this many iterations")};
+  return table;
+}
+
 void StiffnessOptions::validate() const {
-  const std::string where = "StiffnessOptions";
+  settings::validate(*this, settings());
   if (!(force_tolerance >= 0.0) || !std::isfinite(force_tolerance)) {
-    throw std::invalid_argument(where + ".force_tolerance: got " + std::to_string(force_tolerance) +
-                                ", allowed: finite and >= 0");
+    throw std::invalid_argument("StiffnessOptions.force_tolerance: got " +
+                                std::to_string(force_tolerance) + ", allowed: finite and >= 0");
   }
-  require_at_least(where + ".max_iterations", max_iterations, 1);
-  require_at_least(where + ".memory", memory, 1);
-  require_positive(where + ".max_displacement", max_displacement);
-  require_at_least(where + ".refresh_interval", refresh_interval, 1);
-  require_at_least(where + ".stall_window", stall_window, 10);
-  if (!(stall_band >= 1.0)) reject(where + ".stall_band", std::to_string(stall_band), ">= 1");
+  if (!(stall_band >= 1.0))
+    reject("StiffnessOptions.stall_band", std::to_string(stall_band), ">= 1");
 }
 
 namespace {

@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "common/settings.hpp"
 #include "common/termination.hpp"
 
 namespace asperity::minimize {
@@ -53,6 +54,10 @@ struct StiffnessOptions {
   // not stagnating. Infinity: the window alone decides.
   double stall_band = std::numeric_limits<double>::infinity();
 
+  // The settings a scene may give (keys "max_iterations", "memory", "max_displacement",
+  // "refresh_interval", "stall_window"): common/settings.hpp. force_tolerance is set by the
+  // caller per relaxation, stall_band is infinite unless a caller asks otherwise.
+  static const settings::Table<StiffnessOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

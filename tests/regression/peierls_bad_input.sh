@@ -33,7 +33,7 @@ check flag_precision "--precision" --precision 0
 check flag_tolerance "--tolerance" --tolerance inf
 check flag_unknown "--frobnicate" --frobnicate=3
 check angle_not_offered "offered" --L 16 --theta 63.4
-check L_odd "CellOptions.L" --L 255
+check L_odd "cell.L" --L 255
 check scene_unknown_key "scan.bogus" "$(scene unknown '[scan]
 bogus = 1')"
 check scene_wrong_type "cell.L" "$(scene type '[cell]
@@ -46,7 +46,7 @@ check scene_nu "material.nu" "$(scene nu '[material]
 nu = nan')"
 check scene_missing "scene" "$dir/no_such_scene.toml"
 check flag_L_tolerance "--L-tolerance" --L-tolerance -0.1
-check flag_L_tolerance_one "CellSizeOptions.tolerance" --L-tolerance 1
+check flag_L_tolerance_one "cell.L_tolerance" --L-tolerance 1
 check flag_max_L "--max-L" --max-L 100000
 check scene_b_core_empty "scan.b_core" "$(scene bcore_empty '[scan]
 b_core = []')"
