@@ -137,6 +137,267 @@ void finish_checkpoints(const CheckpointedSlide& c) {
   }
 }
 
+// What every kind of run of contact_slide takes from its command line.
+struct Run {
+  std::string scene_path, out;
+  bool scene_given = false;  // a scene file was named (else the model's default scene)
+  bool resume = false;
+  double checkpoint_every = 300.0;
+  const app::SettingFlags* flags = nullptr;
+  int argc = 0;
+  char** argv = nullptr;
+};
+
+// --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
+// from the final minimiser (SlideScene::make_slip_minimizer). Checked after every flag, so that
+// a flag can mend a scene's pair; the message names whichever of scene and flag set each half
+// (the scene's path once).
+void apply_slip_solver(const Run& run, app::SlideScene& scene) {
+  const bool slip_solver = run.flags->given("solver.slip_method");
+  const bool solver = run.flags->given("solver.method");
+  scene.make_slip_minimizer();
+  app::check_slip_relaxation(
+      scene.options,
+      slip_solver ? std::string("--slip-solver") : run.scene_path + ": solver.slip_method",
+      solver        ? std::string("--solver")
+      : slip_solver ? run.scene_path + ": solver.method"
+                    : std::string("solver.method"));
+}
+
+// The flags over an explicit scene: the tip's radius and the substrate's Poisson ratio are the
+// contact's.
+void apply_explicit_flags(const Run& run, app::ExplicitSlideScene& e) {
+  run.flags->apply(app::SlideScene::settings(), e.slide);
+  if (run.flags->given("contact.R")) e.model.R = e.slide.contact.R;
+  if (run.flags->given("material.nu")) e.model.material.nu = e.slide.contact.material.nu;
+}
+
+// The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
+int explicit_loading(const Run& run) {
+  std::string scene_path = run.scene_path;
+  const std::string& out = run.out;
+  if (!run.scene_given) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
+  app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
+  auto& c = e.slide.contact;
+  apply_explicit_flags(run, e);
+  c.validate();
+  e.model.validate();
+  explicit_model::require_small_slope(c.a, c.R);
+  const double load = c.hertz().load;
+  std::fprintf(stderr,
+               "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
+               "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; normal loading\n",
+               c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
+               e.model.sigma_over_d, c.material.nu);
+  explicit_model::LoadOptions lo{.load = load};
+  lo.minimizer = e.slide.options.minimizer;
+  lo.fft = e.slide.options.fft;
+  const auto r = explicit_model::load_to_force(e.model, lo);
+  const auto files = app::write_explicit_load_outputs(out, e, r);
+  std::printf(
+      "Fz = %.6g G d^2 (target %.6g), delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
+      "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d)\n",
+      r.state.Fz, r.target, r.delta, r.hertz.approach, 100.0 * r.delta_error, 100.0 * r.load_error,
+      r.state.a_area, r.state.a_moment, r.hertz.a);
+  std::printf("%s: %d load steps, %d minimisations, %d growths, %zu GF applications, %.2f s\n",
+              to_string(r.termination).c_str(), r.load_steps, r.minimizations, r.growths,
+              r.gf_applications, r.wall_s);
+  std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
+  for (const auto& f : files) {
+    if (f.extension() == ".png") std::printf(" %s", f.c_str());
+  }
+  std::printf("\n");
+  if (r.termination != Termination::converged) {
+    std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.message.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+// The explicit model loaded to the Hertz load of contact.a, then slid at fixed Fz with the LFM's
+// protocols (explicit/explicit_slide.hpp). alpha is a property of the potential.
+int explicit_sliding(const Run& run) {
+  std::string scene_path = run.scene_path;
+  const std::string& out = run.out;
+  const bool resume = run.resume;
+  const double checkpoint_every = run.checkpoint_every;
+  int argc_ = run.argc;
+  char** argv_ = run.argv;
+  if (!run.scene_given) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
+  app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
+  auto& c = e.slide.contact;
+  apply_explicit_flags(run, e);
+  apply_slip_solver(run, e.slide);
+  c.validate();
+  e.model.validate();
+  e.slide.options.validate();
+  explicit_model::require_small_slope(c.a, c.R);
+  const double load = c.hertz().load;
+  const app::ExplicitAlpha alpha_p = app::explicit_alpha(e);
+  std::fprintf(stderr,
+               "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
+               "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; alpha of the potential "
+               "%.4f (max Fx/Fz %.4f): a/b_core^0 = %.3g; %s protocol, tolerance %g\n",
+               c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
+               e.model.sigma_over_d, c.material.nu, alpha_p.alpha, alpha_p.alpha_force,
+               app::explicit_as_slide_scene(e, alpha_p).contact.a_over_bcore0(),
+               slide::to_string(e.slide.options.protocol).c_str(),
+               e.slide.options.minimizer.force_tolerance);
+  const std::string settings = app::explicit_slide_fingerprint(e, alpha_p);
+  if (resume) {
+    // A missing or foreign checkpoint is reported before the loading, not after it.
+    const auto file = std::filesystem::path(out) / "checkpoint.cbor";
+    if (!std::filesystem::exists(file)) {
+      throw std::invalid_argument("--resume: no checkpoint " + file.string() +
+                                  ": nothing to resume (run without --resume to start)");
+    }
+    app::check_checkpoint_settings(app::read_checkpoint(file), settings, file);
+  }
+  // Normal loading alone, with its comparison to Hertz, in <out>/loading.
+  explicit_model::LoadOptions lo{.load = load};
+  lo.minimizer = e.slide.options.minimizer;
+  lo.fft = e.slide.options.fft;
+  const auto lr = explicit_model::load_to_force(e.model, lo);
+  app::write_explicit_load_outputs(std::filesystem::path(out) / "loading", e, lr);
+  std::printf(
+      "loading: Fz = %.6g G d^2, delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
+      "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d); "
+      "%zu GF applications, %.2f s\n",
+      lr.state.Fz, lr.delta, lr.hertz.approach, 100.0 * lr.delta_error, 100.0 * lr.load_error,
+      lr.state.a_area, lr.state.a_moment, lr.hertz.a, lr.gf_applications, lr.wall_s);
+  if (lr.termination != Termination::converged) {
+    std::fprintf(stderr, "contact_slide: loading FAILED: %s\n", lr.message.c_str());
+    return 1;
+  }
+  // A stop asked during the loading (which does not poll) is honoured at the slide's
+  // first step, which checkpoints the loaded state: the run resumes from there.
+  const app::SlideScene as_slide = app::explicit_as_slide_scene(e, alpha_p);
+  app::SnapshotSink frames(
+      std::filesystem::path(out) / "snapshots",
+      app::snapshot_attributes(as_slide, app::explicit_summary_extra(e, alpha_p)),
+      e.slide.snapshot_format);
+  const CheckpointedSlide slid = run_checkpointed(
+      out, settings, resume, checkpoint_every, frames,
+      [&](const slide::SlideControl& control) {
+        return app::slide_explicit_scene(e, alpha_p, control);
+      },
+      argc_, argv_);
+  const slide::SlideResult& r = slid.result;
+  if (r.interrupted) return app::kInterrupted;
+  const auto files = app::write_slide_outputs(
+      out, as_slide, r, {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
+  finish_checkpoints(slid);
+  std::printf(
+      "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
+      "%.4f d, precision %.1e), kinetic/static = %.3f, slip events %d\n",
+      r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", alpha_p.alpha,
+      alpha_p.alpha_force, r.peak_Dx, r.peak_precision, r.kinetic_over_static, r.slip_events);
+  std::printf(
+      "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications, %.2f s\n",
+      r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications, r.wall_s);
+  std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
+  for (const auto& f : files) {
+    if (f.extension() == ".png") std::printf(" %s", f.c_str());
+  }
+  std::printf("\n");
+  if (r.failed) {
+    // A failure in the first step leaves no good state to keep.
+    std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+    if (slid.checkpoints > 0) {
+      std::fprintf(stderr, "  the last good state is in %s\n", slid.checkpoint_file.c_str());
+    }
+  }
+  return r.failed ? 1 : 0;
+}
+
+// The lateral force model's slide (MODEL.md 3, 5).
+int lfm_sliding(const Run& run) {
+  std::string scene_path = run.scene_path;
+  const std::string& out = run.out;
+  const bool resume = run.resume;
+  const double checkpoint_every = run.checkpoint_every;
+  int argc_ = run.argc;
+  char** argv_ = run.argv;
+  app::SlideScene s = app::read_slide_scene(scene_path, false);
+  run.flags->apply(app::SlideScene::settings(), s);
+  apply_slip_solver(run, s);
+  const auto method = s.options.minimizer.method;
+  if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
+      (method == minimize::Method::cg || method == minimize::Method::fire)) {
+    std::fprintf(stderr,
+                 "contact_slide: note: the interface filter is used by lbfgs and newton only; "
+                 "%s preconditions with G\n",
+                 minimize::to_string(method).c_str());
+  }
+  s.contact.validate();
+  s.options.validate();
+  char a_text[64];
+  std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
+  const double memory = slide::estimated_slide_bytes(s.contact, s.options);
+  app::check_fits_in_memory(a_text, memory,
+                            "estimate: 260 bytes per point of the padded FFT grid of the block, "
+                            "the minimiser's vectors on the contact and the frames of one "
+                            "relaxation path");
+  const std::string output_line = app::check_output_fits(s, out);
+
+  std::fprintf(stderr,
+               "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
+               "lambda = %.3g; %s protocol, %s (preconditioner %s), tolerance %g\n",
+               s.contact.a, s.contact.R, s.contact.alpha, s.contact.material.nu,
+               s.contact.a_over_bcore0(), s.contact.lambda(),
+               slide::to_string(s.options.protocol).c_str(),
+               minimize::to_string(s.options.minimizer.method).c_str(),
+               minimize::to_string(s.options.minimizer.preconditioner).c_str(),
+               s.options.minimizer.force_tolerance);
+  std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
+               memory / 1e6, output_line.c_str());
+  app::SnapshotSink frames(std::filesystem::path(out) / "snapshots",
+                           app::snapshot_attributes(s, nullptr), s.snapshot_format);
+  const CheckpointedSlide slid = run_checkpointed(
+      out, app::slide_fingerprint(s), resume, checkpoint_every, frames,
+      [&](const slide::SlideControl& control) {
+        return slide::slide(s.contact, s.options, control);
+      },
+      argc_, argv_);
+  const slide::SlideResult& r = slid.result;
+  if (r.interrupted) return app::kInterrupted;
+  const auto files = app::write_slide_outputs(out, s, r);
+  finish_checkpoints(slid);
+
+  std::printf(
+      "mu = %.6f, mu/alpha = %.5f%s (peak at Dx = %.4f d, precision %.1e), "
+      "kinetic/static = %.3f, slip events %d\n",
+      r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", r.peak_Dx,
+      r.peak_precision, r.kinetic_over_static, r.slip_events);
+  std::printf(
+      "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications + %zu "
+      "interface filter passes, %.2f s\n",
+      r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications,
+      r.filter_applications, r.wall_s);
+  if (r.replayed_steps > 0) {
+    std::printf(
+        "cycle repeated at Dx = %.4f d (largest force difference %.1e G d^2): %d more "
+        "rows replayed, not computed\n",
+        r.cycle_verified_at, r.cycle_mismatch, r.replayed_steps);
+  }
+  std::printf("results: %s\n", (std::filesystem::path(out) / "summary.json").c_str());
+  std::printf("figures:");
+  for (const auto& f : files) {
+    if (f.extension() == ".png") std::printf(" %s", f.c_str());
+  }
+  std::printf("\n");
+  if (r.failed) {
+    // A failure in the first minimisation leaves no good state to keep.
+    const auto last_good = std::filesystem::path(out) / "snapshots" / "last_good.nc";
+    std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
+    if (std::filesystem::exists(last_good)) {
+      std::fprintf(stderr, "  the last good state is in %s and %s\n", last_good.c_str(),
+                   slid.checkpoint_file.c_str());
+    }
+  }
+  return r.failed ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -185,29 +446,15 @@ int main(int argc, char** argv) {
     }
     // One run per output directory, for the whole run (its checkpoint is read under the lock).
     const app::DirectoryLock dir_lock(app::ensure_directory(out));
+    const Run run{.scene_path = scene_path,
+                  .out = out,
+                  .scene_given = cli.count("scene") > 0,
+                  .resume = resume,
+                  .checkpoint_every = checkpoint_every,
+                  .flags = &flags,
+                  .argc = argc_,
+                  .argv = argv_};
 
-    // --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
-    // from the final minimiser (SlideScene::make_slip_minimizer).
-    const bool slip_solver = flags.given("solver.slip_method");
-    const bool solver = flags.given("solver.method");
-    const auto apply_slip_solver = [&](app::SlideScene& scene) {
-      scene.make_slip_minimizer();
-      const slide::SlideOptions& o = scene.options;
-      // After every flag, so that a flag can mend a scene's pair; the message names whichever
-      // of scene and flag set each half (the scene's path once).
-      app::check_slip_relaxation(
-          o, slip_solver ? std::string("--slip-solver") : scene_path + ": solver.slip_method",
-          solver        ? std::string("--solver")
-          : slip_solver ? scene_path + ": solver.method"
-                        : std::string("solver.method"));
-    };
-    // The flags over an explicit scene: the tip's radius and the substrate's Poisson ratio are
-    // the contact's.
-    const auto apply_explicit_flags = [&](app::ExplicitSlideScene& e) {
-      flags.apply(app::SlideScene::settings(), e.slide);
-      if (flags.given("contact.R")) e.model.R = e.slide.contact.R;
-      if (flags.given("material.nu")) e.model.material.nu = e.slide.contact.material.nu;
-    };
     if (model == "explicit" && flags.given("solver.preconditioner")) {
       throw std::invalid_argument(
           "--preconditioner: not available with --model explicit (the interface filter belongs "
@@ -220,7 +467,7 @@ int main(int argc, char** argv) {
            {std::pair{"--alpha", flags.given("contact.alpha")},
             std::pair{"--distance", flags.given("slide.distance")},
             std::pair{"--protocol", flags.given("slide.protocol")}, std::pair{"--resume", resume},
-            std::pair{"--slip-solver", slip_solver}}) {
+            std::pair{"--slip-solver", flags.given("solver.slip_method")}}) {
         if (given) {
           throw std::invalid_argument(
               std::string(flag) +
@@ -228,44 +475,8 @@ int main(int argc, char** argv) {
               "loading only (add --slide to slide at fixed Fz; alpha follows from the potential)");
         }
       }
-      if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
-      auto& c = e.slide.contact;
-      apply_explicit_flags(e);
-      c.validate();
-      e.model.validate();
-      explicit_model::require_small_slope(c.a, c.R);
-      const double load = c.hertz().load;
-      std::fprintf(stderr,
-                   "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
-                   "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; normal loading\n",
-                   c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
-                   e.model.sigma_over_d, c.material.nu);
-      explicit_model::LoadOptions lo{.load = load};
-      lo.minimizer = e.slide.options.minimizer;
-      lo.fft = e.slide.options.fft;
-      const auto r = explicit_model::load_to_force(e.model, lo);
-      const auto files = app::write_explicit_load_outputs(out, e, r);
-      std::printf(
-          "Fz = %.6g G d^2 (target %.6g), delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
-          "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d)\n",
-          r.state.Fz, r.target, r.delta, r.hertz.approach, 100.0 * r.delta_error,
-          100.0 * r.load_error, r.state.a_area, r.state.a_moment, r.hertz.a);
-      std::printf("%s: %d load steps, %d minimisations, %d growths, %zu GF applications, %.2f s\n",
-                  to_string(r.termination).c_str(), r.load_steps, r.minimizations, r.growths,
-                  r.gf_applications, r.wall_s);
-      std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
-      for (const auto& f : files) {
-        if (f.extension() == ".png") std::printf(" %s", f.c_str());
-      }
-      std::printf("\n");
-      if (r.termination != Termination::converged) {
-        std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.message.c_str());
-        return 1;
-      }
-      return 0;
+      return explicit_loading(run);
     }
-
     // From here on a signal only asks the slide to stop (with a checkpoint; inside a relaxation
     // within 16 iterations, else at its next step):
     // installed before a checkpoint is read, so that no signal meets the default action.
@@ -280,170 +491,8 @@ int main(int argc, char** argv) {
             "--alpha: not available with --model explicit (alpha follows from the potential, "
             "alpha_path at the central load)");
       }
-      if (cli.count("scene") == 0) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-      app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
-      auto& c = e.slide.contact;
-      apply_explicit_flags(e);
-      apply_slip_solver(e.slide);
-      c.validate();
-      e.model.validate();
-      e.slide.options.validate();
-      explicit_model::require_small_slope(c.a, c.R);
-      const double load = c.hertz().load;
-      const app::ExplicitAlpha alpha_p = app::explicit_alpha(e);
-      std::fprintf(stderr,
-                   "contact_slide: explicit model, Hertz a = %g d (Fz = %g G d^2 = %g eps/sigma), "
-                   "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; alpha of the potential "
-                   "%.4f (max Fx/Fz %.4f): a/b_core^0 = %.3g; %s protocol, tolerance %g\n",
-                   c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
-                   e.model.sigma_over_d, c.material.nu, alpha_p.alpha, alpha_p.alpha_force,
-                   app::explicit_as_slide_scene(e, alpha_p).contact.a_over_bcore0(),
-                   slide::to_string(e.slide.options.protocol).c_str(),
-                   e.slide.options.minimizer.force_tolerance);
-      const std::string settings = app::explicit_slide_fingerprint(e, alpha_p);
-      if (resume) {
-        // A missing or foreign checkpoint is reported before the loading, not after it.
-        const auto file = std::filesystem::path(out) / "checkpoint.cbor";
-        if (!std::filesystem::exists(file)) {
-          throw std::invalid_argument("--resume: no checkpoint " + file.string() +
-                                      ": nothing to resume (run without --resume to start)");
-        }
-        app::check_checkpoint_settings(app::read_checkpoint(file), settings, file);
-      }
-      // Normal loading alone, with its comparison to Hertz, in <out>/loading.
-      explicit_model::LoadOptions lo{.load = load};
-      lo.minimizer = e.slide.options.minimizer;
-      lo.fft = e.slide.options.fft;
-      const auto lr = explicit_model::load_to_force(e.model, lo);
-      app::write_explicit_load_outputs(std::filesystem::path(out) / "loading", e, lr);
-      std::printf(
-          "loading: Fz = %.6g G d^2, delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
-          "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d); "
-          "%zu GF applications, %.2f s\n",
-          lr.state.Fz, lr.delta, lr.hertz.approach, 100.0 * lr.delta_error, 100.0 * lr.load_error,
-          lr.state.a_area, lr.state.a_moment, lr.hertz.a, lr.gf_applications, lr.wall_s);
-      if (lr.termination != Termination::converged) {
-        std::fprintf(stderr, "contact_slide: loading FAILED: %s\n", lr.message.c_str());
-        return 1;
-      }
-      // A stop asked during the loading (which does not poll) is honoured at the slide's
-      // first step, which checkpoints the loaded state: the run resumes from there.
-      const app::SlideScene as_slide = app::explicit_as_slide_scene(e, alpha_p);
-      app::SnapshotSink frames(
-          std::filesystem::path(out) / "snapshots",
-          app::snapshot_attributes(as_slide, app::explicit_summary_extra(e, alpha_p)),
-          e.slide.snapshot_format);
-      const CheckpointedSlide run = run_checkpointed(
-          out, settings, resume, checkpoint_every, frames,
-          [&](const slide::SlideControl& control) {
-            return app::slide_explicit_scene(e, alpha_p, control);
-          },
-          argc_, argv_);
-      const slide::SlideResult& r = run.result;
-      if (r.interrupted) return app::kInterrupted;
-      const auto files = app::write_slide_outputs(
-          out, as_slide, r, {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
-      finish_checkpoints(run);
-      std::printf(
-          "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
-          "%.4f d, precision %.1e), kinetic/static = %.3f, slip events %d\n",
-          r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", alpha_p.alpha,
-          alpha_p.alpha_force, r.peak_Dx, r.peak_precision, r.kinetic_over_static, r.slip_events);
-      std::printf(
-          "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications, %.2f s\n",
-          r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications, r.wall_s);
-      std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
-      for (const auto& f : files) {
-        if (f.extension() == ".png") std::printf(" %s", f.c_str());
-      }
-      std::printf("\n");
-      if (r.failed) {
-        // A failure in the first step leaves no good state to keep.
-        std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
-        if (run.checkpoints > 0) {
-          std::fprintf(stderr, "  the last good state is in %s\n", run.checkpoint_file.c_str());
-        }
-      }
-      return r.failed ? 1 : 0;
+      return explicit_sliding(run);
     }
-
-    app::SlideScene s = app::read_slide_scene(scene_path, false);
-    flags.apply(app::SlideScene::settings(), s);
-    apply_slip_solver(s);
-    const auto method = s.options.minimizer.method;
-    if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
-        (method == minimize::Method::cg || method == minimize::Method::fire)) {
-      std::fprintf(stderr,
-                   "contact_slide: note: the interface filter is used by lbfgs and newton only; "
-                   "%s preconditions with G\n",
-                   minimize::to_string(method).c_str());
-    }
-    s.contact.validate();
-    s.options.validate();
-    char a_text[64];
-    std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
-    const double memory = slide::estimated_slide_bytes(s.contact, s.options);
-    app::check_fits_in_memory(a_text, memory,
-                              "estimate: 260 bytes per point of the padded FFT grid of the block, "
-                              "the minimiser's vectors on the contact and the frames of one "
-                              "relaxation path");
-    const std::string output_line = app::check_output_fits(s, out);
-
-    std::fprintf(stderr,
-                 "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
-                 "lambda = %.3g; %s protocol, %s (preconditioner %s), tolerance %g\n",
-                 s.contact.a, s.contact.R, s.contact.alpha, s.contact.material.nu,
-                 s.contact.a_over_bcore0(), s.contact.lambda(),
-                 slide::to_string(s.options.protocol).c_str(),
-                 minimize::to_string(s.options.minimizer.method).c_str(),
-                 minimize::to_string(s.options.minimizer.preconditioner).c_str(),
-                 s.options.minimizer.force_tolerance);
-    std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
-                 memory / 1e6, output_line.c_str());
-    app::SnapshotSink frames(std::filesystem::path(out) / "snapshots",
-                             app::snapshot_attributes(s, nullptr), s.snapshot_format);
-    const CheckpointedSlide run = run_checkpointed(
-        out, app::slide_fingerprint(s), resume, checkpoint_every, frames,
-        [&](const slide::SlideControl& control) {
-          return slide::slide(s.contact, s.options, control);
-        },
-        argc_, argv_);
-    const slide::SlideResult& r = run.result;
-    if (r.interrupted) return app::kInterrupted;
-    const auto files = app::write_slide_outputs(out, s, r);
-    finish_checkpoints(run);
-
-    std::printf(
-        "mu = %.6f, mu/alpha = %.5f%s (peak at Dx = %.4f d, precision %.1e), "
-        "kinetic/static = %.3f, slip events %d\n",
-        r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", r.peak_Dx,
-        r.peak_precision, r.kinetic_over_static, r.slip_events);
-    std::printf(
-        "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications + %zu "
-        "interface filter passes, %.2f s\n",
-        r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications,
-        r.filter_applications, r.wall_s);
-    if (r.replayed_steps > 0) {
-      std::printf(
-          "cycle repeated at Dx = %.4f d (largest force difference %.1e G d^2): %d more "
-          "rows replayed, not computed\n",
-          r.cycle_verified_at, r.cycle_mismatch, r.replayed_steps);
-    }
-    std::printf("results: %s\n", (std::filesystem::path(out) / "summary.json").c_str());
-    std::printf("figures:");
-    for (const auto& f : files) {
-      if (f.extension() == ".png") std::printf(" %s", f.c_str());
-    }
-    std::printf("\n");
-    if (r.failed) {
-      // A failure in the first minimisation leaves no good state to keep.
-      const auto last_good = std::filesystem::path(out) / "snapshots" / "last_good.nc";
-      std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
-      if (std::filesystem::exists(last_good)) {
-        std::fprintf(stderr, "  the last good state is in %s and %s\n", last_good.c_str(),
-                     run.checkpoint_file.c_str());
-      }
-    }
-    return r.failed ? 1 : 0;
+    return lfm_sliding(run);
   });
 }
