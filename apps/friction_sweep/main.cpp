@@ -286,6 +286,120 @@ std::vector<fs::path> write_figures(const fs::path& dir, const app::SweepScene& 
   return written;
 }
 
+// How many points a sweep had, and how many it computed and reused.
+struct SweepCounts {
+  std::size_t points = 0, explicit_points = 0, computed = 0, reused = 0;
+};
+
+// The end of a sweep whose points are all in: figures, the Regime II slope, the comparison of
+// the models, summary.json and the lines printed. Returns the exit status (1 if a point failed).
+int finish_sweep(const fs::path& dir, const app::SweepScene& s,
+                 const std::vector<app::SweepRow>& done, const std::vector<app::SweepRow>& done_x,
+                 const SweepCounts& n, std::chrono::steady_clock::time_point t0) {
+  const fs::path csv = dir / "sweep.csv", csv_x = dir / "sweep_explicit.csv";
+  auto figure_files = done.empty() ? std::vector<fs::path>{} : write_figures(dir, s, done);
+  const nlohmann::json fit = app::fit_slope(done, kFitLo, kFitHi);
+  nlohmann::json comparison;
+  if (s.runs_explicit()) {
+    comparison = app::compare_models(done, done_x, kCompareLo, kCompareHi);
+    if (const fs::path png = write_collapse(dir, done, done_x, comparison); !png.empty()) {
+      figure_files.insert(figure_files.begin(), png);
+    }
+  }
+  std::vector<std::pair<const app::SweepRow*, bool>> failed;  // row, explicit
+  double points_wall = 0.0;
+  nlohmann::json point_times = nlohmann::json::array();
+  for (const auto* list : {&done, &done_x}) {
+    const bool x = list == &done_x;
+    for (const auto& r : *list) {
+      if (r.failed) failed.emplace_back(&r, x);
+      // Reused rows carry no time: they were computed by an earlier run.
+      if (std::isfinite(r.wall_s)) {
+        points_wall += r.wall_s;
+        point_times.push_back({{"model", x ? "explicit" : "lfm"},
+                               {"a", r.point.a},
+                               {"R", r.point.R},
+                               {"wall_s", r.wall_s}});
+      }
+    }
+  }
+  nlohmann::json failed_json = nlohmann::json::array();
+  for (const auto& [r, x] : failed)
+    failed_json.push_back({{"model", x ? "explicit" : "lfm"},
+                           {"a", r->point.a},
+                           {"R", r->point.R},
+                           {"stop_reason", r->stop_reason}});
+  nlohmann::json figure_names = nlohmann::json::array();
+  for (const auto& f : figure_files)
+    figure_names.push_back(f.filename().string());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // "run" holds what differs between runs of the same sweep (times, host, date); the rest is
+  // a function of the inputs, the build and what was reused.
+  nlohmann::json tables = nlohmann::json::array();
+  if (s.runs_lfm()) tables.push_back("sweep.csv");
+  if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
+  nlohmann::json summary = {{"tool", "friction_sweep"},
+                            {"scene", scene_json(s, s.effective_jobs())},
+                            {"points", n.points + n.explicit_points},
+                            {"explicit_points", n.explicit_points},
+                            {"computed", n.computed},
+                            {"reused", n.reused},
+                            {"failed", failed.size()},
+                            {"failed_points", failed_json},
+                            {"fit", fit},
+                            {"table", s.runs_lfm() ? "sweep.csv" : "sweep_explicit.csv"},
+                            {"tables", tables},
+                            {"figures", figure_names},
+                            {"run",
+                             {{"provenance", app::provenance_json()},
+                              {"wall_s", wall},
+                              {"points_wall_s", points_wall},
+                              {"point_wall_s", point_times}}}};
+  if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;
+  app::write_json(dir / "summary.json", summary);
+
+  std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n",
+              n.points + n.explicit_points, n.computed, n.reused, failed.size(), wall);
+  if (s.runs_explicit()) {
+    const auto& worst = comparison["max_deviation_in_window"];
+    if (worst.is_null()) {
+      std::printf(
+          "explicit against LFM: no explicit point with LFM rows around it in "
+          "a/b_core^0 [%g, %g]\n",
+          kCompareLo, kCompareHi);
+    } else {
+      std::printf(
+          "explicit against LFM: mu/alpha within %.1f%% over %zu points in a/b_core^0 "
+          "[%g, %g]\n",
+          100.0 * worst.get<double>(), comparison["compared_in_window"].get<std::size_t>(),
+          kCompareLo, kCompareHi);
+    }
+  }
+  if (fit["slope"].is_null()) {
+    std::printf("fit over a/b_core^0 in [%g, %g]: none (%zu points; %s)\n", kFitLo, kFitHi,
+                fit["points"].get<std::size_t>(), fit["note"].get<std::string>().c_str());
+  } else {
+    std::printf("fit over a/b_core^0 in [%g, %g]: slope %.4f (%zu points; Regime II: -2/3)\n",
+                kFitLo, kFitHi, fit["slope"].get<double>(), fit["points"].get<std::size_t>());
+  }
+  std::printf("results:%s%s %s\n", s.runs_lfm() ? (" " + csv.string()).c_str() : "",
+              s.runs_explicit() ? (" " + csv_x.string()).c_str() : "",
+              (dir / "summary.json").c_str());
+  std::printf("figures:%s", figure_files.empty() ? " none" : "");
+  for (const auto& f : figure_files)
+    std::printf(" %s", f.c_str());
+  std::printf("\n");
+  if (!failed.empty()) {
+    std::fprintf(stderr, "friction_sweep: %zu point%s failed:\n", failed.size(),
+                 failed.size() > 1 ? "s" : "");
+    for (const auto& [r, x] : failed)
+      std::fprintf(stderr, "  %sa = %g d, R = %g d: %s\n", x ? "explicit " : "", r->point.a,
+                   r->point.R, r->stop_reason.c_str());
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -674,108 +788,11 @@ int main(int argc, char** argv) {
       done.push_back(std::move(*row));
     for (auto& row : rows_x)
       done_x.push_back(std::move(*row));
-    auto figure_files = done.empty() ? std::vector<fs::path>{} : write_figures(dir, s, done);
-    const nlohmann::json fit = app::fit_slope(done, kFitLo, kFitHi);
-    nlohmann::json comparison;
-    if (s.runs_explicit()) {
-      comparison = app::compare_models(done, done_x, kCompareLo, kCompareHi);
-      if (const fs::path png = write_collapse(dir, done, done_x, comparison); !png.empty()) {
-        figure_files.insert(figure_files.begin(), png);
-      }
-    }
-    std::vector<std::pair<const app::SweepRow*, bool>> failed;  // row, explicit
-    double points_wall = 0.0;
-    nlohmann::json point_times = nlohmann::json::array();
-    for (const auto* list : {&done, &done_x}) {
-      const bool x = list == &done_x;
-      for (const auto& r : *list) {
-        if (r.failed) failed.emplace_back(&r, x);
-        // Reused rows carry no time: they were computed by an earlier run.
-        if (std::isfinite(r.wall_s)) {
-          points_wall += r.wall_s;
-          point_times.push_back({{"model", x ? "explicit" : "lfm"},
-                                 {"a", r.point.a},
-                                 {"R", r.point.R},
-                                 {"wall_s", r.wall_s}});
-        }
-      }
-    }
-    nlohmann::json failed_json = nlohmann::json::array();
-    for (const auto& [r, x] : failed)
-      failed_json.push_back({{"model", x ? "explicit" : "lfm"},
-                             {"a", r->point.a},
-                             {"R", r->point.R},
-                             {"stop_reason", r->stop_reason}});
-    nlohmann::json figure_names = nlohmann::json::array();
-    for (const auto& f : figure_files)
-      figure_names.push_back(f.filename().string());
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // "run" holds what differs between runs of the same sweep (times, host, date); the rest is
-    // a function of the inputs, the build and what was reused.
-    nlohmann::json tables = nlohmann::json::array();
-    if (s.runs_lfm()) tables.push_back("sweep.csv");
-    if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
-    nlohmann::json summary = {{"tool", "friction_sweep"},
-                              {"scene", scene_json(s, s.effective_jobs())},
-                              {"points", points.size() + xpoints.size()},
-                              {"explicit_points", xpoints.size()},
-                              {"computed", order.size()},
-                              {"reused", resumed.reused + resumed_x.reused},
-                              {"failed", failed.size()},
-                              {"failed_points", failed_json},
-                              {"fit", fit},
-                              {"table", s.runs_lfm() ? "sweep.csv" : "sweep_explicit.csv"},
-                              {"tables", tables},
-                              {"figures", figure_names},
-                              {"run",
-                               {{"provenance", app::provenance_json()},
-                                {"wall_s", wall},
-                                {"points_wall_s", points_wall},
-                                {"point_wall_s", point_times}}}};
-    if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;
-    app::write_json(dir / "summary.json", summary);
-
-    std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n",
-                points.size() + xpoints.size(), order.size(), resumed.reused + resumed_x.reused,
-                failed.size(), wall);
-    if (s.runs_explicit()) {
-      const auto& worst = comparison["max_deviation_in_window"];
-      if (worst.is_null()) {
-        std::printf(
-            "explicit against LFM: no explicit point with LFM rows around it in "
-            "a/b_core^0 [%g, %g]\n",
-            kCompareLo, kCompareHi);
-      } else {
-        std::printf(
-            "explicit against LFM: mu/alpha within %.1f%% over %zu points in a/b_core^0 "
-            "[%g, %g]\n",
-            100.0 * worst.get<double>(), comparison["compared_in_window"].get<std::size_t>(),
-            kCompareLo, kCompareHi);
-      }
-    }
-    if (fit["slope"].is_null()) {
-      std::printf("fit over a/b_core^0 in [%g, %g]: none (%zu points; %s)\n", kFitLo, kFitHi,
-                  fit["points"].get<std::size_t>(), fit["note"].get<std::string>().c_str());
-    } else {
-      std::printf("fit over a/b_core^0 in [%g, %g]: slope %.4f (%zu points; Regime II: -2/3)\n",
-                  kFitLo, kFitHi, fit["slope"].get<double>(), fit["points"].get<std::size_t>());
-    }
-    std::printf("results:%s%s %s\n", s.runs_lfm() ? (" " + csv.string()).c_str() : "",
-                s.runs_explicit() ? (" " + csv_x.string()).c_str() : "",
-                (dir / "summary.json").c_str());
-    std::printf("figures:%s", figure_files.empty() ? " none" : "");
-    for (const auto& f : figure_files)
-      std::printf(" %s", f.c_str());
-    std::printf("\n");
-    if (!failed.empty()) {
-      std::fprintf(stderr, "friction_sweep: %zu point%s failed:\n", failed.size(),
-                   failed.size() > 1 ? "s" : "");
-      for (const auto& [r, x] : failed)
-        std::fprintf(stderr, "  %sa = %g d, R = %g d: %s\n", x ? "explicit " : "", r->point.a,
-                     r->point.R, r->stop_reason.c_str());
-      return 1;
-    }
-    return 0;
+    return finish_sweep(dir, s, done, done_x,
+                        {.points = points.size(),
+                         .explicit_points = xpoints.size(),
+                         .computed = order.size(),
+                         .reused = resumed.reused + resumed_x.reused},
+                        t0);
   });
 }
