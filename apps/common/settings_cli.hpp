@@ -4,9 +4,11 @@
 // the scene's key.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -52,8 +54,9 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
     if (s.kind == settings::Kind::choice) value = "\"" + value + "\"";
     out.append("| `").append(s.key).append("` | ").append(value).append(" | ");
     out.append(s.allowed()).append(" | ").append(s.flag.empty() ? "" : "`" + s.flag + "`");
-    out.append(" | ").append(cell(s.meaning)).append(s.affects_results ? ""
-                                                                 : " (does not change results)");
+    out.append(" | ")
+        .append(cell(s.meaning))
+        .append(s.affects_results ? "" : " (does not change results)");
     out.append(" |\n");
   }
   return out;
@@ -61,11 +64,13 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
 
 class SettingFlags {
  public:
-  // Adds a flag for every row of `table` that names one.
+  // Adds a flag for every row of `table` that names one (`only`: of these keys alone).
   template <class Root>
-  void add(CLI::App& cli, const settings::Table<Root>& table) {
+  void add(CLI::App& cli, const settings::Table<Root>& table,
+           const std::vector<std::string>& only = {}) {
     for (const settings::Setting<Root>& s : table) {
       if (s.flag.empty()) continue;
+      if (!only.empty() && std::find(only.begin(), only.end(), s.key) == only.end()) continue;
       const settings::Info info = s;
       cli.add_option_function<std::string>(
              s.flag, [this, info](const std::string& text) { given_[info.key] = text; },

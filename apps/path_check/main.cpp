@@ -12,6 +12,7 @@
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
 #include "common/output_files.hpp"
+#include "common/settings_cli.hpp"
 #include "common/slide_io.hpp"
 #include "slide/path.hpp"
 #include "tracking/lines.hpp"
@@ -99,17 +100,17 @@ int main(int argc, char** argv) {
     CLI::App cli{"Relax one instability of a slide with every solver and with the reference flow"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/path_check";
-    std::optional<double> a, R, alpha, tolerance, flow_tolerance;
     int event = 1;
     int max_iterations = 200000, flow_max_iterations = 2000000;
     std::vector<std::string> solvers{"lbfgs/auto", "lbfgs/elastic", "cg", "fire", "newton/auto"};
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    cli.add_option("--a", a, "Contact radius (d)")->check(app::finite_number(1.0, 4096.0));
-    cli.add_option("--R", R, "Sphere radius (d)")->check(app::positive());
-    cli.add_option("--alpha", alpha, "Local friction coefficient")
-        ->check(app::finite_number(0.0, 10.0, true));
+    // --a, --R, --alpha, --tolerance, --flow-tolerance: from the slide scene's settings table.
+    app::SettingFlags flags;
+    flags.add(
+        cli, app::SlideScene::settings(),
+        {"contact.a", "contact.R", "contact.alpha", "solver.tolerance", "solver.flow_tolerance"});
     cli.add_option("--slip", event, "Which slip event of the slide to check (1: the first)")
         ->check(CLI::Range(1, 10000))
         ->capture_default_str();
@@ -117,10 +118,6 @@ int main(int argc, char** argv) {
                    "Solvers to compare: method[/preconditioner][@flow tolerance], e.g. "
                    "lbfgs/interface cg flow/interface@1e-2")
         ->capture_default_str();
-    cli.add_option("--tolerance", tolerance, "Force tolerance per site (G d^2)")
-        ->check(app::finite_number(0.0, 1.0, true));
-    cli.add_option("--flow-tolerance", flow_tolerance, "Local error of a flow step (d)")
-        ->check(app::finite_number(0.0, 0.1, true));
     cli.add_option("--max-iterations", max_iterations, "Iteration budget of the solvers compared")
         ->check(CLI::Range(1, 1 << 30))
         ->capture_default_str();
@@ -130,11 +127,8 @@ int main(int argc, char** argv) {
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     app::SlideScene s = app::read_slide_scene(scene_path);
-    if (a) s.contact.a = *a;
-    if (R) s.contact.R = *R;
-    if (alpha) s.contact.alpha = *alpha;
-    if (tolerance) s.options.minimizer.force_tolerance = *tolerance;
-    if (flow_tolerance) s.options.minimizer.flow_tolerance = *flow_tolerance;
+    flags.apply(app::SlideScene::settings(), s);
+    s.make_slip_minimizer();  // of the final minimiser, as the tools' slides have it
     s.options.minimizer.max_iterations = max_iterations;
     s.contact.validate();
     s.options.validate();

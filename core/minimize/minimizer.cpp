@@ -626,8 +626,8 @@ const settings::Table<MinimizerOptions>& MinimizerOptions::settings() {
           "memory", [](auto& o) -> auto& { return o.memory; }, R::closed(1, 100), "",
           "L-BFGS pairs kept"),
       settings::number<O>(
-          "newton_start", [](auto& o) -> auto& { return o.newton_start; }, R::positive(),
-          "G d^2", "newton: switch to Newton-Krylov below this residual"),
+          "newton_start", [](auto& o) -> auto& { return o.newton_start; }, R::positive(), "G d^2",
+          "newton: switch to Newton-Krylov below this residual"),
       settings::number<O>(
           "max_displacement", [](auto& o) -> auto& { return o.max_displacement; },
           R::open_closed(0.0, 0.5), "d",
@@ -640,12 +640,11 @@ const settings::Table<MinimizerOptions>& MinimizerOptions::settings() {
           "with the interface filter)",
           "--preconditioner"),
       settings::integer<O>(
-          "refresh_interval", [](auto& o) -> auto& { return o.refresh_interval; },
-          R::at_least(1), "", "recompute u = G f every this many iterations (drift)"),
+          "refresh_interval", [](auto& o) -> auto& { return o.refresh_interval; }, R::at_least(1),
+          "", "recompute u = G f every this many iterations (drift)"),
       settings::choice<O>(
-          "stability", [](auto& o) -> auto& { return o.stability; },
-          {"perturb", "lanczos", "none"}, [](StabilityCheck c) { return to_string(c); },
-          stability_from_string,
+          "stability", [](auto& o) -> auto& { return o.stability; }, {"perturb", "lanczos", "none"},
+          [](StabilityCheck c) { return to_string(c); }, stability_from_string,
           "check of converged states: perturb (push and relax) | lanczos | none"),
       settings::integer<O>(
           "max_escapes", [](auto& o) -> auto& { return o.max_escapes; }, R::at_least(0), "",
@@ -659,7 +658,7 @@ const settings::Table<MinimizerOptions>& MinimizerOptions::settings() {
       settings::number<O>(
           "flow_tolerance", [](auto& o) -> auto& { return o.flow_tolerance; },
           R::open_closed(0.0, 1.0), "d",
-          "flow: largest local error of one step, as a displacement of a site"),
+          "flow: largest local error of one step, as a displacement of a site", "--flow-tolerance"),
       settings::choice<O>(
           "flow_scheme", [](auto& o) -> auto& { return o.flow_scheme; }, {"rkc", "euler"},
           [](FlowScheme f) { return to_string(f); }, flow_scheme_from_string,
@@ -671,7 +670,9 @@ const settings::Table<MinimizerOptions>& MinimizerOptions::settings() {
   return table;
 }
 
-void MinimizerOptions::validate() const { settings::validate(*this, settings()); }
+void MinimizerOptions::validate() const {
+  settings::validate(*this, settings());
+}
 
 Stability lowest_mode(Problem& problem, std::span<const double> u) {
   const std::size_t n = problem.size();
