@@ -3,6 +3,7 @@
 
 #include "contact/hertz.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -113,6 +114,42 @@ Crossover regime_two_three_crossover(double R, double alpha, double nu, const Mo
     prev = g;
   }
   return out;
+}
+
+double regime_one_two_boundary(double c0) {
+  const auto side = [c0](double x) {
+    const double mu = nucleation_condition(x, c0).mu_over_alpha;
+    return nearer_of_one_two(x, mu, c0) == Regime::one;
+  };
+  double lo = 1e-3, hi = 1e4;
+  for (int it = 0; it < 200 && hi / lo > 1.0 + 1e-12; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (side(mid) ? lo : hi) = mid;
+  }
+  return std::sqrt(lo * hi);
+}
+
+std::optional<Model> moved_model(const Model& model, double c0_error, int direction,
+                                 double errors) {
+  if (direction < 0 || direction > 2)
+    reject("moved_model.direction", std::to_string(direction), "0 (c0), 1 or 2 (the law's axes)");
+  Model m = model;
+  if (direction == 0) {
+    m.c0 += errors * c0_error;
+  } else {
+    const double s1 = model.law.k1_error, s2 = model.law.k2_error;
+    const double r = model.law.correlation;
+    Eigen::Matrix2d cov;
+    cov << s1 * s1, r * s1 * s2, r * s1 * s2, s2 * s2;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(cov);
+    const int k = direction - 1;
+    const Eigen::Vector2d step =
+        errors * std::sqrt(std::max(0.0, axes.eigenvalues()(k))) * axes.eigenvectors().col(k);
+    m.law.k1 += step(0);
+    m.law.k2 += step(1);
+  }
+  if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) return std::nullopt;
+  return m;
 }
 
 }  // namespace asperity::nucleation

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,6 +51,20 @@ Prediction predict(double a_over_bcore0, double beta, const Model& model);
 
 // I or II by the nearer asymptote (see above).
 Regime nearer_of_one_two(double a_over_bcore0, double mu_over_alpha, double c0);
+
+// a / b_core^0 on the predicted I/II boundary: where the nucleation condition is as far (in ln)
+// from mu/alpha = 1 as from the Regime II law, i.e. mu = sqrt(law) (bisection in ln x to 1e-12).
+double regime_one_two_boundary(double c0);
+
+// The model with its parameters moved by `errors` standard errors along one of three
+// independent directions of their uncertainty: direction 0 moves c0 by errors * c0_error;
+// directions 1 and 2 move (k1, k2) along the principal axes of their covariance (errors
+// k1_error, k2_error, correlation law.correlation), by errors * sqrt(eigenvalue). k1 and k2 come
+// from one line fit and are strongly correlated (near +1 for a window at b_core > 0): moved one
+// at a time they would overstate the law's errors inside its window up to 4x
+// (peierls/fit.hpp); along the axes, in quadrature, linear propagation is exact (with
+// correlation 0 the axes are k1 and k2 alone). nullopt if a parameter would be <= 0.
+std::optional<Model> moved_model(const Model& model, double c0_error, int direction, double errors);
 
 // Simulated regime of each point (same order); points are grouped by series and R for the
 // rising branch.

@@ -10,7 +10,6 @@
 // - regime_map.png: predicted mu/alpha over (a/d, R/d) with the regime boundaries and the data
 //   points marked by their simulated regime.
 #include <CLI/CLI.hpp>
-#include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +28,7 @@
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/line_fit.hpp"
 #include "common/output_files.hpp"
 #include "common/peierls_summary.hpp"
 #include "common/plot.hpp"
@@ -284,33 +284,12 @@ double c_factor(double nu) {
 
 // Least-squares slope of ln y against ln x.
 double log_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = static_cast<double>(x.size());
-  double mx = 0, my = 0;
+  std::vector<double> lx, ly;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += std::log(x[i]) / n;
-    my += std::log(y[i]) / n;
+    lx.push_back(std::log(x[i]));
+    ly.push_back(std::log(y[i]));
   }
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
-    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
-  }
-  return sxy / sxx;
-}
-
-// a / b_core^0 on the predicted I/II boundary: where the nucleation condition is as far (in ln)
-// from mu/alpha = 1 as from the Regime II law, i.e. mu = sqrt(law) (regime_map.hpp).
-double regime_one_two_boundary(double c0) {
-  const auto side = [c0](double x) {
-    const double mu = nuc::nucleation_condition(x, c0).mu_over_alpha;
-    return nuc::nearer_of_one_two(x, mu, c0) == nuc::Regime::one;
-  };
-  double lo = 1e-3, hi = 1e4;
-  for (int it = 0; it < 200 && hi / lo > 1.0 + 1e-12; ++it) {
-    const double mid = std::sqrt(lo * hi);
-    (side(mid) ? lo : hi) = mid;
-  }
-  return std::sqrt(lo * hi);
+  return fit_line(lx, ly).slope;
 }
 
 }  // namespace
@@ -401,29 +380,9 @@ int main(int argc, char** argv) {
       window_R.insert(pts[i].R);
 
     // Independent directions of uncertainty: c0 (k = 0), and the two principal axes of the
-    // covariance of (k1, k2) (k = 1, 2). k1 and k2 come from one line fit and are strongly
-    // correlated (near +1 for a window at b_core > 0): moved one at a time they would overstate
-    // the errors of the law inside its window up to 4x (peierls/fit.hpp); along the axes, in
-    // quadrature, linear propagation is exact (with correlation 0 they are k1 and k2 alone).
-    const Eigen::Vector2d law_sd(reported_law.k1_error, reported_law.k2_error);
-    Eigen::Matrix2d law_cov;
-    law_cov << law_sd(0) * law_sd(0), law.law.correlation * law_sd(0) * law_sd(1),
-        law.law.correlation * law_sd(0) * law_sd(1), law_sd(1) * law_sd(1);
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(law_cov);
-    // The model with c0 or the (k1, k2) pair moved along direction k by `errors` reported
-    // errors; nullopt if that leaves a parameter <= 0.
-    const auto moved_model = [&](int k, double errors) -> std::optional<nuc::Model> {
-      nuc::Model m = model;
-      if (k == 0) {
-        m.c0 += errors * fit.c0_error;
-      } else {
-        const Eigen::Vector2d step = errors * std::sqrt(std::max(0.0, axes.eigenvalues()(k - 1))) *
-                                     axes.eigenvectors().col(k - 1);
-        m.law.k1 += step(0);
-        m.law.k2 += step(1);
-      }
-      if (m.c0 <= 0.0 || m.law.k1 <= 0.0 || m.law.k2 <= 0.0) return std::nullopt;
-      return m;
+    // covariance of (k1, k2) (k = 1, 2): nucleation::moved_model.
+    const auto moved_model = [&](int k, double errors) {
+      return nuc::moved_model(model, fit.c0_error, k, errors);
     };
 
     // Per point: predictions and regimes.
@@ -491,7 +450,7 @@ int main(int argc, char** argv) {
     for (const auto& p : pts)
       Rs.insert(p.R);
     const double x_one = nuc::regime_one_crossover(fit.c0);
-    const double x_one_two = regime_one_two_boundary(fit.c0);
+    const double x_one_two = nuc::regime_one_two_boundary(fit.c0);
     const double c = c_factor(nu);
     nlohmann::json crossovers = nlohmann::json::array();
     for (double R : Rs) {

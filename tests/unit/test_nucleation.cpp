@@ -331,3 +331,49 @@ TEST(RegimeMap, PredictionsCrossoverAndRegimes) {
   EXPECT_EQ(r[3], Regime::three);
   EXPECT_EQ(r[4], Regime::two);  // alone at its R: no branch to rise above
 }
+
+// moved_model (regime_map.hpp): direction 0 moves c0 alone; directions 1 and 2 move (k1, k2)
+// along the principal axes of their covariance by `errors` standard errors, so each step has
+// Mahalanobis length |errors| (step^T C^-1 step = errors^2), and the two steps are conjugate.
+TEST(RegimeMap, MovedModelStepsAlongTheLawsPrincipalAxes) {
+  for (double r : {0.0, 0.6, 0.99}) {
+    const Model m{
+        .c0 = 0.2,
+        .law = {.k1 = 2.3, .k1_error = 0.16, .k2 = 1.8, .k2_error = 0.016, .correlation = r}};
+    const auto c = moved_model(m, 0.01, 0, -2.0);
+    ASSERT_TRUE(c);
+    EXPECT_DOUBLE_EQ(c->c0, 0.18);
+    EXPECT_EQ(c->law.k1, 2.3);
+    const double s1 = 0.16, s2 = 0.016, det = s1 * s1 * s2 * s2 * (1 - r * r);
+    // C^-1 = [s2^2, -r s1 s2; -r s1 s2, s1^2] / det
+    const auto mahalanobis = [&](double d1, double d2, double e1, double e2) {
+      return (s2 * s2 * d1 * e1 - r * s1 * s2 * (d1 * e2 + d2 * e1) + s1 * s1 * d2 * e2) / det;
+    };
+    double d[2][2];
+    for (int k = 1; k <= 2; ++k) {
+      const auto moved = moved_model(m, 0.01, k, 1.5);
+      ASSERT_TRUE(moved);
+      EXPECT_EQ(moved->c0, 0.2);
+      d[k - 1][0] = moved->law.k1 - 2.3;
+      d[k - 1][1] = moved->law.k2 - 1.8;
+      EXPECT_NEAR(mahalanobis(d[k - 1][0], d[k - 1][1], d[k - 1][0], d[k - 1][1]), 2.25, 1e-9)
+          << "r = " << r << ", axis " << k;
+    }
+    EXPECT_NEAR(mahalanobis(d[0][0], d[0][1], d[1][0], d[1][1]), 0.0, 1e-9) << "r = " << r;
+  }
+  const Model m{.c0 = 0.2, .law = {.k1 = 2.3, .k1_error = 0.16, .k2 = 1.8, .k2_error = 0.016}};
+  EXPECT_FALSE(moved_model(m, 0.1, 0, -3.0));  // c0 would be negative
+  EXPECT_THROW(moved_model(m, 0.1, 3, 1.0), std::invalid_argument);
+}
+
+// The I/II boundary: the regime by the nearer asymptote changes there (docs/nucleation.md:
+// 2.26 at c0 = 0.2176).
+TEST(RegimeMap, RegimeOneTwoBoundaryIsWhereTheNearerAsymptoteChanges) {
+  const double c0 = 0.2176, x = regime_one_two_boundary(c0);
+  EXPECT_NEAR(x, 2.26, 0.01);
+  const auto regime = [&](double y) {
+    return nearer_of_one_two(y, nucleation_condition(y, c0).mu_over_alpha, c0);
+  };
+  EXPECT_EQ(regime(x * (1 - 1e-9)), Regime::one);
+  EXPECT_EQ(regime(x * (1 + 1e-9)), Regime::two);
+}
