@@ -172,14 +172,28 @@ void apply_explicit_flags(const Run& run, app::ExplicitSlideScene& e) {
   if (run.flags->given("material.nu")) e.model.material.nu = e.slide.contact.material.nu;
 }
 
-// The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
-int explicit_loading(const Run& run) {
-  std::string scene_path = run.scene_path;
-  const std::string& out = run.out;
-  if (!run.scene_given) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-  app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
-  auto& c = e.slide.contact;
+// The lines that say where a run's results and figures are.
+void print_outputs(const std::string& out, const std::vector<std::filesystem::path>& files) {
+  std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
+  for (const auto& f : files) {
+    if (f.extension() == ".png") std::printf(" %s", f.c_str());
+  }
+  std::printf("\n");
+}
+
+// The scene of an explicit run with the flags over it: the named file, or the explicit model's
+// default (which run.scene_path then names, for messages).
+app::ExplicitSlideScene explicit_scene(Run& run) {
+  if (!run.scene_given) run.scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
+  app::ExplicitSlideScene e = app::read_explicit_scene(run.scene_path, false);
   apply_explicit_flags(run, e);
+  return e;
+}
+
+// The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
+int explicit_loading(Run run) {
+  app::ExplicitSlideScene e = explicit_scene(run);
+  auto& c = e.slide.contact;
   c.validate();
   e.model.validate();
   explicit_model::require_small_slope(c.a, c.R);
@@ -193,7 +207,7 @@ int explicit_loading(const Run& run) {
   lo.minimizer = e.slide.options.minimizer;
   lo.fft = e.slide.options.fft;
   const auto r = explicit_model::load_to_force(e.model, lo);
-  const auto files = app::write_explicit_load_outputs(out, e, r);
+  const auto files = app::write_explicit_load_outputs(run.out, e, r);
   std::printf(
       "Fz = %.6g G d^2 (target %.6g), delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
       "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d)\n",
@@ -202,11 +216,7 @@ int explicit_loading(const Run& run) {
   std::printf("%s: %d load steps, %d minimisations, %d growths, %zu GF applications, %.2f s\n",
               to_string(r.termination).c_str(), r.load_steps, r.minimizations, r.growths,
               r.gf_applications, r.wall_s);
-  std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
-  for (const auto& f : files) {
-    if (f.extension() == ".png") std::printf(" %s", f.c_str());
-  }
-  std::printf("\n");
+  print_outputs(run.out, files);
   if (r.termination != Termination::converged) {
     std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.message.c_str());
     return 1;
@@ -216,17 +226,9 @@ int explicit_loading(const Run& run) {
 
 // The explicit model loaded to the Hertz load of contact.a, then slid at fixed Fz with the LFM's
 // protocols (explicit/explicit_slide.hpp). alpha is a property of the potential.
-int explicit_sliding(const Run& run) {
-  std::string scene_path = run.scene_path;
-  const std::string& out = run.out;
-  const bool resume = run.resume;
-  const double checkpoint_every = run.checkpoint_every;
-  int argc_ = run.argc;
-  char** argv_ = run.argv;
-  if (!run.scene_given) scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
-  app::ExplicitSlideScene e = app::read_explicit_scene(scene_path, false);
+int explicit_sliding(Run run) {
+  app::ExplicitSlideScene e = explicit_scene(run);
   auto& c = e.slide.contact;
-  apply_explicit_flags(run, e);
   apply_slip_solver(run, e.slide);
   c.validate();
   e.model.validate();
@@ -244,9 +246,9 @@ int explicit_sliding(const Run& run) {
                slide::to_string(e.slide.options.protocol).c_str(),
                e.slide.options.minimizer.force_tolerance);
   const std::string settings = app::explicit_slide_fingerprint(e, alpha_p);
-  if (resume) {
+  if (run.resume) {
     // A missing or foreign checkpoint is reported before the loading, not after it.
-    const auto file = std::filesystem::path(out) / "checkpoint.cbor";
+    const auto file = std::filesystem::path(run.out) / "checkpoint.cbor";
     if (!std::filesystem::exists(file)) {
       throw std::invalid_argument("--resume: no checkpoint " + file.string() +
                                   ": nothing to resume (run without --resume to start)");
@@ -258,7 +260,7 @@ int explicit_sliding(const Run& run) {
   lo.minimizer = e.slide.options.minimizer;
   lo.fft = e.slide.options.fft;
   const auto lr = explicit_model::load_to_force(e.model, lo);
-  app::write_explicit_load_outputs(std::filesystem::path(out) / "loading", e, lr);
+  app::write_explicit_load_outputs(std::filesystem::path(run.out) / "loading", e, lr);
   std::printf(
       "loading: Fz = %.6g G d^2, delta = %.5f d (Hertz %.5f, %+.2f%%; load at delta "
       "%+.2f%%), contact radius %.2f d from the area, %.2f d from <r^2> (Hertz %.2f d); "
@@ -273,19 +275,19 @@ int explicit_sliding(const Run& run) {
   // first step, which checkpoints the loaded state: the run resumes from there.
   const app::SlideScene as_slide = app::explicit_as_slide_scene(e, alpha_p);
   app::SnapshotSink frames(
-      std::filesystem::path(out) / "snapshots",
+      std::filesystem::path(run.out) / "snapshots",
       app::snapshot_attributes(as_slide, app::explicit_summary_extra(e, alpha_p)),
       e.slide.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
-      out, settings, resume, checkpoint_every, frames,
+      run.out, settings, run.resume, run.checkpoint_every, frames,
       [&](const slide::SlideControl& control) {
         return app::slide_explicit_scene(e, alpha_p, control);
       },
-      argc_, argv_);
+      run.argc, run.argv);
   const slide::SlideResult& r = slid.result;
   if (r.interrupted) return app::kInterrupted;
   const auto files = app::write_slide_outputs(
-      out, as_slide, r, {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
+      run.out, as_slide, r, {.summary_extra = app::explicit_summary_extra(e, alpha_p)});
   finish_checkpoints(slid);
   std::printf(
       "mu = %.6f, mu/alpha = %.5f%s (alpha %.4f, max Fx/Fz of one atom %.4f; peak at Dx = "
@@ -295,11 +297,7 @@ int explicit_sliding(const Run& run) {
   std::printf(
       "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications, %.2f s\n",
       r.stop_reason.c_str(), r.distance, r.steps, r.minimizations, r.gf_applications, r.wall_s);
-  std::printf("results: %s\nfigures:", (std::filesystem::path(out) / "summary.json").c_str());
-  for (const auto& f : files) {
-    if (f.extension() == ".png") std::printf(" %s", f.c_str());
-  }
-  std::printf("\n");
+  print_outputs(run.out, files);
   if (r.failed) {
     // A failure in the first step leaves no good state to keep.
     std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
@@ -312,13 +310,7 @@ int explicit_sliding(const Run& run) {
 
 // The lateral force model's slide (MODEL.md 3, 5).
 int lfm_sliding(const Run& run) {
-  std::string scene_path = run.scene_path;
-  const std::string& out = run.out;
-  const bool resume = run.resume;
-  const double checkpoint_every = run.checkpoint_every;
-  int argc_ = run.argc;
-  char** argv_ = run.argv;
-  app::SlideScene s = app::read_slide_scene(scene_path, false);
+  app::SlideScene s = app::read_slide_scene(run.scene_path, false);
   run.flags->apply(app::SlideScene::settings(), s);
   apply_slip_solver(run, s);
   const auto method = s.options.minimizer.method;
@@ -338,7 +330,7 @@ int lfm_sliding(const Run& run) {
                             "estimate: 260 bytes per point of the padded FFT grid of the block, "
                             "the minimiser's vectors on the contact and the frames of one "
                             "relaxation path");
-  const std::string output_line = app::check_output_fits(s, out);
+  const std::string output_line = app::check_output_fits(s, run.out);
 
   std::fprintf(stderr,
                "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
@@ -351,17 +343,17 @@ int lfm_sliding(const Run& run) {
                s.options.minimizer.force_tolerance);
   std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
                memory / 1e6, output_line.c_str());
-  app::SnapshotSink frames(std::filesystem::path(out) / "snapshots",
+  app::SnapshotSink frames(std::filesystem::path(run.out) / "snapshots",
                            app::snapshot_attributes(s, nullptr), s.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
-      out, app::slide_fingerprint(s), resume, checkpoint_every, frames,
+      run.out, app::slide_fingerprint(s), run.resume, run.checkpoint_every, frames,
       [&](const slide::SlideControl& control) {
         return slide::slide(s.contact, s.options, control);
       },
-      argc_, argv_);
+      run.argc, run.argv);
   const slide::SlideResult& r = slid.result;
   if (r.interrupted) return app::kInterrupted;
-  const auto files = app::write_slide_outputs(out, s, r);
+  const auto files = app::write_slide_outputs(run.out, s, r);
   finish_checkpoints(slid);
 
   std::printf(
@@ -380,15 +372,10 @@ int lfm_sliding(const Run& run) {
         "rows replayed, not computed\n",
         r.cycle_verified_at, r.cycle_mismatch, r.replayed_steps);
   }
-  std::printf("results: %s\n", (std::filesystem::path(out) / "summary.json").c_str());
-  std::printf("figures:");
-  for (const auto& f : files) {
-    if (f.extension() == ".png") std::printf(" %s", f.c_str());
-  }
-  std::printf("\n");
+  print_outputs(run.out, files);
   if (r.failed) {
     // A failure in the first minimisation leaves no good state to keep.
-    const auto last_good = std::filesystem::path(out) / "snapshots" / "last_good.nc";
+    const auto last_good = std::filesystem::path(run.out) / "snapshots" / "last_good.nc";
     std::fprintf(stderr, "contact_slide: FAILED: %s\n", r.stop_reason.c_str());
     if (std::filesystem::exists(last_good)) {
       std::fprintf(stderr, "  the last good state is in %s and %s\n", last_good.c_str(),
