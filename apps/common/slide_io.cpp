@@ -44,15 +44,13 @@ const settings::Table<SlideScene>& SlideScene::settings() {
         t, slide::SlideOptions::settings(), "", [](auto& s) -> auto& { return s.options; });
     t.push_back(settings::choice<SlideScene>(
         "solver.slip_method", [](auto& s) -> auto& { return s.slip_method; },
-        {"flow", "fire", "same"}, [](const std::string& m) { return m; },
-        [](const std::string& m) { return m; },
+        {"flow", "fire", "same"},
         "relax again every slip with this solver: flow (the reference path, MODEL.md 5) | fire "
         "| same (only with solver.method flow or fire)",
         "--slip-solver"));
     t.push_back(settings::choice<SlideScene>(
         "solver.slip_preconditioner", [](auto& s) -> auto& { return s.slip_preconditioner; },
-        {"auto", "elastic", "interface"}, [](const std::string& m) { return m; },
-        [](const std::string& m) { return m; },
+        {"auto", "elastic", "interface"},
         "metric of the slip solver: interface (G with the interface filter) | elastic | auto"));
     t.push_back(settings::neutral(settings::choice<SlideScene>(
         "output.precision", [](auto& s) -> auto& { return s.snapshot_format.single_precision; },

@@ -278,10 +278,6 @@ LawSource read_law(const Options& o) {
   return s;
 }
 
-double c_factor(double nu) {
-  return contact::bcore_factor(nu);
-}
-
 // Least-squares slope of ln y against ln x.
 double log_slope(const std::vector<double>& x, const std::vector<double>& y) {
   std::vector<double> lx, ly;
@@ -451,7 +447,7 @@ int main(int argc, char** argv) {
       Rs.insert(p.R);
     const double x_one = nuc::regime_one_crossover(fit.c0);
     const double x_one_two = nuc::regime_one_two_boundary(fit.c0);
-    const double c = c_factor(nu);
+    const double c = contact::bcore_factor(nu);
     nlohmann::json crossovers = nlohmann::json::array();
     for (double R : Rs) {
       const nuc::Crossover cr = nuc::regime_two_three_crossover(R, alpha, nu, model);

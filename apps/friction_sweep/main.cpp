@@ -680,11 +680,12 @@ int main(int argc, char** argv) {
         slide::DiscardFrames no_frames;
         std::optional<app::SnapshotSink> frames;
         std::optional<app::LargestSlipSink> largest;
+        const auto attributes = [&] {
+          return app::snapshot_attributes(
+              ps, job.x ? app::explicit_summary_extra(es, alpha_x) : nullptr);
+        };
         if (figures) {
-          frames.emplace(point_dir / "snapshots",
-                         app::snapshot_attributes(
-                             ps, job.x ? app::explicit_summary_extra(es, alpha_x) : nullptr),
-                         ps.snapshot_format, &output_mutex);
+          frames.emplace(point_dir / "snapshots", attributes(), ps.snapshot_format, &output_mutex);
           if (const std::string warning =
                   frames->start(start ? std::optional(start->state.current.Dx) : std::nullopt);
               !warning.empty()) {
@@ -696,10 +697,8 @@ int main(int argc, char** argv) {
         if (largest_slip) {
           // Not part of the checkpoint's settings: the sink restarts from the slips of the
           // checkpoint's trace, and says if their largest is not on disk.
-          largest.emplace(point_dir / "largest_slip",
-                          app::snapshot_attributes(
-                              ps, job.x ? app::explicit_summary_extra(es, alpha_x) : nullptr),
-                          ps.snapshot_format, &output_mutex);
+          largest.emplace(point_dir / "largest_slip", attributes(), ps.snapshot_format,
+                          &output_mutex);
           std::optional<int> so_far;
           if (start) {
             so_far = 0;

@@ -15,6 +15,7 @@
 #include "common/cli.hpp"
 #include "common/line_fit.hpp"
 #include "common/toml_reader.hpp"
+#include "contact/hertz.hpp"
 
 namespace asperity::app {
 namespace {
@@ -36,11 +37,6 @@ std::string element(const ValueList& list, std::size_t i) {
 
 bool close(double x, double y) {
   return std::abs(x - y) <= 1e-9 * std::max(std::abs(x), std::abs(y));
-}
-
-// c = 4 / (pi (1 - nu)) in a / b_core^0 = c alpha a^2 / (R d).
-double bcore_factor(const interface::ContactScene& c) {
-  return contact::bcore_factor(c.material.nu);
 }
 
 void check_list(const ValueList& list) {
@@ -120,7 +116,7 @@ SweepScene read_sweep_scene(const std::string& path) {
 }
 
 double contact_radius_for(const interface::ContactScene& c, double target) {
-  return std::sqrt(target * c.R * c.d / (bcore_factor(c) * c.alpha));
+  return std::sqrt(target * c.R * c.d / (contact::bcore_factor(c.material.nu) * c.alpha));
 }
 
 std::vector<SweepPoint> sweep_points(const SweepScene& s) {
@@ -152,7 +148,7 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
                                     ": allowed: " + a_range().describe() + " d and < R");
       }
       // The same limits expressed in the target: x = c alpha a^2 / (R d) is increasing in a.
-      const double k = bcore_factor(c) * c.alpha / (c.R * c.d);
+      const double k = contact::bcore_factor(c.material.nu) * c.alpha / (c.R * c.d);
       const bool capped = a_max < c.R;
       char allowed[160];
       std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * a_min * a_min,

@@ -176,25 +176,27 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
                        "tau_P_edge", "tau_P_screw"});
   nlohmann::json record = nlohmann::json::object();
+  const auto local = [](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
+    return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
+  };
   char name[48];
   for (const auto axis : {tracking::ProfileAxis::x, tracking::ProfileAxis::y}) {
     const tracking::StressProfile p = tracking::stress_profile(s, axis);
-    const double scale = p.tau_max_peak;  // alpha p0
+    const double scale = p.tau_max_peak;  // alpha p0, the frame's: the same for both axes
     record["alpha_p0"] = scale;
-    const auto local = [&](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
-      return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
-    };
     std::vector<double> x, tau, bound, edge, screw;
     for (std::size_t k = 0; k < p.position.size(); ++k) {
+      const double tau_p_edge = local(peierls.edge, p.tau_max[k]);
+      const double tau_p_screw = local(peierls.screw, p.tau_max[k]);
       table.add_row({tracking::to_string(axis), p.position[k], p.tau_x[k], p.tau_y[k], p.tau_max[k],
-                     p.pressure[k], static_cast<long long>(p.in_contact[k]),
-                     local(peierls.edge, p.tau_max[k]), local(peierls.screw, p.tau_max[k])});
+                     p.pressure[k], static_cast<long long>(p.in_contact[k]), tau_p_edge,
+                     tau_p_screw});
       if (!p.in_contact[k] || !(p.tau_max[k] > 0.0)) continue;
       x.push_back(p.position[k]);
       tau.push_back(p.tau_x[k] / scale);
       bound.push_back(p.tau_max[k] / scale);
-      edge.push_back(local(peierls.edge, p.tau_max[k]) / scale);
-      screw.push_back(local(peierls.screw, p.tau_max[k]) / scale);
+      edge.push_back(tau_p_edge / scale);
+      screw.push_back(tau_p_screw / scale);
     }
     const std::vector<tracking::CoreCrossing> cores = tracking::core_crossings(f, p);
     nlohmann::json cores_json = nlohmann::json::array();
@@ -207,27 +209,21 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
     record[tracking::to_string(axis)] = {
         {"through", p.through}, {"centre", p.centre}, {"cores", cores_json}};
     if (x.size() < 2) continue;  // no contact on this row: nothing to draw
-    const auto negated = [](std::vector<double> v) {
-      for (double& y : v)
-        y = -y;
-      return v;
+    // A bound drawn at +y and -y in one style, titled once.
+    std::vector<app::Series> series;
+    const auto plus_minus = [&](const std::vector<double>& y, const std::string& legend,
+                                const std::string& style) {
+      series.push_back({.x = x, .y = y, .title = legend, .style = style});
+      std::vector<double> minus = y;
+      for (double& v : minus)
+        v = -v;
+      series.push_back({.x = x, .y = std::move(minus), .style = style});
     };
-    std::vector<app::Series> series = {
-        {.x = x, .y = bound, .title = "+-alpha p", .style = "lines lw 2 lc rgb '#777777'"},
-        {.x = x, .y = negated(bound), .style = "lines lw 2 lc rgb '#777777'"}};
-    if (peierls.edge) {
-      series.push_back({.x = x,
-                        .y = edge,
-                        .title = "+-tau_P edge (local p)",
-                        .style = "lines lw 2 dt 2 lc rgb '#d62728'"});
-      series.push_back({.x = x, .y = negated(edge), .style = "lines lw 2 dt 2 lc rgb '#d62728'"});
-    }
+    plus_minus(bound, "+-alpha p", "lines lw 2 lc rgb '#777777'");
+    if (peierls.edge)
+      plus_minus(edge, "+-tau_P edge (local p)", "lines lw 2 dt 2 lc rgb '#d62728'");
     if (peierls.screw) {
-      series.push_back({.x = x,
-                        .y = screw,
-                        .title = "+-tau_P screw (local p)",
-                        .style = "lines lw 2 dt 3 lc rgb '#1f77b4'"});
-      series.push_back({.x = x, .y = negated(screw), .style = "lines lw 2 dt 3 lc rgb '#1f77b4'"});
+      plus_minus(screw, "+-tau_P screw (local p)", "lines lw 2 dt 3 lc rgb '#1f77b4'");
     }
     series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
     // Cores on the axis, by character as in the maps (screw < 30 deg < mixed < 60 deg < edge).

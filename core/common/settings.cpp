@@ -39,20 +39,6 @@ std::string format_number(double v) {
   return std::string(buf, end);
 }
 
-std::string to_string(Kind kind) {
-  switch (kind) {
-    case Kind::boolean:
-      return "boolean";
-    case Kind::integer:
-      return "integer";
-    case Kind::number:
-      return "number";
-    case Kind::choice:
-      return "choice";
-  }
-  return "?";
-}
-
 std::string to_string(const Value& value) {
   return std::visit(
       [](const auto& v) -> std::string {

@@ -2,10 +2,11 @@
 // key, kind, allowed range or choices, unit, meaning, the command-line flag a tool offers for it,
 // and how to get and set it. Everything that handles settings is made from the table:
 // - validate(): the struct's validate() checks every row (one allowed set per setting);
-// - the scene reader (apps/common/settings_io): a TOML key per row, typed and range-checked;
-// - command-line flags (apps/common/settings_io): a flag per row that names one;
+// - the scene reader (apps/common/toml_reader: SceneReader::read): a TOML key per row, typed and
+//   range-checked;
+// - command-line flags (apps/common/settings_cli: SettingFlags): a flag per row that names one;
 // - fingerprints of checkpoints and sweeps (fingerprint()): every row, exact values;
-// - the summary.json echo of a run (apps/common/settings_io).
+// - the summary.json echo of a run (apps/common/settings_cli: settings_echo).
 // Defaults are the struct's own member initialisers: a table holds none.
 //
 // Tables compose: lift() re-roots the rows of a member struct (a slide's minimiser options
@@ -46,11 +47,10 @@ struct Range {
   [[nodiscard]] std::string describe(bool integers = false) const;
 };
 
-// Shortest text that reads back to the same double ("%.17g" trimmed: 0.1, 1e-05, 4096).
+// Shortest text that reads back to the same double (std::to_chars: 0.1, 1e-05, 4096).
 std::string format_number(double v);
 
 enum class Kind { boolean, integer, number, choice };
-std::string to_string(Kind kind);
 
 // A setting's value: bool, integer (long long), number (double) or choice (string).
 using Value = std::variant<bool, long long, double, std::string>;
@@ -84,7 +84,7 @@ struct Info {
 template <class Root>
 struct Setting : Info {
   std::function<Value(const Root&)> get;
-  std::function<void(Root&, const Value&)> set;  // the value is checked first (check())
+  std::function<void(Root&, const Value&)> set;  // callers check the value first (check())
 };
 
 template <class Root>
@@ -144,6 +144,15 @@ template <class Root>
 Setting<Root> neutral(Setting<Root> s) {
   s.affects_results = false;
   return s;
+}
+
+// A choice stored as its name (a std::string field).
+template <class Root, class Ref>
+Setting<Root> choice(std::string key, Ref ref, std::vector<std::string> choices,
+                     std::string meaning, std::string flag = {}) {
+  const auto same = [](const std::string& name) { return name; };
+  return choice<Root>(std::move(key), ref, std::move(choices), same, same, std::move(meaning),
+                      std::move(flag));
 }
 
 // The rows of a member's table under `prefix`, reached through `project`, a generic lambda

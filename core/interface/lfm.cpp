@@ -33,7 +33,6 @@ const settings::Table<ContactScene>& ContactScene::settings() {
             "", "local friction coefficient: peak shear stress / pressure", "--alpha"),
         settings::choice<ContactScene>(
             "contact.envelope", [](auto& c) -> auto& { return c.envelope; }, envelope_names(),
-            [](const std::string& e) { return e; }, [](const std::string& e) { return e; },
             "interface envelope: hertz (tau_max = alpha p, Hertz p)")};
     settings::lift(
         t, elastic::Material::settings(), "material.", [](auto& c) -> auto& { return c.material; });
