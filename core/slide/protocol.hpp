@@ -1,7 +1,8 @@
 // The sliding protocols of MODEL.md section 5 (slider.hpp: reference and adaptive, bisection of
 // instabilities, slip detection, peak refinement, checkpoints), written once against a model of
 // the contact so that the lateral force model (slider.cpp) and the explicit atomistic model
-// (explicit/explicit_slide.cpp) slide through the same code.
+// (explicit/explicit_slide.cpp) slide through the same code. Pure functions over the trace (the
+// stop rule, kinetic friction, the peak parabola) are in trace.hpp.
 //
 // A Model (the concept SlideModel below) provides (State = SlideFields; its fields live on a block
 // of sites that the model chooses, identified by State::shift and the field size):
@@ -34,6 +35,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -42,6 +44,7 @@
 #include <vector>
 
 #include "common/validate.hpp"
+#include "slide/trace.hpp"
 #include "slide/types.hpp"
 
 namespace asperity::slide::detail {
@@ -186,188 +189,178 @@ void check_start(const SlideState& st, const Model& model) {
   }
 }
 
-// The static peak is established once it has held over a whole period d of sliding with
-// slips_to_stop slip events after it. In Regime II the stick-slip cycle repeats with period
-// d, so this is the slips_to_stop-th slip itself; in Regime III arrested loops pile up and
-// Fx keeps rising through many small slips (R = 100 d, a = 70 d: mu/alpha 0.091 at the
-// second slip, 0.129 and still rising 2.5 d later), and a count of slips alone would report
-// the first one as mu.
-// A repeated cycle reaches its maximum again only to within the sampling of the trace (a
-// bracket of min_step before a slip; a smooth maximum between coarse steps, which can be
-// missed altogether: the explicit model's first cycle, sampled every 0.4 d, shows 0.392
-// where the second shows 0.423), and that must not count as a new peak. So each stick
-// segment (the stable samples between slips) carries the uncertainty of its highest sample,
-// the steps to its stable neighbours, at least kPeakTie (a fifth of the 0.5% to which mu is
-// converged, docs/benchmarks.md); the peak held from the first segment whose highest sample
-// reaches the maximum within its own uncertainty, or the first slip row that does within
-// kPeakTie.
-//
-// t: the trace so far; best: the largest Fx/Fz of it; ratio_now, Dx_now: the current state (the
-// last row); d: the period; slips_to_stop: the slip events wanted after the peak.
-inline constexpr double kPeakTie = 1e-3;
-inline bool peak_held(std::span<const TraceRow> t, double best, double ratio_now, double Dx_now,
-                      double d, int slips_to_stop) {
-  // The slide stops at a slip, and not while Fx is still within reach of the peak (after a
-  // small slip in Regime III it can lie just below it and rise past it next).
-  if (t.empty() || !t.back().slip) return false;
-  const auto y = [&](std::size_t i) { return t[i].Fx / t[i].Fz; };
-  const double floor_tie = kPeakTie * std::abs(best);
-  double largest_tie = floor_tie;
-  std::optional<double> held_Dx;
-  std::size_t top = 0;  // highest sample of the current stick segment
-  for (std::size_t i = 1; i <= t.size(); ++i) {
-    if (i < t.size() && !t[i].slip) {
-      if (t[top].slip || y(i) > y(top)) top = i;
-      continue;
-    }
-    if (!t[top].slip) {  // the segment ends
-      double tie = floor_tie;
-      if (top > 0 && !t[top - 1].slip) tie = std::max(tie, std::abs(y(top) - y(top - 1)));
-      if (top + 1 < t.size() && !t[top + 1].slip)
-        tie = std::max(tie, std::abs(y(top) - y(top + 1)));
-      largest_tie = std::max(largest_tie, tie);
-      if (!held_Dx && y(top) + tie >= best) held_Dx = t[top].Dx;
-    }
-    if (i < t.size()) {
-      top = i;
-      // A slip row is a sample of its own, exact in Dx (a bracket end). In a Regime III
-      // steady state Fx can rise through a run of tiny slips with no stable sample between
-      // them and peak on one of them (R = 40 d, a = 36 d: a 2-site slip, the same to 1e-12
-      // every period from 11.6 d on); without this such a peak never held and the slide ran
-      // to the cap, reporting a lower bound.
-      if (!held_Dx && y(i) + floor_tie >= best) held_Dx = t[i].Dx;
-    }
-  }
-  if (!held_Dx || ratio_now >= best - largest_tie) return false;
-  if (Dx_now < *held_Dx + d - 1e-9 * d) return false;
-  return std::count_if(t.begin(), t.end(), [&](const TraceRow& row) {
-           return row.slip && row.Dx > *held_Dx;
-         }) >= slips_to_stop;
-}
-
-// Kinetic friction of a trace (MODEL.md 5): the mean of Fx/Fz over Dx (trapezoid: adaptive
-// steps are uneven) after the first slip; without slips (smooth sliding) over the last whole
-// period d before Dx_end. NaN if neither exists (no slip, slide shorter than d).
-inline double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d) {
-  auto from = std::find_if(t.begin(), t.end(), [](const TraceRow& row) { return row.slip; });
-  if (from == t.end() && Dx_end >= d) {
-    from = std::find_if(t.begin(), t.end(),
-                        [&](const TraceRow& row) { return row.Dx >= Dx_end - d - 1e-12; });
-  }
-  if (from == t.end()) return std::numeric_limits<double>::quiet_NaN();
-  double area = 0.0, span = 0.0;
-  for (auto a = from; a + 1 != t.end(); ++a) {
-    const double w = (a + 1)->Dx - a->Dx;
-    area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
-    span += w;
-  }
-  return span > 0.0 ? area / span : from->Fx / from->Fz;
-}
-
+// One slide of a model (run_protocol below), split by what each part decides:
+//   - start(): the state the stepping begins from (a resumed slide's, or the first relaxation);
+//   - the stepper (step(), plan(), warm_start()): where the next step goes and how it is
+//     relaxed; plan() holds the bisection of a bracketed instability (MODEL.md 5: the slip is
+//     taken from the bracket's stable end, min_step wide) and the cycle probe;
+//   - relax_step() and relax_slip(): the fast relaxation, and the slip minimiser's relaxation of
+//     a slip the fast one would accept (pausable for checkpoints and stops);
+//   - accept(): the trace, the slip events' frames, the peak so far and the stop rule;
+//   - the cycle replay (take_cycle(), replay()): a state equal to one a period d back repeats
+//     the cycle, whose rows are carried on instead of being computed;
+//   - refine_peak() and finish(): mu, its resolution and kinetic friction, from the pure
+//     functions over the trace (trace.hpp).
+// The object lives for one call of run_protocol: the model's heartbeat refers to it.
 template <SlideModel Model>
-SlideResult run_protocol(Model& model, const ProtocolParams& params, const SlideOptions& options,
-                         const SlideControl& control, std::chrono::steady_clock::time_point t0) {
+class ProtocolRun {
+ public:
   using State = SlideFields;
-  const auto elapsed = [&t0] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
-  SlideResult res;
-  // Of the earlier sessions of a resumed slide (counted in the start state).
-  std::size_t gf_before = 0;
-  double wall_before = 0.0;
-  if (control.start) {
-    check_start(*control.start, model);
-    res = control.start->partial;
-    gf_before = res.gf_applications;
-    wall_before = res.wall_s;
-  }
-  res.block = model.block_shape();
-  res.fft_grid = model.fft_grid();
-  CollectFrames collect(res.snapshots);
-  FrameSink& sink = control.frames ? *control.frames : collect;
-  res.Fz_continuum = params.Fz_continuum;
-  const double d = params.d;
-  const bool automatic = options.distance == 0.0;
-  const double limit =
-      automatic ? (options.max_distance > 0.0 ? options.max_distance : params.default_cap)
-                : options.distance;
 
-  State state = model.initial();
-  // The start state replaces the initial one: GF work the model spent building it (the
-  // explicit model's Hertz start) was counted by the session that did use it.
-  const std::size_t gf_unused = control.start ? model.gf_applications() : 0;
+  ProtocolRun(Model& model, const ProtocolParams& params, const SlideOptions& options,
+              const SlideControl& control, std::chrono::steady_clock::time_point t0)
+      : model_(model),
+        params_(params),
+        options_(options),
+        control_(control),
+        t0_(t0),
+        collect_(res_.snapshots),
+        d_(params.d),
+        automatic_(options.distance == 0.0),
+        limit_(automatic_ ? (options.max_distance > 0.0 ? options.max_distance : params.default_cap)
+                          : options.distance),
+        replay_(comparable && options.replay_cycle && options.protocol == Protocol::adaptive),
+        h_(options.protocol == Protocol::reference ? options.step : options.max_step) {}
+  ProtocolRun(const ProtocolRun&) = delete;
+  ProtocolRun& operator=(const ProtocolRun&) = delete;
+  ~ProtocolRun() {
+    if (heartbeat_slot_) *heartbeat_slot_ = nullptr;  // it refers to this object
+  }
+
+  SlideResult run() {
+    // Of the earlier sessions of a resumed slide (counted in the start state).
+    if (control_.start) {
+      check_start(*control_.start, model_);
+      res_ = control_.start->partial;
+      gf_before_ = res_.gf_applications;
+      wall_before_ = res_.wall_s;
+    }
+    res_.block = model_.block_shape();
+    res_.fft_grid = model_.fft_grid();
+    sink_ = control_.frames ? control_.frames : &collect_;
+    res_.Fz_continuum = params_.Fz_continuum;
+    state_ = model_.initial();
+    // The start state replaces the initial one: GF work the model spent building it (the
+    // explicit model's Hertz start) was counted by the session that did use it.
+    gf_unused_ = control_.start ? model_.gf_applications() : 0;
+    install_heartbeat();
+    start();
+    last_checkpoint_ = std::chrono::steady_clock::now();
+    while (!stopped_) {
+      if (auto out = step()) return std::move(*out);
+    }
+    // The replay's window is of no use past the stepping (a resumed slide that had finished
+    // stepping does not step again); its memory goes now, before the peak refinement.
+    window_.clear();
+    window_.shrink_to_fit();
+    window_rows_.clear();
+    if (auto out = refine_peak()) return std::move(*out);
+    return finish();
+  }
+
+ private:
+  // Only models that can compare states a period apart replay (the explicit model does not).
+  static constexpr bool comparable = requires(const Model& m, const State& a) {
+    m.period_mismatch(a, a);
+  };
+  // Only models whose relax() takes a RelaxPausing can pause a slip relaxation.
+  static constexpr bool pausable = requires(Model & m, State& s, std::vector<PathFrame>* frames,
+                                            const minimize::MinimizerOptions* o, RelaxPausing* p) {
+    m.relax(s, 0.0, frames, false, o, p);
+  };
+  // Fraction of the contact sites whose registry index changed in a slip worth a probe (seen:
+  // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
+  // in Regime III, with a few larger partial slips of 0.58 to 0.84).
+  static constexpr double kSweptSlip = 0.5;
+
+  // Where the next step goes: its tip position; whether it is a trial that is undone if it
+  // slips (the adaptive protocol's steps and bisection); the window state it probes the cycle
+  // against, if it is a probe.
+  struct Plan {
+    double Dx = 0.0;
+    bool may_undo = false;
+    std::optional<std::size_t> cycle_of;
+  };
+
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+  std::size_t gf_total(std::size_t model_gf) const { return gf_before_ + model_gf - gf_unused_; }
+  bool stop_requested() const { return control_.stop_requested && control_.stop_requested(); }
+
   // Progress report: what starts now (or was just accepted), with the cost so far; a model that
   // can (one with a `heartbeat` slot) also reports while it relaxes, so that a relaxation of
   // many minutes (a slip through a large contact) shows what it is and that it runs.
-  SlidePhase relaxing = SlidePhase::start;
-  double relaxing_to = 0.0;
-  const auto report = [&](SlidePhase phase, double target, int iteration = 0) {
-    if (!control.progress) return;
+  void report(SlidePhase phase, double target, int iteration = 0) {
+    if (!control_.progress) return;
     if (iteration == 0) {
-      relaxing = phase;
-      relaxing_to = target;
+      relaxing_ = phase;
+      relaxing_to_ = target;
     }
-    control.progress(
-        SlideProgressInfo{.phase = phase,
-                          .Dx = state.Dx,
-                          .target_Dx = target,
-                          .limit = limit,
-                          .slip_events = res.slip_events,
-                          .steps = res.steps,
-                          .replayed_steps = res.replayed_steps,
-                          .gf_applications = gf_before + model.gf_applications() - gf_unused,
-                          .wall_s = wall_before + elapsed(),
-                          .iteration = iteration});
-  };
+    control_.progress(SlideProgressInfo{.phase = phase,
+                                        .Dx = state_.Dx,
+                                        .target_Dx = target,
+                                        .limit = limit_,
+                                        .slip_events = res_.slip_events,
+                                        .steps = res_.steps,
+                                        .replayed_steps = res_.replayed_steps,
+                                        .gf_applications = gf_total(model_.gf_applications()),
+                                        .wall_s = wall_before_ + elapsed(),
+                                        .iteration = iteration});
+  }
+
   // A stop request is also polled from inside a relaxation of the stepping or of the peak
-  // refinement (not the first one, before which there is no state to hand over): the relaxation,
-  // of a copy of the state, is abandoned and the state it started from is handed over, so that
-  // the resumed slide repeats it. A slip through a large contact relaxes for most of an hour
-  // (R = 1700 d, a = 510 d: 12 854 iterations), which a stop must not wait for.
-  bool may_abandon = false;
-  bool abandoned = false;
-  // The slip minimiser's flow is paused instead (SlideState::pending), at its next accepted step.
-  bool may_pause = false;
-  bool pause_requested = false;
-  const auto stop_requested = [&] { return control.stop_requested && control.stop_requested(); };
-  struct ClearOnExit {
-    std::function<bool(int)>* slot = nullptr;
-    ~ClearOnExit() {
-      if (slot) *slot = nullptr;  // it refers to this call's locals
-    }
-  } clear_heartbeat;
-  if constexpr (requires { model.heartbeat = std::function<bool(int)>{}; }) {
-    if (control.progress || control.stop_requested) {
-      model.heartbeat = [&](int iteration) {
-        report(relaxing, relaxing_to, iteration);
-        const bool stop = (may_abandon || may_pause) && stop_requested();
-        abandoned = may_abandon && stop;
-        pause_requested = pause_requested || (may_pause && stop);
-        return abandoned;
-      };
-      clear_heartbeat.slot = &model.heartbeat;
+  // refinement (not the first one, before which there is no state to hand over): the
+  // relaxation, of a copy of the state, is abandoned and the state it started from is handed
+  // over, so that the resumed slide repeats it. A slip through a large contact relaxes for most
+  // of an hour (R = 1700 d, a = 510 d: 12 854 iterations), which a stop must not wait for. The
+  // slip minimiser's flow is paused instead (SlideState::pending), at its next accepted step.
+  void install_heartbeat() {
+    if constexpr (requires { model_.heartbeat = std::function<bool(int)>{}; }) {
+      if (control_.progress || control_.stop_requested) {
+        model_.heartbeat = [this](int iteration) {
+          report(relaxing_, relaxing_to_, iteration);
+          const bool stop = (may_abandon_ || may_pause_) && stop_requested();
+          abandoned_ = may_abandon_ && stop;
+          pause_requested_ = pause_requested_ || (may_pause_ && stop);
+          return abandoned_;
+        };
+        heartbeat_slot_ = &model_.heartbeat;
+      }
     }
   }
+
+  // A relaxation the heartbeat may abandon for a stop request.
+  minimize::MinimizeResult relax_abandonable(State& s, double Dx, std::vector<PathFrame>* frames,
+                                             bool stop_on_slip,
+                                             const minimize::MinimizerOptions* solver = nullptr) {
+    may_abandon_ = true;
+    auto r = solver ? model_.relax(s, Dx, frames, stop_on_slip, solver)
+                    : model_.relax(s, Dx, frames, stop_on_slip);
+    may_abandon_ = false;
+    return r;
+  }
+
   // A trace row of state s; replayed rows cost no iterations.
-  const auto record = [&](const State& s, int iterations, std::size_t gf, double max_force,
-                          bool slip, int sites, bool replayed) {
-    res.trace.push_back(
+  void record(const State& s, int iterations, std::size_t gf, double max_force, bool slip,
+              int sites, bool replayed) {
+    res_.trace.push_back(
         TraceRow{s.Dx, s.Fx, s.Fz, s.energy, iterations, gf, max_force, slip, sites, replayed});
-    res.iterations += iterations;
-  };
-  const auto count = [&](const minimize::MinimizeResult& r) {
-    ++res.minimizations;
-    res.gradient_evaluations += r.interface_evaluations;
-    res.filter_applications += r.filter_applications;
-    res.filtered = res.filtered || r.filtered;
-  };
+    res_.iterations += iterations;
+  }
+  void count(const minimize::MinimizeResult& r) {
+    ++res_.minimizations;
+    res_.gradient_evaluations += r.interface_evaluations;
+    res_.filter_applications += r.filter_applications;
+    res_.filtered = res_.filtered || r.filtered;
+  }
+
   // Why a relaxation to Dx (from the state at `from`) cannot be accepted: the minimiser did not
   // converge, or the relaxed state has non-finite forces or energy. Empty if it can. The message
   // names the step and the parameters needed to reproduce it.
-  const auto failure = [&](const minimize::MinimizeResult& r, const State& s, double Dx,
-                           double from,
-                           const minimize::MinimizerOptions* solver = nullptr) -> std::string {
-    const minimize::MinimizerOptions& m = solver ? *solver : options.minimizer;
+  std::string failure(const minimize::MinimizeResult& r, const State& s, double Dx, double from,
+                      const minimize::MinimizerOptions* solver = nullptr) const {
+    const minimize::MinimizerOptions& m = solver ? *solver : options_.minimizer;
     const char* what = nullptr;
     if (r.termination != Termination::converged) {
       what = "";
@@ -383,126 +376,104 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   "%sminimizer %s at Dx = %.9g d (step %d, from Dx = %.9g d, step size %.3g d; "
                   "%d iterations, max force %.3g, energy %.9g; %s, tolerance %g, max "
                   "iterations %d)",
-                  what, to_string(r.termination).c_str(), Dx, res.steps + 1, from, Dx - from,
+                  what, to_string(r.termination).c_str(), Dx, res_.steps + 1, from, Dx - from,
                   r.iterations, r.max_force, r.energy, minimize::to_string(m.method).c_str(),
                   m.force_tolerance, m.max_iterations);
     return buf;
-  };
+  }
 
-  std::optional<State> peak, previous, earlier, runner_up;
-  double runner_up_ratio = -std::numeric_limits<double>::infinity();
-  double best = 0.0;
-  double first_max_Dx = -1.0;  // Regime I: first maximum of Fx without a slip
-  double slip_at = std::numeric_limits<double>::infinity();
-  bool stopped = false;
-  // Cycle replay (SlideOptions::replay_cycle): the accepted states of the last period d and a
-  // step, with their trace rows, so that a state one period after one of them can be compared.
-  std::vector<State> window;
-  std::vector<std::size_t> window_rows;
-  bool cycle_check_due = false;
-  // Only models that can compare states a period apart replay (the explicit model does not).
-  constexpr bool comparable = requires(const Model& m, const State& a) {
-    m.period_mismatch(a, a);
-  };
-  const auto mismatch = [&](const State& later, const State& before) {
+  double mismatch(const State& later, const State& before) const {
     if constexpr (comparable) {
-      return model.period_mismatch(later, before);
+      return model_.period_mismatch(later, before);
     } else {
       return std::numeric_limits<double>::infinity();
     }
-  };
-  const bool replay = comparable && options.replay_cycle && options.protocol == Protocol::adaptive;
-  constexpr std::size_t kMaxWindow = kCycleWindow;  // slider.hpp
-  // Fraction of the contact sites whose registry index changed in a slip worth a probe (seen:
-  // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
-  // in Regime III, with a few larger partial slips of 0.58 to 0.84).
-  constexpr double kSweptSlip = 0.5;
-  // A slip relaxation paused in the slide this one continues (only models whose relax() takes a
-  // RelaxPausing can pause).
-  std::optional<PendingSlip> pending;
-  constexpr bool pausable = requires(Model & m, State & s, std::vector<PathFrame> * frames,
-                                     const minimize::MinimizerOptions* o, RelaxPausing* p) {
-    m.relax(s, 0.0, frames, false, o, p);
-  };
-  if (control.start) {
-    const SlideState& st = *control.start;
-    state = st.current;
-    previous = st.previous;
-    earlier = st.earlier;
-    peak = st.peak;
-    runner_up = st.runner_up;
-    best = st.best;
-    runner_up_ratio = st.runner_up_ratio;
-    first_max_Dx = st.first_max_Dx;
-    slip_at = st.slip_at;
-    stopped = st.stepping_done;
-    window = st.window;
-    window_rows = st.window_rows;
-    cycle_check_due = st.cycle_check_due;
-    pending = st.pending;
-    if (pending) {
-      const char* why =
-          !pausable ? "this model cannot continue"
-          : stopped ? "a state past the stepping cannot have"
-          : !options.slip_minimizer || options.slip_minimizer->method != minimize::Method::flow
-              ? "only a flow as slip minimiser makes"
-          : pending->Dx > limit + 1e-12 ? "lies beyond the distance of this slide"
-                                        : nullptr;
-      if (why) {
-        throw std::invalid_argument(
-            std::string("slide: the start state holds a paused slip relaxation, which ") + why);
+  }
+
+  // The state the stepping begins from: a resumed slide's (its paused slip relaxation checked
+  // against this slide's settings), or the first relaxation at Dx = 0.
+  void start() {
+    if (control_.start) {
+      const SlideState& st = *control_.start;
+      state_ = st.current;
+      previous_ = st.previous;
+      earlier_ = st.earlier;
+      peak_ = st.peak;
+      runner_up_ = st.runner_up;
+      best_ = st.best;
+      runner_up_ratio_ = st.runner_up_ratio;
+      first_max_Dx_ = st.first_max_Dx;
+      slip_at_ = st.slip_at;
+      stopped_ = st.stepping_done;
+      window_ = st.window;
+      window_rows_ = st.window_rows;
+      cycle_check_due_ = st.cycle_check_due;
+      pending_ = st.pending;
+      if (pending_) {
+        const char* why =
+            !pausable  ? "this model cannot continue"
+            : stopped_ ? "a state past the stepping cannot have"
+            : !options_.slip_minimizer || options_.slip_minimizer->method != minimize::Method::flow
+                ? "only a flow as slip minimiser makes"
+            : pending_->Dx > limit_ + 1e-12 ? "lies beyond the distance of this slide"
+                                            : nullptr;
+        if (why) {
+          throw std::invalid_argument(
+              std::string("slide: the start state holds a paused slip relaxation, which ") + why);
+        }
       }
+      return;
     }
-  } else {
     report(SlidePhase::start, 0.0);
-    auto first = model.relax(state, 0.0, nullptr);
+    auto first = model_.relax(state_, 0.0, nullptr);
     count(first);
-    res.contact_sites = model.contact_sites();
-    record(state, first.iterations, first.gf_applications, first.max_force, false, 0, false);
-    if (replay) {
-      window.push_back(state);
-      window_rows.push_back(0);
+    res_.contact_sites = model_.contact_sites();
+    record(state_, first.iterations, first.gf_applications, first.max_force, false, 0, false);
+    if (replay_) {
+      window_.push_back(state_);
+      window_rows_.push_back(0);
     }
-    best = state.Fx / state.Fz;
-    peak = state;
-    if (const std::string why = failure(first, state, 0.0, 0.0); !why.empty()) {
-      res.failed = true;  // no good state yet to keep
-      res.stop_reason = why;
-      stopped = true;
+    best_ = state_.Fx / state_.Fz;
+    peak_ = state_;
+    if (const std::string why = failure(first, state_, 0.0, 0.0); !why.empty()) {
+      res_.failed = true;  // no good state yet to keep
+      res_.stop_reason = why;
+      stopped_ = true;
     }
   }
 
   // The state at the top of the stepping loop (or after it), for checkpoints. Its cost is the
   // model's so far, or `model_gf` (the count before an abandoned relaxation, whose work the
   // resumed slide repeats: counted once, a resumed slide reports an uninterrupted one's counts).
-  const auto capture = [&](bool stepping_done, std::optional<std::size_t> model_gf = {}) {
-    SlideState st{.current = state,
-                  .previous = previous,
-                  .earlier = earlier,
-                  .peak = *peak,
-                  .runner_up = runner_up,
-                  .best = best,
-                  .runner_up_ratio = runner_up_ratio,
-                  .first_max_Dx = first_max_Dx,
-                  .slip_at = slip_at,
+  SlideState capture(bool stepping_done, std::optional<std::size_t> model_gf = {}) const {
+    SlideState st{.current = state_,
+                  .previous = previous_,
+                  .earlier = earlier_,
+                  .peak = *peak_,
+                  .runner_up = runner_up_,
+                  .best = best_,
+                  .runner_up_ratio = runner_up_ratio_,
+                  .first_max_Dx = first_max_Dx_,
+                  .slip_at = slip_at_,
                   .stepping_done = stepping_done,
-                  .window = window,
-                  .window_rows = window_rows,
-                  .cycle_check_due = cycle_check_due,
-                  .partial = res,
+                  .window = window_,
+                  .window_rows = window_rows_,
+                  .cycle_check_due = cycle_check_due_,
+                  .partial = res_,
                   // A paused slip not yet continued (a resumed slide stopped or checkpointed
                   // before its first step) is handed on: its work is in `res` already.
-                  .pending = pending};
-    st.partial.gf_applications = gf_before + model_gf.value_or(model.gf_applications()) - gf_unused;
-    st.partial.wall_s = wall_before + elapsed();
+                  .pending = pending_};
+    st.partial.gf_applications = gf_total(model_gf.value_or(model_.gf_applications()));
+    st.partial.wall_s = wall_before_ + elapsed();
     return st;
-  };
+  }
+
   // Stop on request: hand the state over and return what is known so far.
   // `abandoned_to`: the target of a relaxation abandoned for the stop, if one was.
   // A state with a pending slip relaxation (st.pending) was paused within it instead.
-  const auto interrupt = [&](const SlideState& st,
-                             double abandoned_to = std::numeric_limits<double>::quiet_NaN()) {
-    if (control.checkpoint) control.checkpoint(st);
+  SlideResult interrupt(const SlideState& st,
+                        double abandoned_to = std::numeric_limits<double>::quiet_NaN()) const {
+    if (control_.checkpoint) control_.checkpoint(st);
     SlideResult out = st.partial;
     out.interrupted = true;
     char buf[240];
@@ -520,144 +491,144 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
                   st.stepping_done ? " (refining the peak)" : "", within);
     out.stop_reason = buf;
     out.mu = st.best;
-    out.mu_over_alpha = st.best / params.alpha;
+    out.mu_over_alpha = st.best / params_.alpha;
     out.mu_is_lower_bound = true;  // the static peak is not established yet
     out.peak_Dx = st.peak.Dx;
     out.Fz = st.peak.Fz;
     out.distance = st.current.Dx;
     out.kinetic = out.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
     return out;
-  };
-  auto last_checkpoint = std::chrono::steady_clock::now();
-  const auto peak_held = [&] {
-    return detail::peak_held(res.trace, best, state.Fx / state.Fz, state.Dx, d,
-                             options.slips_to_stop);
-  };
+  }
 
-  const double h = options.protocol == Protocol::reference ? options.step : options.max_step;
-  const auto slip_label = [](int event) {
+  static std::string slip_label(int event) {
     char label[32];
     std::snprintf(label, sizeof label, "slip_%03d", event);
     return std::string(label);
-  };
+  }
   // Slip events whose relaxation paths are recorded: 1, 1 + k, 1 + 2k, ...
-  const auto paths_of = [&](int event) {
-    return options.path_frame_every > 0 && options.path_frame_slips > 0 && sink.wants_paths() &&
-           (event - 1) % options.path_frame_slips == 0;
-  };
+  bool paths_of(int event) const {
+    return options_.path_frame_every > 0 && options_.path_frame_slips > 0 && sink_->wants_paths() &&
+           (event - 1) % options_.path_frame_slips == 0;
+  }
+
+  // The frames of slip event res_.slip_events: the states before and after, its relaxation
+  // path (one Snapshot at a time: a path is held as displacements only, PathFrame), or for a
+  // replayed slip the path of event `replay_of`, `periods` back.
+  void slip_frames(const State& next, int sites, std::vector<PathFrame>& frames, int replay_of,
+                   int periods) {
+    const std::string label = slip_label(res_.slip_events);
+    for (auto [fields, suffix] :
+         {std::pair<const State*, const char*>{&state_, "_before"}, {&next, "_after"}}) {
+      Snapshot frame = model_.snapshot(*fields, label + suffix);
+      frame.slipped_sites = sites;
+      sink_->state(frame);
+    }
+    for (PathFrame& frame : frames) {
+      sink_->path_frame(model_.snapshot(frame.fields, label + "_path", frame.iteration));
+      frame.fields = {};
+    }
+    if (replay_of > 0 && paths_of(res_.slip_events)) {
+      sink_->replayed_path(slip_label(replay_of) + "_path", periods, d_, label + "_path");
+    }
+  }
+
+  // The replay's window: the accepted states of the last period d and a step, with their trace
+  // rows, so that a state one period after one of them can be compared.
+  void push_window() {
+    window_.push_back(state_);
+    window_rows_.push_back(res_.trace.size() - 1);
+    std::size_t drop = 0;
+    while (drop < window_.size() && (window_[drop].Dx < state_.Dx - d_ - h_ - 1e-9 * d_ ||
+                                     window_.size() - drop > kCycleWindow))
+      ++drop;
+    window_.erase(window_.begin(), window_.begin() + static_cast<std::ptrdiff_t>(drop));
+    window_rows_.erase(window_rows_.begin(),
+                       window_rows_.begin() + static_cast<std::ptrdiff_t>(drop));
+  }
+
   // Takes the next state of the slide (computed, or replayed from the repeating cycle) into the
   // trace; true when the slide stops there.
   // `frames`: the relaxation path of a computed step; `replay_of`: the slip event whose path a
   // replayed slip repeats, `periods` on (0: none).
-  const auto accept = [&](State&& next, int iterations, std::size_t gf, double max_force, bool slip,
-                          int sites, std::vector<PathFrame> frames, bool replayed,
-                          int replay_of = 0, int periods = 0) {
+  bool accept(State&& next, int iterations, std::size_t gf, double max_force, bool slip, int sites,
+              std::vector<PathFrame> frames, bool replayed, int replay_of = 0, int periods = 0) {
     if (slip) {
-      ++res.slip_events;
-      const std::string label = slip_label(res.slip_events);
-      for (auto [fields, suffix] :
-           {std::pair<const State*, const char*>{&state, "_before"}, {&next, "_after"}}) {
-        Snapshot frame = model.snapshot(*fields, label + suffix);
-        frame.slipped_sites = sites;
-        sink.state(frame);
-      }
-      // One Snapshot at a time: a path is held as displacements only (PathFrame).
-      for (PathFrame& frame : frames) {
-        sink.path_frame(model.snapshot(frame.fields, label + "_path", frame.iteration));
-        frame.fields = {};
-      }
-      if (replay_of > 0 && paths_of(res.slip_events)) {
-        sink.replayed_path(slip_label(replay_of) + "_path", periods, d, label + "_path");
-      }
+      ++res_.slip_events;
+      slip_frames(next, sites, frames, replay_of, periods);
       // A slip that swept most of the contact (a Regime II loop, or several) may have brought
       // the state back to one of the last period: probe it. Not after the small slips of
       // Regime III (arrested loops; a few % of the sites each), where probes would be wasted.
-      cycle_check_due =
-          replay && !replayed &&
-          static_cast<double>(sites) >= kSweptSlip * static_cast<double>(model.contact_sites());
+      cycle_check_due_ =
+          replay_ && !replayed &&
+          static_cast<double>(sites) >= kSweptSlip * static_cast<double>(model_.contact_sites());
     }
-    earlier = std::move(previous);
-    previous = std::move(state);
-    state = std::move(next);
-    record(state, iterations, gf, max_force, slip, sites, replayed);
-    ++(replayed ? res.replayed_steps : res.steps);
-    if (replay && !replayed) {
-      window.push_back(state);
-      window_rows.push_back(res.trace.size() - 1);
-      std::size_t drop = 0;
-      while (drop < window.size() &&
-             (window[drop].Dx < state.Dx - d - h - 1e-9 * d || window.size() - drop > kMaxWindow))
-        ++drop;
-      window.erase(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(drop));
-      window_rows.erase(window_rows.begin(),
-                        window_rows.begin() + static_cast<std::ptrdiff_t>(drop));
-    }
+    earlier_ = std::move(previous_);
+    previous_ = std::move(state_);
+    state_ = std::move(next);
+    record(state_, iterations, gf, max_force, slip, sites, replayed);
+    ++(replayed ? res_.replayed_steps : res_.steps);
+    if (replay_ && !replayed) push_window();
     // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
     // Regime I the trace repeats its first maximum a period later, and the first, which has
     // samples on both sides, is the one to refine.
-    const double ratio = state.Fx / state.Fz;
-    if (ratio > best + 1e-6 * std::abs(best)) {
-      runner_up = std::move(peak);
-      runner_up_ratio = best;
-      best = ratio;
-      peak = state;
+    const double ratio = state_.Fx / state_.Fz;
+    if (ratio > best_ + 1e-6 * std::abs(best_)) {
+      runner_up_ = std::move(peak_);
+      runner_up_ratio_ = best_;
+      best_ = ratio;
+      peak_ = state_;
     }
-    report(SlidePhase::accepted, state.Dx);
+    report(SlidePhase::accepted, state_.Dx);
+    return stops_here();
+  }
 
+  // The automatic distance's stop rules, at the state just accepted.
+  bool stops_here() {
     // Regime I: a smooth maximum (rise then fall, no slip yet).
-    const std::size_t k = res.trace.size();
-    if (first_max_Dx < 0.0 && res.slip_events == 0 && k >= 3 &&
-        res.trace[k - 2].Fx > res.trace[k - 3].Fx && res.trace[k - 1].Fx < res.trace[k - 2].Fx) {
-      first_max_Dx = res.trace[k - 2].Dx;
+    const std::size_t k = res_.trace.size();
+    if (first_max_Dx_ < 0.0 && res_.slip_events == 0 && k >= 3 &&
+        res_.trace[k - 2].Fx > res_.trace[k - 3].Fx &&
+        res_.trace[k - 1].Fx < res_.trace[k - 2].Fx) {
+      first_max_Dx_ = res_.trace[k - 2].Dx;
     }
-    if (automatic && res.slip_events >= options.slips_to_stop && peak_held()) {
-      res.stop_reason = "slip events reached";
+    if (automatic_ && res_.slip_events >= options_.slips_to_stop &&
+        peak_held(res_.trace, best_, state_.Fx / state_.Fz, state_.Dx, d_,
+                  options_.slips_to_stop)) {
+      res_.stop_reason = "slip events reached";
       return true;
     }
     // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
     // (the last period) must lie inside them.
-    const double lead = options.protocol == Protocol::adaptive ? h : 0.0;
-    if (automatic && res.slip_events == 0 && first_max_Dx >= 0.0 &&
-        state.Dx >= first_max_Dx + lead + d - 1e-12) {
-      res.stop_reason = "one period past the first maximum (no slip)";
+    const double lead = options_.protocol == Protocol::adaptive ? h_ : 0.0;
+    if (automatic_ && res_.slip_events == 0 && first_max_Dx_ >= 0.0 &&
+        state_.Dx >= first_max_Dx_ + lead + d_ - 1e-12) {
+      res_.stop_reason = "one period past the first maximum (no slip)";
       return true;
     }
     return false;
-  };
-  while (!stopped) {
-    if (stop_requested()) return interrupt(capture(false));
-    if (control.checkpoint) {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_checkpoint).count() >=
-          control.checkpoint_every_s) {
-        control.checkpoint(capture(false));
-        last_checkpoint = now;
-      }
-    }
-    if (state.Dx >= limit - 1e-12) {
-      res.stop_reason = automatic ? "distance cap reached" : "distance reached";
-      break;
-    }
-    // Adaptive: a bracket [state.Dx, slip_at] around a known instability is bisected until it
-    // is min_step wide; the slip is then taken from its stable end.
+  }
+
+  // The stepper: where the next step goes.
+  Plan plan() {
     // Smooth sliding (a maximum without a slip, Regime I): the kinetic friction is the mean of a
     // near-sinusoid over the last period, which the trapezoid rule gets right only from evenly
     // spread samples: eight per period from the first maximum on.
     const double step =
-        options.protocol == Protocol::adaptive && first_max_Dx >= 0.0 && res.slip_events == 0
-            ? std::min(h, 0.125 * d)
-            : h;
-    double Dx = std::min(state.Dx + step, limit);
-    bool may_undo = false;
-    if (options.protocol == Protocol::adaptive) {
-      const double gap = slip_at - state.Dx;
-      if (!std::isfinite(slip_at)) {
-        may_undo = true;
-      } else if (gap > options.min_step * 1.0001) {
-        Dx = state.Dx + 0.5 * gap;
-        may_undo = true;
+        options_.protocol == Protocol::adaptive && first_max_Dx_ >= 0.0 && res_.slip_events == 0
+            ? std::min(h_, 0.125 * d_)
+            : h_;
+    Plan p{.Dx = std::min(state_.Dx + step, limit_)};
+    // Adaptive: the bisection. A bracket [state.Dx, slip_at] around a known instability is
+    // halved until it is min_step wide; the slip is then taken from its stable end.
+    if (options_.protocol == Protocol::adaptive) {
+      const double gap = slip_at_ - state_.Dx;
+      if (!std::isfinite(slip_at_)) {
+        p.may_undo = true;
+      } else if (gap > options_.min_step * 1.0001) {
+        p.Dx = state_.Dx + 0.5 * gap;
+        p.may_undo = true;
       } else {
-        Dx = slip_at;
+        p.Dx = slip_at_;
       }
     }
     // Cycle replay: after a slip, a probe relaxes to one period d after the latest window state
@@ -665,250 +636,310 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
     // slipped, failed or differs) is dropped as if it had not been made: the slide goes on
     // with the step it would have taken, so a slide that never repeats (Regime III) follows the
     // same path as without the replay, at the probe's cost.
-    std::optional<std::size_t> cycle_of;
-    if (replay && cycle_check_due && !std::isfinite(slip_at)) {
-      cycle_check_due = false;
-      for (std::size_t i = window.size(); i-- > 0;) {
-        const double target = window[i].Dx + d;
-        if (target <= Dx && target > state.Dx + 1e-9 * d) {
-          Dx = target;
-          cycle_of = i;
+    if (replay_ && cycle_check_due_ && !std::isfinite(slip_at_)) {
+      cycle_check_due_ = false;
+      for (std::size_t i = window_.size(); i-- > 0;) {
+        const double target = window_[i].Dx + d_;
+        if (target <= p.Dx && target > state_.Dx + 1e-9 * d_) {
+          p.Dx = target;
+          p.cycle_of = i;
           break;
         }
       }
     }
-    State trial = state;
-    // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or
-    // three states of the branch (Lagrange; u follows as G f). After a slip the branch is new.
-    const std::size_t rows = res.trace.size();
-    const bool on_branch1 = previous && !res.trace.back().slip && state.Dx > previous->Dx;
-    const bool on_branch2 = on_branch1 && earlier && rows >= 3 && !res.trace[rows - 2].slip &&
-                            previous->Dx > earlier->Dx;
-    if (options.extrapolate && on_branch1) {
-      State p1 = *previous;
-      model.align(p1, trial);
-      if (on_branch2) {
-        State p2 = *earlier;
-        model.align(p2, trial);
-        const double x0 = p2.Dx, x1 = p1.Dx, x2 = state.Dx;
-        const double l0 = (Dx - x1) * (Dx - x2) / ((x0 - x1) * (x0 - x2));
-        const double l1 = (Dx - x0) * (Dx - x2) / ((x1 - x0) * (x1 - x2));
-        const double l2 = (Dx - x0) * (Dx - x1) / ((x2 - x0) * (x2 - x1));
-        for (std::size_t i = 0; i < trial.f.size(); ++i) {
-          trial.f[i] = l0 * p2.f[i] + l1 * p1.f[i] + l2 * state.f[i];
-        }
-        trial.h = l0 * p2.h + l1 * p1.h + l2 * state.h;  // explicit model: tip height
-      } else {
-        const double w = (Dx - state.Dx) / (state.Dx - p1.Dx);
-        for (std::size_t i = 0; i < trial.f.size(); ++i)
-          trial.f[i] += w * (state.f[i] - p1.f[i]);
-        trial.h += w * (state.h - p1.h);
+    return p;
+  }
+
+  // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or
+  // three states of the branch (Lagrange; u follows as G f). After a slip the branch is new.
+  void warm_start(State& trial, double Dx) {
+    const std::size_t rows = res_.trace.size();
+    const bool on_branch1 = previous_ && !res_.trace.back().slip && state_.Dx > previous_->Dx;
+    const bool on_branch2 = on_branch1 && earlier_ && rows >= 3 && !res_.trace[rows - 2].slip &&
+                            previous_->Dx > earlier_->Dx;
+    if (!options_.extrapolate || !on_branch1) return;
+    State p1 = *previous_;
+    model_.align(p1, trial);
+    if (on_branch2) {
+      State p2 = *earlier_;
+      model_.align(p2, trial);
+      const double x0 = p2.Dx, x1 = p1.Dx, x2 = state_.Dx;
+      const double l0 = (Dx - x1) * (Dx - x2) / ((x0 - x1) * (x0 - x2));
+      const double l1 = (Dx - x0) * (Dx - x2) / ((x1 - x0) * (x1 - x2));
+      const double l2 = (Dx - x0) * (Dx - x1) / ((x2 - x0) * (x2 - x1));
+      for (std::size_t i = 0; i < trial.f.size(); ++i) {
+        trial.f[i] = l0 * p2.f[i] + l1 * p1.f[i] + l2 * state_.f[i];
       }
+      trial.h = l0 * p2.h + l1 * p1.h + l2 * state_.h;  // explicit model: tip height
+    } else {
+      const double w = (Dx - state_.Dx) / (state_.Dx - p1.Dx);
+      for (std::size_t i = 0; i < trial.f.size(); ++i)
+        trial.f[i] += w * (state_.f[i] - p1.f[i]);
+      trial.h += w * (state_.h - p1.h);
     }
+  }
+
+  // Checkpoints at the top of the stepping loop, when one is due.
+  void checkpoint_if_due() {
+    if (!control_.checkpoint) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_checkpoint_).count() >=
+        control_.checkpoint_every_s) {
+      control_.checkpoint(capture(false));
+      last_checkpoint_ = now;
+    }
+  }
+
+  // One step of the stepping loop: a result if the slide was interrupted within it; stopped_
+  // when the stepping ends.
+  std::optional<SlideResult> step() {
+    if (stop_requested()) return interrupt(capture(false));
+    checkpoint_if_due();
+    if (state_.Dx >= limit_ - 1e-12) {
+      res_.stop_reason = automatic_ ? "distance cap reached" : "distance reached";
+      stopped_ = true;
+      return std::nullopt;
+    }
+    const Plan p = plan();
+    State trial = state_;
+    warm_start(trial, p.Dx);
     std::vector<PathFrame> frames;
     // Only a relaxation that will not be undone can become a slip event with a path (the next
     // one, if it slips).
-    const bool want_frames = !may_undo && paths_of(res.slip_events + 1);
+    const bool want_frames = !p.may_undo && paths_of(res_.slip_events + 1);
     // The slip relaxation paused in the slide this one continues: it belongs to this step, and
     // the relaxation that called the step a slip is not repeated.
-    std::optional<PendingSlip> resuming = std::exchange(pending, std::nullopt);
-    if (resuming && (resuming->Dx != Dx || may_undo || cycle_of ||
-                     (!want_frames && !resuming->frames.empty()))) {
-      char buf[240];
-      std::snprintf(buf, sizeof buf,
-                    "slide: the start state's paused slip relaxation goes to Dx = %.9g d, but "
-                    "the step from it to Dx = %.9g d is %s",
-                    resuming->Dx, Dx,
-                    resuming->Dx != Dx || may_undo || cycle_of
-                        ? "not a slip step"
-                        : "one whose path is not recorded (the pause has path frames)");
-      throw std::invalid_argument(buf);
-    }
-    report(cycle_of                  ? SlidePhase::probe
-           : !std::isfinite(slip_at) ? SlidePhase::step
-           : may_undo                ? SlidePhase::bisection
-                                     : SlidePhase::slip,
-           Dx);
-    const std::size_t gf_at_top = model.gf_applications();
+    std::optional<PendingSlip> resuming = std::exchange(pending_, std::nullopt);
+    if (resuming) check_resuming(*resuming, p, want_frames);
+    report(p.cycle_of                 ? SlidePhase::probe
+           : !std::isfinite(slip_at_) ? SlidePhase::step
+           : p.may_undo               ? SlidePhase::bisection
+                                      : SlidePhase::slip,
+           p.Dx);
     minimize::MinimizeResult r;
+    const minimize::MinimizerOptions* solver = &options_.minimizer;  // the one whose result is r
+    if (auto out = relax_step(trial, p, want_frames, frames, resuming, r, solver)) return out;
+    stopped_ = take_step(std::move(trial), p, r, solver, std::move(frames));
+    return std::nullopt;
+  }
+
+  void check_resuming(const PendingSlip& resuming, const Plan& p, bool want_frames) const {
+    if (resuming.Dx == p.Dx && !p.may_undo && !p.cycle_of &&
+        (want_frames || resuming.frames.empty()))
+      return;
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "slide: the start state's paused slip relaxation goes to Dx = %.9g d, but "
+                  "the step from it to Dx = %.9g d is %s",
+                  resuming.Dx, p.Dx,
+                  resuming.Dx != p.Dx || p.may_undo || p.cycle_of
+                      ? "not a slip step"
+                      : "one whose path is not recorded (the pause has path frames)");
+    throw std::invalid_argument(buf);
+  }
+
+  // Relaxes the step: the fast minimiser, then, for a slip it would accept, the slip minimiser
+  // (SlideOptions::slip_minimizer) from the state moved to Dx without the warm start: where the
+  // state goes after an instability, and whether the step is one, is the flow's to say
+  // (MODEL.md 5). Trials that are undone when they slip (the bisection) only place the bracket;
+  // the step that ends it is the one verified. If the slip minimiser finds it stable, it is
+  // accepted as a stable state (a premature slip avoided) and the stepping goes on from there.
+  // Probes of the cycle are dropped when they slip, so they are left alone.
+  // `r` and `solver`: the relaxation whose verdict stands and its minimiser; a result if the
+  // slide was interrupted.
+  std::optional<SlideResult> relax_step(State& trial, const Plan& p, bool want_frames,
+                                        std::vector<PathFrame>& frames,
+                                        std::optional<PendingSlip>& resuming,
+                                        minimize::MinimizeResult& r,
+                                        const minimize::MinimizerOptions*& solver) {
+    const std::size_t gf_at_top = model_.gf_applications();
     // With a slip minimiser, a step that the fast solver sees slip for certain (a site moved by
     // 3/4 d in the LFM, d/2 in the explicit model, as in the bisection) is handed to the slip
     // minimiser at once: relaxing the slip further would only be thrown away. (Before, it ran to
-    // convergence: 5 908 iterations, about 25 minutes, before each flow at a = 430 d, R = 1700 d.)
-    // A relaxation that would have moved a site that far and then come back (an overshoot) is
-    // thereby also the flow's to decide, which is the reference's verdict (MODEL.md 5).
-    const bool slip_goes_to_flow = options.slip_minimizer && !cycle_of && !may_undo;
+    // convergence: 5 908 iterations, about 25 minutes, before each flow at a = 430 d, R = 1700
+    // d.) A relaxation that would have moved a site that far and then come back (an overshoot)
+    // is thereby also the flow's to decide, which is the reference's verdict (MODEL.md 5).
+    const bool slip_goes_to_flow = options_.slip_minimizer && !p.cycle_of && !p.may_undo;
     if (resuming) {
       r = resuming->fast;
     } else {
-      may_abandon = true;
-      r = model.relax(trial, Dx, want_frames ? &frames : nullptr, may_undo || slip_goes_to_flow);
-      may_abandon = false;
-      if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
+      r = relax_abandonable(trial, p.Dx, want_frames ? &frames : nullptr,
+                            p.may_undo || slip_goes_to_flow);
+      if (abandoned_) return interrupt(capture(false, gf_at_top), p.Dx);
     }
     const bool stopped_at_slip = r.termination == Termination::interrupted;
-    const minimize::MinimizerOptions* solver = &options.minimizer;  // the one whose result is r
-    // A slip the minimiser would accept is relaxed again by the slip minimiser, if there is one
-    // (SlideOptions::slip_minimizer), from the state moved to Dx without the warm start: where the
-    // state goes after an instability, and whether the step is one, is the flow's to say
-    // (MODEL.md 5). Trials that are undone when they slip (the bisection) only place the
-    // bracket; the step that ends it is the one verified. If the slip minimiser finds it stable,
-    // it is accepted as a stable state (a premature slip avoided) and the stepping goes on from
-    // there. Probes of the cycle are dropped when they slip, so they are left alone.
     if (resuming ||
-        (slip_goes_to_flow && (stopped_at_slip || (failure(r, trial, Dx, state.Dx).empty() &&
-                                                   model.slipped_sites(state, trial) > 0)))) {
+        (slip_goes_to_flow && (stopped_at_slip || (failure(r, trial, p.Dx, state_.Dx).empty() &&
+                                                   model_.slipped_sites(state_, trial) > 0)))) {
       const auto fast = r;
-      trial = state;
+      trial = state_;
       frames.clear();
-      report(SlidePhase::slip, Dx);
-      // The flow pauses (where the model can) rather than being abandoned: for a checkpoint
-      // when one is due (not with checkpoint_every_s = 0, which would copy the state at every
-      // step of the flow), and for a stop request, seen by the heartbeat.
-      std::optional<SlideState> paused;
-      bool relaxed = false;
-      if constexpr (pausable) {
-        if (options.slip_minimizer->method == minimize::Method::flow) {
-          RelaxPausing pausing;
-          if (resuming) {
-            frames = std::move(resuming->frames);
-            pausing.from = &resuming->flow;
-            pausing.frame_interval = resuming->frame_interval;
-          }
-          pausing.pauses.due = [&](int) {
-            if (pause_requested) return true;
-            if (!control.checkpoint || !(control.checkpoint_every_s > 0.0)) return false;
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
-                       .count() >= control.checkpoint_every_s;
-          };
-          pausing.pauses.pause = [&](const minimize::FlowPause& at) {
-            SlideState st = capture(false);
-            st.pending = PendingSlip{.Dx = Dx,
-                                     .fast = fast,
-                                     .flow = at,
-                                     .frames = frames,
-                                     .frame_interval = pausing.frame_interval};
-            if (pause_requested) {
-              paused = std::move(st);
-              return true;
-            }
-            control.checkpoint(st);
-            last_checkpoint = std::chrono::steady_clock::now();
-            return false;
-          };
-          may_pause = true;
-          r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false,
-                          &*options.slip_minimizer, &pausing);
-          may_pause = false;
-          relaxed = true;
-          if (paused) return interrupt(*paused);
-        }
-      }
-      if (!relaxed) {
-        may_abandon = true;
-        r = model.relax(trial, Dx, want_frames ? &frames : nullptr, false,
-                        &*options.slip_minimizer);
-        may_abandon = false;
-      }
+      report(SlidePhase::slip, p.Dx);
+      if (auto out = relax_slip(trial, p.Dx, want_frames, frames, resuming, fast, r)) return out;
       // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
-      if (abandoned) return interrupt(capture(false, gf_at_top), Dx);
+      if (abandoned_) return interrupt(capture(false, gf_at_top), p.Dx);
       count(fast);
-      solver = &*options.slip_minimizer;
-      ++res.slip_relaxations;
+      solver = &*options_.slip_minimizer;
+      ++res_.slip_relaxations;
       // The step's row carries the cost of both relaxations.
       r.iterations += fast.iterations;
       r.gf_applications += fast.gf_applications;
     }
     count(r);
-    // A probe that failed or slipped did not find the cycle (nor one that differs, below).
-    if (cycle_of && !failure(r, trial, Dx, state.Dx).empty()) continue;
-    if (may_undo && r.termination == Termination::interrupted) {
-      slip_at = Dx;  // slipped: bisect towards the instability
-      continue;
+    return std::nullopt;
+  }
+
+  // The slip minimiser's relaxation to Dx from trial (the state before the step). The flow
+  // pauses (where the model can) rather than being abandoned: for a checkpoint when one is due
+  // (not with checkpoint_every_s = 0, which would copy the state at every step of the flow),
+  // and for a stop request, seen by the heartbeat. A result if it paused for a stop.
+  std::optional<SlideResult> relax_slip(State& trial, double Dx, bool want_frames,
+                                        std::vector<PathFrame>& frames,
+                                        std::optional<PendingSlip>& resuming,
+                                        const minimize::MinimizeResult& fast,
+                                        minimize::MinimizeResult& r) {
+    if constexpr (pausable) {
+      if (options_.slip_minimizer->method == minimize::Method::flow) {
+        std::optional<SlideState> paused;
+        RelaxPausing pausing;
+        if (resuming) {
+          frames = std::move(resuming->frames);
+          pausing.from = &resuming->flow;
+          pausing.frame_interval = resuming->frame_interval;
+        }
+        pausing.pauses.due = [&](int) {
+          if (pause_requested_) return true;
+          if (!control_.checkpoint || !(control_.checkpoint_every_s > 0.0)) return false;
+          return std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_)
+                     .count() >= control_.checkpoint_every_s;
+        };
+        pausing.pauses.pause = [&](const minimize::FlowPause& at) {
+          SlideState st = capture(false);
+          st.pending = PendingSlip{.Dx = Dx,
+                                   .fast = fast,
+                                   .flow = at,
+                                   .frames = frames,
+                                   .frame_interval = pausing.frame_interval};
+          if (pause_requested_) {
+            paused = std::move(st);
+            return true;
+          }
+          control_.checkpoint(st);
+          last_checkpoint_ = std::chrono::steady_clock::now();
+          return false;
+        };
+        may_pause_ = true;
+        r = model_.relax(trial, Dx, want_frames ? &frames : nullptr, false,
+                         &*options_.slip_minimizer, &pausing);
+        may_pause_ = false;
+        if (paused) return interrupt(*paused);
+        return std::nullopt;
+      }
     }
-    if (const std::string why = failure(r, trial, Dx, state.Dx, solver); !why.empty()) {
+    r = relax_abandonable(trial, Dx, want_frames ? &frames : nullptr, false,
+                          &*options_.slip_minimizer);
+    return std::nullopt;
+  }
+
+  // The verdict on a relaxed step: dropped (a probe that did not find the cycle, a trial that
+  // slipped and narrows the bracket), failed, or accepted, and then perhaps the start of a
+  // replayed cycle. True when the stepping ends.
+  bool take_step(State&& trial, const Plan& p, const minimize::MinimizeResult& r,
+                 const minimize::MinimizerOptions* solver, std::vector<PathFrame>&& frames) {
+    // A probe that failed or slipped did not find the cycle (nor one that differs, below).
+    if (p.cycle_of && !failure(r, trial, p.Dx, state_.Dx).empty()) return false;
+    if (p.may_undo && r.termination == Termination::interrupted) {
+      slip_at_ = p.Dx;  // slipped: bisect towards the instability
+      return false;
+    }
+    if (const std::string why = failure(r, trial, p.Dx, state_.Dx, solver); !why.empty()) {
       // The trial is dropped; the last accepted state is kept as a checkpoint (resumable) and
       // as snapshot "last_good".
-      if (control.checkpoint) control.checkpoint(capture(false));
-      res.failed = true;
-      res.stop_reason = why;
-      sink.state(model.snapshot(state, "last_good"));
-      break;
+      if (control_.checkpoint) control_.checkpoint(capture(false));
+      res_.failed = true;
+      res_.stop_reason = why;
+      sink_->state(model_.snapshot(state_, "last_good"));
+      return true;
     }
-    const int sites = model.slipped_sites(state, trial);
+    const int sites = model_.slipped_sites(state_, trial);
     const bool slip = sites > 0;
-    if (cycle_of && slip) continue;
-    if (slip && may_undo) {
-      slip_at = Dx;
-      continue;
+    if (p.cycle_of && slip) return false;
+    if (slip && p.may_undo) {
+      slip_at_ = p.Dx;
+      return false;
     }
     // After a slip the bracket is used up; a stable state at the bracket's end means the
     // instability lies further on (a trial from further back had slipped).
-    if (slip || Dx >= slip_at) slip_at = std::numeric_limits<double>::infinity();
+    if (slip || p.Dx >= slip_at_) slip_at_ = std::numeric_limits<double>::infinity();
     // The state one period after a window state: if they are equal the cycle repeats, and the
     // period from the matched state to this one (the states after it, and this one), carried on
     // by whole periods, is the rest of the slide.
-    const double cycle_mismatch =
-        cycle_of ? mismatch(trial, window[*cycle_of]) : std::numeric_limits<double>::infinity();
-    if (cycle_of && !(cycle_mismatch <= options.cycle_tolerance)) continue;
-    const bool repeats = cycle_of.has_value();
-    std::vector<State> cycle;
-    std::vector<TraceRow> cycle_rows;
-    std::vector<int> cycle_slip;  // slip event number of each row (0: none), for its path frames
-    if (repeats) {
-      for (std::size_t e = *cycle_of + 1; e < window.size(); ++e) {
-        const std::size_t row = window_rows[e];
-        cycle.push_back(std::move(window[e]));
-        cycle_rows.push_back(res.trace[row]);
-        cycle_slip.push_back(
-            res.trace[row].slip
-                ? static_cast<int>(std::count_if(
-                      res.trace.begin(), res.trace.begin() + static_cast<std::ptrdiff_t>(row) + 1,
-                      [](const TraceRow& t) { return t.slip; }))
-                : 0);
-      }
-      cycle.push_back(trial);
-      // Replayed states are not kept: the cycle holds them.
-      window.clear();
-      window_rows.clear();
-    }
+    const double cycle_mismatch = p.cycle_of ? mismatch(trial, window_[*p.cycle_of])
+                                             : std::numeric_limits<double>::infinity();
+    if (p.cycle_of && !(cycle_mismatch <= options_.cycle_tolerance)) return false;
+    std::optional<Cycle> cycle;
+    if (p.cycle_of) cycle = take_cycle(*p.cycle_of, trial);
     if (accept(std::move(trial), r.iterations, r.gf_applications, r.max_force, slip, sites,
                std::move(frames), false)) {
-      break;
+      return true;
     }
-    if (!repeats) continue;
-    cycle_rows.push_back(res.trace.back());
-    cycle_slip.push_back(0);
-    bool done = false, past_limit = false;
-    for (int k = 1; !done && !past_limit; ++k) {
-      for (std::size_t e = 0; e < cycle.size(); ++e) {
-        State next = cycle[e];
-        next.Dx += k * d;
+    if (!cycle) return false;
+    cycle->rows.push_back(res_.trace.back());
+    cycle->slip_event.push_back(0);
+    return replay(*cycle, cycle_mismatch);
+  }
+
+  // A period of the slide that repeats: its states (after the matched window state, up to the
+  // probe), their trace rows and the slip event number of each row (0: none).
+  struct Cycle {
+    std::vector<State> states;
+    std::vector<TraceRow> rows;
+    std::vector<int> slip_event;
+  };
+
+  // The window states after the matched one, and the probe: the cycle. Replayed states are not
+  // kept in the window: the cycle holds them.
+  Cycle take_cycle(std::size_t matched, const State& probe) {
+    Cycle c;
+    for (std::size_t e = matched + 1; e < window_.size(); ++e) {
+      const std::size_t row = window_rows_[e];
+      c.states.push_back(std::move(window_[e]));
+      c.rows.push_back(res_.trace[row]);
+      c.slip_event.push_back(
+          res_.trace[row].slip
+              ? static_cast<int>(std::count_if(
+                    res_.trace.begin(), res_.trace.begin() + static_cast<std::ptrdiff_t>(row) + 1,
+                    [](const TraceRow& t) { return t.slip; }))
+              : 0);
+    }
+    c.states.push_back(probe);
+    window_.clear();
+    window_rows_.clear();
+    return c;
+  }
+
+  // The cycle carried on by whole periods until the slide stops or reaches its limit (past
+  // which the computed steps take over). True when the slide stops.
+  bool replay(const Cycle& cycle, double cycle_mismatch) {
+    for (int k = 1;; ++k) {
+      for (std::size_t e = 0; e < cycle.states.size(); ++e) {
+        State next = cycle.states[e];
+        next.Dx += k * d_;
         next.shift += k;
-        if (next.Dx > limit + 1e-12) {
-          past_limit = true;  // the computed steps take over up to the limit
-          break;
-        }
-        if (res.cycle_verified_at < 0.0) {
-          res.cycle_verified_at = state.Dx;
-          res.cycle_mismatch = cycle_mismatch;
+        if (next.Dx > limit_ + 1e-12) return false;
+        if (res_.cycle_verified_at < 0.0) {
+          res_.cycle_verified_at = state_.Dx;
+          res_.cycle_mismatch = cycle_mismatch;
         }
         // A replayed slip's relaxation path is the computed one's, carried on by k periods.
-        const TraceRow& row = cycle_rows[e];
+        const TraceRow& row = cycle.rows[e];
         if (accept(std::move(next), 0, 0, row.max_force, row.slip, row.slipped_sites, {}, true,
-                   cycle_slip[e], k)) {
-          done = true;
-          break;
+                   cycle.slip_event[e], k)) {
+          return true;
         }
       }
     }
-    if (done) break;
   }
-  // The replay's window is of no use past the stepping (a resumed slide that had finished
-  // stepping does not step again); its memory goes now, before the peak refinement.
-  window.clear();
-  window.shrink_to_fit();
-  window_rows.clear();
 
   // mu and its resolution. Before a slip the peak is the last stable state: the instability
   // lies within one step after it, and mu is resolved to that step times the slope. A smooth
@@ -919,129 +950,174 @@ SlideResult run_protocol(Model& model, const ProtocolParams& params, const Slide
   // within the minimiser's noise (Regime I a period later; 1e-6 relative is seen), the earlier
   // one, which has samples on both sides, is the peak.
   // (Not when the runner-up is the sample just before: that is a ramp, cut off by the distance.)
-  // A stop requested during the refinement below returns this state: a resumed slide redoes
-  // the refinement from it.
-  // (Without the snapshots, which can be large and which the refinement leaves alone: they are
-  // added back if the state is used.)
-  std::optional<SlideState> stepping_end;
-  if (control.stop_requested) {
-    std::vector<Snapshot> snapshots = std::move(res.snapshots);
-    res.snapshots.clear();
-    stepping_end = capture(true);
-    res.snapshots = std::move(snapshots);
-  }
-  const std::size_t n_rows = res.trace.size();
-  if (runner_up && n_rows >= 2 && peak->Dx == res.trace.back().Dx &&
-      runner_up->Dx < res.trace[n_rows - 2].Dx && best <= runner_up_ratio * (1.0 + 1e-4)) {
-    peak = std::move(runner_up);
-    best = runner_up_ratio;
-  }
-  // Still rising at the last sample (cap or a fixed distance hit on the loading ramp): the
-  // static peak lies further on, mu is only a lower bound.
-  // So is any peak when the automatic cap stopped a slide with slips: had the peak held, the
-  // slide would have stopped at a slip before the cap (Regime III still hardening).
-  res.mu_is_lower_bound =
-      peak->Dx == res.trace.back().Dx ||
-      (automatic && res.slip_events > 0 && res.stop_reason == "distance cap reached");
-  res.mu = best;
-  res.peak_Dx = peak->Dx;
-  res.Fz = peak->Fz;
-  const auto at_peak = std::find_if(res.trace.begin(), res.trace.end(),
-                                    [&](const TraceRow& row) { return row.Dx == peak->Dx; });
-  const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
-  if (at_peak != res.trace.begin() && at_peak != res.trace.end() &&
-      at_peak + 1 != res.trace.end()) {
+  // A stop requested during the refinement returns the state after the stepping: a resumed
+  // slide redoes the refinement from it. A result if the slide was interrupted.
+  std::optional<SlideResult> refine_peak() {
+    // (Without the snapshots, which can be large and which the refinement leaves alone: they are
+    // added back if the state is used.)
+    if (control_.stop_requested) {
+      std::vector<Snapshot> snapshots = std::move(res_.snapshots);
+      res_.snapshots.clear();
+      stepping_end_ = capture(true);
+      res_.snapshots = std::move(snapshots);
+    }
+    const std::size_t n_rows = res_.trace.size();
+    if (runner_up_ && n_rows >= 2 && peak_->Dx == res_.trace.back().Dx &&
+        runner_up_->Dx < res_.trace[n_rows - 2].Dx && best_ <= runner_up_ratio_ * (1.0 + 1e-4)) {
+      peak_ = std::move(runner_up_);
+      best_ = runner_up_ratio_;
+    }
+    // Still rising at the last sample (cap or a fixed distance hit on the loading ramp): the
+    // static peak lies further on, mu is only a lower bound.
+    // So is any peak when the automatic cap stopped a slide with slips: had the peak held, the
+    // slide would have stopped at a slip before the cap (Regime III still hardening).
+    res_.mu_is_lower_bound =
+        peak_->Dx == res_.trace.back().Dx ||
+        (automatic_ && res_.slip_events > 0 && res_.stop_reason == "distance cap reached");
+    res_.mu = best_;
+    res_.peak_Dx = peak_->Dx;
+    res_.Fz = peak_->Fz;
+    const auto at_peak = std::find_if(res_.trace.begin(), res_.trace.end(),
+                                      [&](const TraceRow& row) { return row.Dx == peak_->Dx; });
+    if (at_peak == res_.trace.begin() || at_peak == res_.trace.end() ||
+        at_peak + 1 == res_.trace.end())
+      return std::nullopt;
     const auto prev = at_peak - 1, next = at_peak + 1;
     if (next->slip) {
-      res.peak_precision = (next->Dx - at_peak->Dx) *
-                           std::abs((ratio(*at_peak) - ratio(*prev)) / (at_peak->Dx - prev->Dx));
-    } else {
-      double x0 = prev->Dx, x1 = at_peak->Dx, x2 = next->Dx;
-      double y0 = ratio(*prev), y1 = ratio(*at_peak), y2 = ratio(*next);
-      const auto vertex = [&](double& yv) {
-        const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
-        const double curv = (d12 - d01) / (x2 - x0);
-        const double xv = 0.5 * (x0 + x1) - d01 / (2.0 * curv);
-        yv = y1 + (xv - x1) * (d01 + curv * (xv - x0));  // Newton form through the 3 points
-        return curv < 0.0 ? xv : x1;
-      };
-      double yv = y1;
-      double xv = vertex(yv);
-      res.peak_precision = std::max(0.0, yv - y1);
-      // Parabolic steps converge fast on a smooth maximum but crawl on a kink (the explicit
-      // model's Regime I peak sits within 0.02 d of the hollow, with a steep rise before it and
-      // a slow fall after): as in Brent's method, a bracket that did not halve in two steps
-      // is cut by a golden-section step into its larger side instead.
-      double width_1ago = std::numeric_limits<double>::infinity(), width_2ago = width_1ago;
-      for (int k = 0;
-           k < 30 && options.protocol == Protocol::adaptive && x2 - x0 > 2.0 * options.min_step;
-           ++k) {
-        const double width = x2 - x0;
-        const bool golden = width > 0.5 * width_2ago;
-        width_2ago = width_1ago;
-        width_1ago = width;
-        constexpr double kGolden = 0.3819660112501051;  // (3 - sqrt 5) / 2
-        xv = golden ? (x2 - x1 > x1 - x0 ? x1 + kGolden * (x2 - x1) : x1 - kGolden * (x1 - x0))
-                    : vertex(yv);
-        xv = std::clamp(xv, x0 + 0.25 * options.min_step, x2 - 0.25 * options.min_step);
-        if (std::abs(xv - x1) < 0.25 * options.min_step) {
-          xv = x1 + (x2 - x1 > x1 - x0 ? 0.5 : -0.5) * options.min_step;
-        }
-        if (stop_requested()) {
-          stepping_end->partial.snapshots = std::move(res.snapshots);
-          return interrupt(*stepping_end);
-        }
-        State probe = *peak;
-        report(SlidePhase::peak, xv);
-        may_abandon = true;
-        const auto r = model.relax(probe, xv, nullptr);
-        may_abandon = false;
-        if (abandoned) {
-          stepping_end->partial.snapshots = std::move(res.snapshots);
-          return interrupt(*stepping_end, xv);
-        }
-        count(r);
-        if (const std::string why = failure(r, probe, xv, peak->Dx); !why.empty()) {
-          res.failed = true;
-          res.stop_reason = "refining the peak: " + why;
-          break;
-        }
-        const bool off_branch = model.slipped_sites(*peak, probe) > 0;
-        const double y =
-            off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
-        if (y > y1) {
-          (xv < x1 ? x2 : x0) = x1;
-          (xv < x1 ? y2 : y0) = y1;
-          x1 = xv;
-          y1 = y;
-          peak = probe;
-        } else {
-          (xv < x1 ? x0 : x2) = xv;
-          (xv < x1 ? y0 : y2) = y;
-        }
-        if (!std::isfinite(y0) || !std::isfinite(y2)) break;
-        vertex(yv);
-        res.peak_precision = std::max(0.0, yv - y1);
-        if (res.peak_precision < 1e-9 * std::abs(y1)) break;
-      }
-      res.mu = std::max(best, y1);
-      res.peak_Dx = x1;
-      res.Fz = peak->Fz;
+      res_.peak_precision = peak_precision_before_slip(*prev, *at_peak, *next);
+      return std::nullopt;
     }
+    const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
+    PeakBracket b{prev->Dx, at_peak->Dx, next->Dx, ratio(*prev), ratio(*at_peak), ratio(*next)};
+    return search_peak(b);
   }
-  res.mu_over_alpha = res.mu / params.alpha;
-  res.distance = state.Dx;
-  res.kinetic = kinetic_friction(res.trace, state.Dx, d);
-  res.kinetic_over_static = res.kinetic / res.mu;
-  res.peak_snapshot = model.snapshot(*peak, "peak");
-  if (control.frames) {
-    control.frames->state(res.peak_snapshot);
-  } else {
-    res.snapshots.insert(res.snapshots.begin(), res.peak_snapshot);
+
+  // Parabolic steps converge fast on a smooth maximum but crawl on a kink (the explicit model's
+  // Regime I peak sits within 0.02 d of the hollow, with a steep rise before it and a slow fall
+  // after): as in Brent's method, a bracket that did not halve in two steps is cut by a
+  // golden-section step into its larger side instead.
+  std::optional<SlideResult> search_peak(PeakBracket& b) {
+    double yv = b.y1;
+    double xv = b.vertex(yv);
+    res_.peak_precision = std::max(0.0, yv - b.y1);
+    double width_1ago = std::numeric_limits<double>::infinity(), width_2ago = width_1ago;
+    const double min_step = options_.min_step;
+    for (int k = 0;
+         k < 30 && options_.protocol == Protocol::adaptive && b.x2 - b.x0 > 2.0 * min_step; ++k) {
+      const double width = b.x2 - b.x0;
+      const bool golden = width > 0.5 * width_2ago;
+      width_2ago = width_1ago;
+      width_1ago = width;
+      constexpr double kGolden = 0.3819660112501051;  // (3 - sqrt 5) / 2
+      xv = golden ? (b.x2 - b.x1 > b.x1 - b.x0 ? b.x1 + kGolden * (b.x2 - b.x1)
+                                               : b.x1 - kGolden * (b.x1 - b.x0))
+                  : b.vertex(yv);
+      xv = std::clamp(xv, b.x0 + 0.25 * min_step, b.x2 - 0.25 * min_step);
+      if (std::abs(xv - b.x1) < 0.25 * min_step) {
+        xv = b.x1 + (b.x2 - b.x1 > b.x1 - b.x0 ? 0.5 : -0.5) * min_step;
+      }
+      if (stop_requested()) {
+        stepping_end_->partial.snapshots = std::move(res_.snapshots);
+        return interrupt(*stepping_end_);
+      }
+      State probe = *peak_;
+      report(SlidePhase::peak, xv);
+      const auto r = relax_abandonable(probe, xv, nullptr, false);
+      if (abandoned_) {
+        stepping_end_->partial.snapshots = std::move(res_.snapshots);
+        return interrupt(*stepping_end_, xv);
+      }
+      count(r);
+      if (const std::string why = failure(r, probe, xv, peak_->Dx); !why.empty()) {
+        res_.failed = true;
+        res_.stop_reason = "refining the peak: " + why;
+        break;
+      }
+      const bool off_branch = model_.slipped_sites(*peak_, probe) > 0;
+      const double y = off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
+      if (y > b.y1) {
+        (xv < b.x1 ? b.x2 : b.x0) = b.x1;
+        (xv < b.x1 ? b.y2 : b.y0) = b.y1;
+        b.x1 = xv;
+        b.y1 = y;
+        peak_ = probe;
+      } else {
+        (xv < b.x1 ? b.x0 : b.x2) = xv;
+        (xv < b.x1 ? b.y0 : b.y2) = y;
+      }
+      if (!std::isfinite(b.y0) || !std::isfinite(b.y2)) break;
+      b.vertex(yv);
+      res_.peak_precision = std::max(0.0, yv - b.y1);
+      if (res_.peak_precision < 1e-9 * std::abs(b.y1)) break;
+    }
+    res_.mu = std::max(best_, b.y1);
+    res_.peak_Dx = b.x1;
+    res_.Fz = peak_->Fz;
+    return std::nullopt;
   }
-  res.gf_applications = gf_before + model.gf_applications() - gf_unused;
-  res.wall_s = wall_before + elapsed();
-  return res;
+
+  // The result: mu / alpha, kinetic friction (trace.hpp), the peak's frame and the cost.
+  SlideResult finish() {
+    res_.mu_over_alpha = res_.mu / params_.alpha;
+    res_.distance = state_.Dx;
+    res_.kinetic = kinetic_friction(res_.trace, state_.Dx, d_);
+    res_.kinetic_over_static = res_.kinetic / res_.mu;
+    res_.peak_snapshot = model_.snapshot(*peak_, "peak");
+    if (control_.frames) {
+      control_.frames->state(res_.peak_snapshot);
+    } else {
+      res_.snapshots.insert(res_.snapshots.begin(), res_.peak_snapshot);
+    }
+    res_.gf_applications = gf_total(model_.gf_applications());
+    res_.wall_s = wall_before_ + elapsed();
+    return std::move(res_);
+  }
+
+  Model& model_;
+  const ProtocolParams& params_;
+  const SlideOptions& options_;
+  const SlideControl& control_;
+  std::chrono::steady_clock::time_point t0_;
+  SlideResult res_;
+  CollectFrames collect_;  // the sink without SlideControl::frames: res_.snapshots
+  FrameSink* sink_ = nullptr;
+  const double d_;
+  const bool automatic_;
+  const double limit_;
+  const bool replay_;  // SlideOptions::replay_cycle, for a model that can compare states
+  const double h_;     // the step: reference step or adaptive max_step (d)
+  std::size_t gf_before_ = 0;
+  double wall_before_ = 0.0;
+  std::size_t gf_unused_ = 0;
+  State state_;
+  std::optional<State> peak_, previous_, earlier_, runner_up_;
+  double runner_up_ratio_ = -std::numeric_limits<double>::infinity();
+  double best_ = 0.0;
+  double first_max_Dx_ = -1.0;  // Regime I: first maximum of Fx without a slip
+  double slip_at_ = std::numeric_limits<double>::infinity();  // bisection: the slipping end
+  bool stopped_ = false;
+  std::vector<State> window_;  // the cycle replay's window (push_window)
+  std::vector<std::size_t> window_rows_;
+  bool cycle_check_due_ = false;
+  // A slip relaxation paused in the slide this one continues.
+  std::optional<PendingSlip> pending_;
+  std::optional<SlideState> stepping_end_;  // refine_peak(): the state a stop hands over
+  std::chrono::steady_clock::time_point last_checkpoint_;
+  // The heartbeat's view: the relaxation running, and what a stop request does within it.
+  SlidePhase relaxing_ = SlidePhase::start;
+  double relaxing_to_ = 0.0;
+  bool may_abandon_ = false;
+  bool abandoned_ = false;
+  bool may_pause_ = false;
+  bool pause_requested_ = false;
+  std::function<bool(int)>* heartbeat_slot_ = nullptr;
+};
+
+template <SlideModel Model>
+SlideResult run_protocol(Model& model, const ProtocolParams& params, const SlideOptions& options,
+                         const SlideControl& control, std::chrono::steady_clock::time_point t0) {
+  ProtocolRun<Model> run(model, params, options, control, t0);
+  return run.run();
 }
 
 }  // namespace asperity::slide::detail

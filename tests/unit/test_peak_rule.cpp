@@ -1,4 +1,5 @@
-// The stop rule of the automatic distance (slide/protocol.hpp, detail::peak_held; MODEL.md 5):
+// The pure functions over a trace (slide/trace.hpp; MODEL.md 5). The stop rule of the
+// automatic distance (detail::peak_held):
 // the static peak must have held over a period d with slips_to_stop slip events after it, and
 // the slide stops at a slip that leaves Fx/Fz below the peak by more than the trace's
 // resolution. Synthetic traces, d = 1, two slips wanted.
@@ -9,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "slide/protocol.hpp"
+#include "slide/trace.hpp"
 
 using namespace asperity;
 using slide::TraceRow;
@@ -116,4 +117,26 @@ TEST(KineticFriction, TrapezoidMeanAfterTheFirstSlipOrOverTheLastPeriod) {
   // The last period starts at Dx = 1.5: (1.0 * 0.5) / 1.0.
   EXPECT_DOUBLE_EQ(slide::detail::kinetic_friction(smooth, 2.5, 1.0), 0.5);
   EXPECT_TRUE(std::isnan(slide::detail::kinetic_friction(smooth, 0.8, 1.0)));
+}
+
+// The peak parabola (detail::PeakBracket): through three samples of y = 0.5 - 2 (x - 0.3)^2 the
+// vertex is x = 0.3, y = 0.5 exactly (a parabola is its own interpolant; tolerance: a few ulps
+// of the divided differences). Not concave (y = x^2): the middle sample itself.
+TEST(PeakBracket, VertexOfTheParabolaThroughThreeSamples) {
+  const auto y = [](double x) { return 0.5 - 2.0 * (x - 0.3) * (x - 0.3); };
+  const slide::detail::PeakBracket b{0.1, 0.25, 0.6, y(0.1), y(0.25), y(0.6)};
+  double yv = 0.0;
+  EXPECT_NEAR(b.vertex(yv), 0.3, 1e-14);
+  EXPECT_NEAR(yv, 0.5, 1e-14);
+  const slide::detail::PeakBracket convex{-1.0, 0.5, 1.0, 1.0, 0.25, 1.0};
+  EXPECT_EQ(convex.vertex(yv), 0.5);
+}
+
+// mu's resolution before a slip (detail::peak_precision_before_slip): the step to the slip
+// times the slope before the peak: rows (1.0, 0.30), (1.2, 0.34), slip at 1.25 give
+// 0.05 * 0.04 / 0.2 = 0.01.
+TEST(PeakBracket, PrecisionBeforeASlipIsTheSlopeTimesTheStep) {
+  EXPECT_NEAR(slide::detail::peak_precision_before_slip(
+                  row(1.0, 0.30, false), row(1.2, 0.34, false), row(1.25, 0.2, true)),
+              0.01, 1e-15);
 }
