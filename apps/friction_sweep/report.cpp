@@ -1,0 +1,368 @@
+// friction_sweep's report (report.hpp): once every point is in, the figures (mu/alpha against
+// a/b_core^0, kinetic/static, the collapse of the two models), the Regime II slope fit and the
+// model comparison (nucleation-free statistics in sweep.cpp), summary.json and the lines
+// printed.
+#include "report.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/output_files.hpp"
+#include "common/plot.hpp"
+#include "common/slide_io.hpp"
+
+namespace asperity::app {
+
+namespace fs = std::filesystem;
+
+std::string describe_list(const std::vector<double>& v) {
+  std::string out;
+  char buf[32];
+  for (double x : v) {
+    std::snprintf(buf, sizeof buf, "%g", x);
+    out += (out.empty() ? "" : ", ") + std::string(buf);
+  }
+  return out;
+}
+
+namespace {
+
+// Window of the Regime II slope fit (MODEL.md 8), and where the slope -2/3 guide starts.
+constexpr double kFitLo = 10.0, kFitHi = 60.0, kGuideFrom = 10.0;
+// Window of the model comparison (issue 4 acceptance 3).
+constexpr double kCompareLo = 0.1, kCompareHi = 10.0;
+
+// The collapse of the two models: mu/alpha of each against a/b_core^0, log-log, per R.
+fs::path write_collapse(const fs::path& dir, const std::vector<SweepRow>& lfm,
+                        const std::vector<SweepRow>& expl, const nlohmann::json& comparison) {
+  std::vector<Series> series;
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0, y_lo = 1.0;
+  const auto add = [&](const std::vector<SweepRow>& rows, const char* model, const char* style) {
+    std::map<double, Series> by_R;
+    for (const auto& r : rows) {
+      if (r.failed || !(r.mu_over_alpha > 0.0)) continue;
+      auto& s = by_R[r.point.R];
+      if (s.title.empty()) {
+        char title[64];
+        std::snprintf(title, sizeof title, "%s, R = %g d", model, r.point.R);
+        s.title = title;
+        s.style = style;
+      }
+      s.x.push_back(r.a_over_bcore0);
+      s.y.push_back(r.mu_over_alpha);
+      lo = std::min(lo, r.a_over_bcore0);
+      hi = std::max(hi, r.a_over_bcore0);
+      y_lo = std::min(y_lo, r.mu_over_alpha);
+    }
+    for (auto& [R, s] : by_R)
+      series.push_back(std::move(s));
+  };
+  add(lfm, "LFM", "linespoints pt 7 ps 1.3 lw 2");
+  add(expl, "explicit", "linespoints pt 5 ps 1.8 lw 2 dt 2");
+  if (series.empty()) return {};
+  lo /= 1.5;
+  hi *= 1.5;
+  series.push_back(Series{.x = {lo, hi},
+                          .y = {1.0, 1.0},
+                          .title = "mu/alpha = 1 (Regime I)",
+                          .style = "lines dt 3 lw 1 lc 'black'"});
+  char title[200], worst_text[32] = "-";
+  if (const auto& worst = comparison["max_deviation_in_window"]; !worst.is_null()) {
+    std::snprintf(worst_text, sizeof worst_text, "%.1f%%", 100.0 * worst.get<double>());
+  }
+  std::snprintf(title, sizeof title,
+                "Collapse: mu/alpha of both models; |explicit/LFM - 1| at most %s in "
+                "a/b_core^0 [%g, %g]",
+                worst_text, kCompareLo, kCompareHi);
+  const fs::path png = dir / "collapse.png";
+  plot_png(png, series,
+           {.title = title,
+            .xlabel = "a / b_core^0 (alpha: LFM scene value; explicit: of the potential)",
+            .ylabel = "mu / alpha",
+            .logx = true,
+            .logy = true,
+            .xrange = std::pair{lo, hi},
+            .yrange = std::pair{y_lo / 1.5, 1.3}});
+  return png;
+}
+
+// The sweep's settings for summary.json: every key of the scene but the per-point a and R.
+nlohmann::json scene_json(const SweepScene& s, int jobs) {
+  const auto& c = s.base.contact;
+  const auto& o = s.base.options;
+  const auto& m = o.minimizer;
+  nlohmann::json j = {
+      {"source", s.source},
+      {"R", s.R.values},
+      {"alpha", c.alpha},
+      {"G", c.material.G},
+      {"nu", c.material.nu},
+      {"d", c.d},
+      {"protocol", slide::to_string(o.protocol)},
+      {"step", o.step},
+      {"max_step", o.max_step},
+      {"min_step", o.min_step},
+      {"distance", o.distance == 0.0 ? nlohmann::json("automatic") : nlohmann::json(o.distance)},
+      {"max_distance", o.max_distance},
+      {"slips_to_stop", o.slips_to_stop},
+      {"replay_cycle", o.replay_cycle},
+      {"solver", minimize::to_string(m.method)},
+      {"tolerance", m.force_tolerance},
+      {"max_iterations", m.max_iterations},
+      {"memory", m.memory},
+      {"max_displacement", m.max_displacement},
+      {"flow_tolerance", m.flow_tolerance},
+      {"preconditioner", minimize::to_string(m.preconditioner)},
+      {"fft_threads", o.fft.threads},
+      {"fft_planner", fft::to_string(o.fft.planner)},
+      {"jobs", jobs},
+      {"settings", settings_fingerprint(s.base)},
+  };
+  if (s.a) j["a"] = s.a->values;
+  if (s.a_over_bcore0) j["a_over_bcore0"] = s.a_over_bcore0->values;
+  j["model"] = s.model;
+  if (s.runs_explicit()) {
+    j["explicit"] = {{"G_eps_sigma3", s.potential.G_eps_sigma3},
+                     {"sigma_over_d", s.potential.sigma_over_d},
+                     {"alpha", "of the potential at each point's central load (alpha_path)"},
+                     {"settings", explicit_settings_fingerprint(s)}};
+  }
+  return j;
+}
+
+// Series per R, in increasing R; `pick` returns the y value or nothing to leave the row out.
+template <class Pick>
+std::vector<Series> series_per_R(const std::vector<SweepRow>& rows, Pick pick) {
+  std::map<double, Series> by_R;
+  for (const auto& r : rows) {
+    const std::optional<double> y = pick(r);
+    if (!y) continue;
+    auto& s = by_R[r.point.R];
+    if (s.title.empty()) {
+      char title[48];
+      std::snprintf(title, sizeof title, "R = %g d", r.point.R);
+      s.title = title;
+      s.style = "linespoints pt 7 ps 1.3";
+    }
+    s.x.push_back(r.a_over_bcore0);
+    s.y.push_back(*y);
+  }
+  std::vector<Series> out;
+  for (auto& [R, s] : by_R)
+    out.push_back(std::move(s));
+  return out;
+}
+
+// mu/alpha against a/b_core^0, log-log, with the Regime I limit and a Regime II guide. Returns
+// the files written.
+std::vector<fs::path> write_figures(const fs::path& dir, const SweepScene& s,
+                                    const std::vector<SweepRow>& rows) {
+  std::vector<fs::path> written;
+  char title[200];
+  std::snprintf(title, sizeof title, "Static friction: alpha = %g, nu = %g; %s, %s, tol %g",
+                s.base.contact.alpha, s.base.contact.material.nu,
+                slide::to_string(s.base.options.protocol).c_str(),
+                minimize::to_string(s.base.options.minimizer.method).c_str(),
+                s.base.options.minimizer.force_tolerance);
+
+  // log scales: non-positive values cannot be drawn; failed points are not measurements.
+  auto mu = series_per_R(rows, [](const SweepRow& r) -> std::optional<double> {
+    if (r.failed || !(r.mu_over_alpha > 0.0)) return std::nullopt;
+    return r.mu_over_alpha;
+  });
+  if (mu.empty()) {
+    std::fprintf(stderr, "friction_sweep: no finished point: mu_vs_a_over_bcore0.png skipped\n");
+  } else {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lo = inf, hi = 0.0, log_x = 0.0, log_y = 0.0, guide_lo = inf, guide_hi = 0.0;
+    int n_guide = 0;
+    Series bounds{.title = "lower bound (no peak within the distance)",
+                  .style = "points pt 8 ps 2.5 lc 'black'"};
+    for (const auto& r : rows) {
+      if (r.failed || !(r.mu_over_alpha > 0.0)) continue;
+      lo = std::min(lo, r.a_over_bcore0);
+      hi = std::max(hi, r.a_over_bcore0);
+      if (r.mu_is_lower_bound) {
+        bounds.x.push_back(r.a_over_bcore0);
+        bounds.y.push_back(r.mu_over_alpha);
+      }
+      if (r.a_over_bcore0 >= kGuideFrom && !r.mu_is_lower_bound) {
+        log_x += std::log(r.a_over_bcore0);
+        log_y += std::log(r.mu_over_alpha);
+        guide_lo = std::min(guide_lo, r.a_over_bcore0);
+        guide_hi = std::max(guide_hi, r.a_over_bcore0);
+        ++n_guide;
+      }
+    }
+    lo /= 1.5;
+    hi *= 1.5;
+    Series one{.x = {lo, hi},
+               .y = {1.0, 1.0},
+               .title = "mu/alpha = 1 (Regime I)",
+               .style = "lines dt 2 lw 2 lc 'black'"};
+    mu.push_back(one);
+    if (!bounds.x.empty()) mu.push_back(bounds);
+    if (n_guide > 0) {
+      // Through the centre of the points on log axes: exp(mean log x), exp(mean log y).
+      const double x0 = std::exp(log_x / n_guide), y0 = std::exp(log_y / n_guide);
+      Series guide{.title = "slope -2/3 (Regime II)", .style = "lines dt 3 lw 2 lc 'gray40'"};
+      for (double x : {guide_lo / 1.5, guide_hi * 1.5}) {
+        guide.x.push_back(x);
+        guide.y.push_back(y0 * std::pow(x / x0, -2.0 / 3.0));
+      }
+      mu.push_back(guide);
+    }
+    const fs::path png = dir / "mu_vs_a_over_bcore0.png";
+    plot_png(png, mu,
+             {.title = title,
+              .xlabel = "a / b_core^0",
+              .ylabel = "mu / alpha",
+              .logx = true,
+              .logy = true,
+              .xrange = std::pair{lo, hi}});
+    written.push_back(png);
+  }
+
+  // Kinetic friction as the slider defines it: the mean of Fx/Fz after the first slip, or over
+  // the last period when nothing slipped (about 0: smooth sliding costs no work).
+  auto ratio = series_per_R(rows, [](const SweepRow& r) -> std::optional<double> {
+    if (r.failed || !std::isfinite(r.kinetic_over_static)) return std::nullopt;
+    return r.kinetic_over_static;
+  });
+  if (ratio.empty()) {
+    std::fprintf(stderr, "friction_sweep: no finished point: kinetic_over_static.png skipped\n");
+  } else {
+    const fs::path png = dir / "kinetic_over_static.png";
+    std::snprintf(
+        title, sizeof title,
+        "Kinetic (mean Fx/Fz after the first slip, else over the last period) over static "
+        "friction: alpha = %g",
+        s.base.contact.alpha);
+    plot_png(
+        png, ratio,
+        {.title = title, .xlabel = "a / b_core^0", .ylabel = "kinetic / static", .logx = true});
+    written.push_back(png);
+  }
+  return written;
+}
+
+}  // namespace
+
+// The end of a sweep whose points are all in: figures, the Regime II slope, the comparison of
+// the models, summary.json and the lines printed. Returns the exit status (1 if a point failed).
+int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<SweepRow>& done,
+                 const std::vector<SweepRow>& done_x, const SweepCounts& n,
+                 std::chrono::steady_clock::time_point t0) {
+  const fs::path csv = dir / "sweep.csv", csv_x = dir / "sweep_explicit.csv";
+  auto figure_files = done.empty() ? std::vector<fs::path>{} : write_figures(dir, s, done);
+  const nlohmann::json fit = fit_slope(done, kFitLo, kFitHi);
+  nlohmann::json comparison;
+  if (s.runs_explicit()) {
+    comparison = compare_models(done, done_x, kCompareLo, kCompareHi);
+    if (const fs::path png = write_collapse(dir, done, done_x, comparison); !png.empty()) {
+      figure_files.insert(figure_files.begin(), png);
+    }
+  }
+  std::vector<std::pair<const SweepRow*, bool>> failed;  // row, explicit
+  double points_wall = 0.0;
+  nlohmann::json point_times = nlohmann::json::array();
+  for (const auto* list : {&done, &done_x}) {
+    const bool x = list == &done_x;
+    for (const auto& r : *list) {
+      if (r.failed) failed.emplace_back(&r, x);
+      // Reused rows carry no time: they were computed by an earlier run.
+      if (std::isfinite(r.wall_s)) {
+        points_wall += r.wall_s;
+        point_times.push_back({{"model", x ? "explicit" : "lfm"},
+                               {"a", r.point.a},
+                               {"R", r.point.R},
+                               {"wall_s", r.wall_s}});
+      }
+    }
+  }
+  nlohmann::json failed_json = nlohmann::json::array();
+  for (const auto& [r, x] : failed)
+    failed_json.push_back({{"model", x ? "explicit" : "lfm"},
+                           {"a", r->point.a},
+                           {"R", r->point.R},
+                           {"stop_reason", r->stop_reason}});
+  nlohmann::json figure_names = nlohmann::json::array();
+  for (const auto& f : figure_files)
+    figure_names.push_back(f.filename().string());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // "run" holds what differs between runs of the same sweep (times, host, date); the rest is
+  // a function of the inputs, the build and what was reused.
+  nlohmann::json tables = nlohmann::json::array();
+  if (s.runs_lfm()) tables.push_back("sweep.csv");
+  if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
+  nlohmann::json summary = {{"tool", "friction_sweep"},
+                            {"scene", scene_json(s, s.effective_jobs())},
+                            {"points", n.points + n.explicit_points},
+                            {"explicit_points", n.explicit_points},
+                            {"computed", n.computed},
+                            {"reused", n.reused},
+                            {"failed", failed.size()},
+                            {"failed_points", failed_json},
+                            {"fit", fit},
+                            {"table", s.runs_lfm() ? "sweep.csv" : "sweep_explicit.csv"},
+                            {"tables", tables},
+                            {"figures", figure_names},
+                            {"run",
+                             {{"provenance", provenance_json()},
+                              {"wall_s", wall},
+                              {"points_wall_s", points_wall},
+                              {"point_wall_s", point_times}}}};
+  if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;
+  write_json(dir / "summary.json", summary);
+
+  std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n",
+              n.points + n.explicit_points, n.computed, n.reused, failed.size(), wall);
+  if (s.runs_explicit()) {
+    const auto& worst = comparison["max_deviation_in_window"];
+    if (worst.is_null()) {
+      std::printf(
+          "explicit against LFM: no explicit point with LFM rows around it in "
+          "a/b_core^0 [%g, %g]\n",
+          kCompareLo, kCompareHi);
+    } else {
+      std::printf(
+          "explicit against LFM: mu/alpha within %.1f%% over %zu points in a/b_core^0 "
+          "[%g, %g]\n",
+          100.0 * worst.get<double>(), comparison["compared_in_window"].get<std::size_t>(),
+          kCompareLo, kCompareHi);
+    }
+  }
+  if (fit["slope"].is_null()) {
+    std::printf("fit over a/b_core^0 in [%g, %g]: none (%zu points; %s)\n", kFitLo, kFitHi,
+                fit["points"].get<std::size_t>(), fit["note"].get<std::string>().c_str());
+  } else {
+    std::printf("fit over a/b_core^0 in [%g, %g]: slope %.4f (%zu points; Regime II: -2/3)\n",
+                kFitLo, kFitHi, fit["slope"].get<double>(), fit["points"].get<std::size_t>());
+  }
+  std::printf("results:%s%s %s\n", s.runs_lfm() ? (" " + csv.string()).c_str() : "",
+              s.runs_explicit() ? (" " + csv_x.string()).c_str() : "",
+              (dir / "summary.json").c_str());
+  std::printf("figures:%s", figure_files.empty() ? " none" : "");
+  for (const auto& f : figure_files)
+    std::printf(" %s", f.c_str());
+  std::printf("\n");
+  if (!failed.empty()) {
+    std::fprintf(stderr, "friction_sweep: %zu point%s failed:\n", failed.size(),
+                 failed.size() > 1 ? "s" : "");
+    for (const auto& [r, x] : failed)
+      std::fprintf(stderr, "  %sa = %g d, R = %g d: %s\n", x ? "explicit " : "", r->point.a,
+                   r->point.R, r->stop_reason.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace asperity::app

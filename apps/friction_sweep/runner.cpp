@@ -1,0 +1,413 @@
+// friction_sweep's point runner (runner.hpp).
+#include "runner.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <numeric>
+#include <optional>
+#include <tuple>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/memory.hpp"
+#include "common/output_files.hpp"
+#include "common/point_runner.hpp"
+#include "common/slide_checkpoint.hpp"
+#include "common/slide_io.hpp"
+#include "common/snapshot_sink.hpp"
+#include "report.hpp"
+
+namespace asperity::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write_table(const fs::path& csv, const std::vector<std::optional<SweepRow>>& rows) {
+  CsvTable table(sweep_columns());
+  for (const auto& row : rows) {
+    if (row) table.add_row(row->cells);
+  }
+  table.write(csv);
+}
+
+// A point to run: of the explicit model (xpoints, rows_x) or the LFM (points, rows).
+struct Job {
+  bool x = false;
+  std::size_t k = 0;
+};
+
+// Where a point's frames go: its snapshots/ as they are made (with --figures), only those of its
+// largest slip to largest_slip/ (with --largest-slip), or nowhere: a point holds at most one
+// pair, however many slips it takes.
+struct PointSinks {
+  slide::DiscardFrames none;
+  std::optional<SnapshotSink> frames;
+  std::optional<LargestSlipSink> largest;
+  slide::FrameSink* sink() {
+    if (largest) return &*largest;
+    if (frames) return &*frames;
+    return &none;
+  }
+};
+
+class SweepRunner {
+ public:
+  SweepRunner(const SweepScene& s, const SweepRunOptions& o)
+      : s_(s),
+        o_(o),
+        points_(sweep_points(s)),  // validates s
+        xpoints_(explicit_sweep_points(s)) {}
+
+  int run() {
+    // A signal from here on stops the sweep cleanly (points in flight checkpoint, no new ones).
+    install_stop_handlers();
+    settings_ = settings_fingerprint(s_.base);
+    settings_x_ = explicit_settings_fingerprint(s_);
+    const auto t0 = std::chrono::steady_clock::now();
+    dir_ = ensure_directory(o_.out);
+    // One sweep per output directory: its table and point folders (with their checkpoints)
+    // would interleave with another's.
+    const DirectoryLock dir_lock(dir_);
+    if (const std::size_t n = remove_stale_temporaries(dir_)) {
+      std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n", n,
+                   n > 1 ? "s" : "");
+    }
+    csv_ = dir_ / "sweep.csv";
+    csv_x_ = dir_ / "sweep_explicit.csv";
+    ResumedRows resumed = resume_rows(csv_, points_, settings_);
+    ResumedRows resumed_x = resume_rows(csv_x_, xpoints_, settings_x_);
+    rows_ = std::move(resumed.rows);
+    rows_x_ = std::move(resumed_x.rows);
+    plan();
+    check_resources();
+    announce(resumed, resumed_x);
+    run_points(
+        order_.size(), n_jobs_, [&](std::size_t i) { run_point(order_[i]); }, stop_);
+    if (fatal_) std::rethrow_exception(fatal_);
+    const auto missing = [](const auto& r) { return !r.has_value(); };
+    if (stop_requested() && (std::any_of(rows_.begin(), rows_.end(), missing) ||
+                             std::any_of(rows_x_.begin(), rows_x_.end(), missing))) {
+      std::fprintf(stderr,
+                   "friction_sweep: stopped; %zu point%s finished in this run (kept in %s), %zu "
+                   "in flight saved to points/*/checkpoint.cbor\ncontinue with:\n  %s\n",
+                   finished_, finished_ == 1 ? "" : "s", csv_.c_str(), interrupted_.load(),
+                   o_.command_line.c_str());
+      return kInterrupted;
+    }
+    std::vector<SweepRow> done, done_x;
+    for (auto& row : rows_)
+      done.push_back(std::move(*row));
+    for (auto& row : rows_x_)
+      done_x.push_back(std::move(*row));
+    return finish_sweep(dir_, s_, done, done_x,
+                        {.points = points_.size(),
+                         .explicit_points = xpoints_.size(),
+                         .computed = order_.size(),
+                         .reused = resumed.reused + resumed_x.reused},
+                        t0);
+  }
+
+ private:
+  const SweepPoint& point_of(const Job& j) const { return j.x ? xpoints_[j.k] : points_[j.k]; }
+
+  // The points without a row, cheapest first (cost grows as the a^2 contact sites): results
+  // start arriving at once.
+  void plan() {
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      if (!rows_[k]) order_.push_back({false, k});
+    }
+    for (std::size_t k = 0; k < xpoints_.size(); ++k) {
+      if (!rows_x_[k]) order_.push_back({true, k});
+    }
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](const Job& i, const Job& j) { return point_of(i).a < point_of(j).a; });
+    n_jobs_ = std::min(s_.effective_jobs(), static_cast<int>(order_.size()));
+  }
+
+  // The largest contacts still to run, as many at once as run in parallel, must fit together
+  // (explicit points are not estimated: a = 43 d takes 50 MiB, docs/benchmarks.md; a/R < 0.1
+  // does not bound a, so a large explicit sweep is the user's to size); with --figures, every
+  // point's snapshots (and a checkpoint) on disk, as contact_slide writes them.
+  void check_resources() const {
+    std::vector<double> bytes;
+    double a_max = 0.0;
+    for (const Job& job : order_) {
+      if (job.x) continue;
+      interface::ContactScene c = s_.base.contact;
+      c.a = points_[job.k].a;
+      c.R = points_[job.k].R;
+      slide::SlideOptions opt = s_.base.options;
+      if (!o_.figures) opt.path_frame_slips = 0;  // frames discarded: no path is held either
+      bytes.push_back(slide::estimated_slide_bytes(c, opt));
+      a_max = std::max(a_max, c.a);
+    }
+    std::sort(bytes.rbegin(), bytes.rend());
+    const auto at_once = std::min(bytes.size(), static_cast<std::size_t>(std::max(n_jobs_, 1)));
+    const double total = std::accumulate(bytes.begin(), bytes.begin() + at_once, 0.0);
+    char what[160];
+    std::snprintf(what, sizeof what,
+                  "running the sweep's %zu largest contacts at once (a up to %g d; fewer with "
+                  "--jobs)",
+                  at_once, a_max);
+    check_fits_in_memory(what, total,
+                         "estimate: 260 bytes per point of each block's padded FFT grid "
+                         "and the minimiser's vectors on the contact");
+    if (!o_.figures) return;
+    double disk = 0.0;
+    for (const Job& job : order_) {
+      SlideScene ps = s_.base;
+      ps.contact.a = point_of(job).a;
+      disk += estimated_snapshot_bytes(ps).run(std::max(10, ps.options.slips_to_stop),
+                                               ps.options.path_frame_slips);
+    }
+    check_fits_on_disk(
+        "--figures: the snapshots of the sweep's " + std::to_string(order_.size()) + " points",
+        dir_.string(), disk, "estimate for 10 slip events per point, uncompressed");
+  }
+
+  // What the sweep is, what it reused and dropped, what it runs; the tables rewritten to hold
+  // exactly the reused rows (points are added as they finish).
+  void announce(const ResumedRows& resumed, const ResumedRows& resumed_x) {
+    std::fprintf(stderr,
+                 "friction_sweep: %zu points (model %s): R = %s d; %s = %s; alpha = %g, nu = %g; "
+                 "%s protocol, %s, tolerance %g\n",
+                 points_.size() + xpoints_.size(), s_.model.c_str(),
+                 describe_list(s_.R.values).c_str(), s_.a ? "a (d)" : "a/b_core^0",
+                 describe_list(s_.a ? s_.a->values : s_.a_over_bcore0->values).c_str(),
+                 s_.base.contact.alpha, s_.base.contact.material.nu,
+                 slide::to_string(s_.base.options.protocol).c_str(),
+                 minimize::to_string(s_.base.options.minimizer.method).c_str(),
+                 s_.base.options.minimizer.force_tolerance);
+    for (const auto& [table, res, n] : {std::tuple{&csv_, &resumed, points_.size()},
+                                        std::tuple{&csv_x_, &resumed_x, xpoints_.size()}}) {
+      if (!fs::exists(*table)) continue;
+      std::fprintf(stderr, "friction_sweep: reused %zu of %zu points from %s", res->reused, n,
+                   table->c_str());
+      // Dropped rows leave the table; their point folders stay until the points are run again.
+      std::string why;
+      for (const auto& [count, reason] : {std::pair{res->other_settings, "with other settings"},
+                                          std::pair{res->not_requested, "not in this sweep"},
+                                          std::pair{res->failed, "failed, run again"}}) {
+        if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
+      }
+      if (!why.empty()) std::fprintf(stderr, "; dropped rows: %s", why.c_str());
+      std::fprintf(stderr, "\n");
+    }
+    if (s_.runs_lfm()) write_table(csv_, rows_);
+    if (s_.runs_explicit()) write_table(csv_x_, rows_x_);
+    if (!order_.empty()) {
+      std::fprintf(stderr,
+                   "friction_sweep: running %zu point%s, %d at once, %d FFT thread%s each\n",
+                   order_.size(), order_.size() > 1 ? "s" : "", n_jobs_,
+                   s_.base.options.fft.threads, s_.base.options.fft.threads > 1 ? "s" : "");
+    }
+  }
+
+  // A finished point's row: into the table of its model, which is rewritten.
+  void record(const Job& job, SweepRow row) {
+    const std::lock_guard lock(table_mutex_);
+    ++finished_;
+    std::fprintf(stderr,
+                 "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
+                 "mu/alpha = %.5f%s, %.1f s%s%s\n",
+                 finished_, order_.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
+                 row.a_over_bcore0, row.mu_over_alpha,
+                 row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                 row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
+    (job.x ? rows_x_ : rows_)[job.k] = std::move(row);
+    try {
+      write_table(job.x ? csv_x_ : csv_, job.x ? rows_x_ : rows_);
+    } catch (...) {
+      if (!fatal_) fatal_ = std::current_exception();
+      stop_ = true;
+    }
+  }
+
+  void say(const SweepPoint& point, const std::string& what) {
+    const std::lock_guard lock(table_mutex_);
+    std::fprintf(stderr, "friction_sweep: a = %.4g d, R = %g d: %s\n", point.a, point.R,
+                 what.c_str());
+  }
+
+  // The point's checkpoint, if it has one of these settings. A damaged, foreign or unreadable
+  // one is kept aside, not overwritten: a checkpoint of another build or scene can hold hours
+  // of a long point, and the run that was meant to continue it may simply be using the wrong
+  // binary (docs/reliability.md). Moving it back undoes the new start.
+  std::optional<SlideCheckpoint> load_checkpoint(const fs::path& point_dir,
+                                                 const fs::path& checkpoint_file,
+                                                 const std::string& point_settings) {
+    if (std::error_code ec; !fs::exists(checkpoint_file, ec)) return std::nullopt;
+    try {
+      SlideCheckpoint c = read_checkpoint(checkpoint_file);
+      check_checkpoint_settings(c, point_settings, checkpoint_file);
+      return c;
+    } catch (const std::exception& e) {
+      const fs::path kept = point_dir / "checkpoint.replaced.cbor";
+      std::error_code rename_ec;
+      fs::rename(checkpoint_file, kept, rename_ec);
+      const std::lock_guard lock(table_mutex_);
+      std::fprintf(
+          stderr, "friction_sweep: starting the point over (%s%s): %s\n",
+          rename_ec ? "the old checkpoint could not be kept: " : "the old checkpoint is kept as ",
+          rename_ec ? rename_ec.message().c_str() : kept.string().c_str(), e.what());
+      return std::nullopt;
+    }
+  }
+
+  // Large points run for hours, mostly inside a few relaxations (a slip sweeps a contact of a
+  // million sites in thousands of iterations): a line now and then says where each is and that
+  // it runs.
+  slide::SlideProgress progress_of(const Job& job, const SweepPoint& point) {
+    if (!(o_.progress_every > 0.0)) return {};
+    return [this, job, point, lines = ProgressLines(o_.progress_every)](
+               const slide::SlideProgressInfo& info) mutable {
+      if (!lines.due(info)) return;
+      const std::lock_guard lock(table_mutex_);
+      std::fprintf(stderr, "friction_sweep: %sa = %.4g d, R = %g d: %s\n", job.x ? "explicit " : "",
+                   point.a, point.R, describe_progress(info).c_str());
+    };
+  }
+
+  // The point's frame sinks (PointSinks), picked up where a resumed point left them.
+  void open_sinks(PointSinks& sinks, const fs::path& point_dir, const SweepPoint& point,
+                  const SlideScene& ps, const nlohmann::json& extra,
+                  const std::optional<SlideCheckpoint>& start) {
+    if (o_.figures) {
+      sinks.frames.emplace(point_dir / "snapshots", snapshot_attributes(ps, extra),
+                           ps.snapshot_format, &output_mutex_);
+      if (const std::string warning =
+              sinks.frames->start(start ? std::optional(start->state.current.Dx) : std::nullopt);
+          !warning.empty()) {
+        say(point, warning);
+      }
+    }
+    if (o_.largest_slip) {
+      // Not part of the checkpoint's settings: the sink restarts from the slips of the
+      // checkpoint's trace, and says if their largest is not on disk.
+      sinks.largest.emplace(point_dir / "largest_slip", snapshot_attributes(ps, extra),
+                            ps.snapshot_format, &output_mutex_);
+      std::optional<int> so_far;
+      if (start) {
+        so_far = 0;
+        for (const slide::TraceRow& r : start->state.partial.trace)
+          if (r.slip) so_far = std::max(*so_far, r.slipped_sites);
+      }
+      if (const std::string warning = sinks.largest->start(so_far); !warning.empty()) {
+        say(point, warning);
+      }
+    }
+  }
+
+  // One point: its scene, checkpoint, sinks, slide and outputs; its row (failed if anything
+  // in it throws: the other points go on).
+  void run_point(const Job& job) {
+    const auto started = std::chrono::steady_clock::now();
+    const SweepPoint& point = point_of(job);
+    SlideScene ps = s_.base;
+    ps.contact.a = point.a;
+    ps.contact.R = point.R;
+    const std::string& row_settings = job.x ? settings_x_ : settings_;
+    try {
+      if (auto row = slide_point(job, point, ps)) record(job, std::move(*row));
+    } catch (const std::exception& e) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      record(job, error_row(ps, e.what(), seconds, row_settings));
+    }
+  }
+
+  // The slide of a point (`ps`: the LFM scene at the point, replaced by the explicit model's
+  // for an explicit point); no row if it was interrupted (the next run continues it).
+  std::optional<SweepRow> slide_point(const Job& job, const SweepPoint& point, SlideScene& ps) {
+    // The explicit model: its scene, and alpha of the potential at the point's central load.
+    const ExplicitSlideScene es = explicit_point_scene(s_, point);
+    ExplicitAlpha alpha_x;
+    if (job.x) {
+      alpha_x = explicit_alpha(es);
+      ps = explicit_as_slide_scene(es, alpha_x);  // contact.alpha: of the potential
+    }
+    const nlohmann::json extra = job.x ? explicit_summary_extra(es, alpha_x) : nullptr;
+    // A point in flight saves its slide in its folder every checkpoint_every seconds and when
+    // the sweep is stopped (SIGINT, SIGTERM); the next run continues it from there, to the same
+    // result bit for bit. A checkpoint of other settings is replaced (and kept aside).
+    const fs::path point_dir = dir_ / "points" / point_folder(point, job.x);
+    // Held while the point runs: a contact_slide started into this folder is refused, and so is
+    // this point (failed, the sweep goes on) if a contact_slide already writes there.
+    const DirectoryLock point_lock(ensure_directory(point_dir));
+    const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
+    // With --figures the point writes snapshots as it goes: a checkpoint of a run without them
+    // cannot continue one with them (the frames before it would be missing).
+    const std::string point_settings =
+        (job.x ? explicit_slide_fingerprint(es, alpha_x) : slide_fingerprint(ps)) +
+        (o_.figures ? " snapshots=1" : " snapshots=0");
+    const std::optional<SlideCheckpoint> start =
+        load_checkpoint(point_dir, checkpoint_file, point_settings);
+    if (start) {
+      const std::lock_guard lock(table_mutex_);
+      std::fprintf(stderr,
+                   "friction_sweep: resuming %sa = %.4g d, R = %g d from its checkpoint at "
+                   "Dx = %.4f d\n",
+                   job.x ? "explicit " : "", point.a, point.R, start->state.current.Dx);
+    }
+    PointSinks sinks;
+    open_sinks(sinks, point_dir, point, ps, extra, start);
+    auto& frames = sinks.frames;
+    const slide::SlideControl control{
+        .progress = progress_of(job, point),
+        .checkpoint =
+            [&](const slide::SlideState& state) {
+              ensure_directory(point_dir);
+              if (frames) frames->flush();
+              write_checkpoint(checkpoint_file, {.settings = point_settings, .state = state});
+            },
+        .checkpoint_every_s = o_.checkpoint_every,
+        .stop_requested = stop_requested,
+        .start = start ? &start->state : nullptr,
+        .frames = sinks.sink()};
+    const slide::SlideResult result = job.x ? slide_explicit_scene(es, alpha_x, control)
+                                            : slide::slide(ps.contact, ps.options, control);
+    if (result.interrupted) {
+      if (frames) frames->flush();
+      ++interrupted_;  // no row: the next run continues from the checkpoint
+      return std::nullopt;
+    }
+    if (frames) frames->finish();
+    {
+      std::unique_lock lock(output_mutex_, std::defer_lock);
+      if (o_.figures) lock.lock();
+      SlideOutputOptions oo{.figures = o_.figures};
+      if (job.x) oo.summary_extra = extra;
+      write_slide_outputs(point_dir, ps, result, oo);
+    }
+    std::error_code ec;
+    fs::remove(checkpoint_file, ec);  // the row is final
+    return sweep_row(ps, result, job.x ? settings_x_ : settings_);
+  }
+
+  const SweepScene& s_;
+  const SweepRunOptions& o_;
+  const std::vector<SweepPoint> points_, xpoints_;
+  std::string settings_, settings_x_;  // the rows' fingerprints
+  fs::path dir_, csv_, csv_x_;
+  std::vector<std::optional<SweepRow>> rows_, rows_x_;
+  std::vector<Job> order_;
+  int n_jobs_ = 0;
+  std::mutex table_mutex_;   // rows, sweep.csv and the progress lines
+  std::mutex output_mutex_;  // the NetCDF library is not thread-safe
+  std::atomic<bool> stop_{false};
+  std::exception_ptr fatal_;  // failure to write sweep.csv: ends the sweep
+  std::size_t finished_ = 0;
+  std::atomic<std::size_t> interrupted_{0};
+};
+
+}  // namespace
+
+int run_sweep(const SweepScene& s, const SweepRunOptions& options) {
+  SweepRunner runner(s, options);
+  return runner.run();
+}
+
+}  // namespace asperity::app
