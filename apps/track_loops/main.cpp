@@ -356,6 +356,74 @@ std::map<std::string, int> write_events(const fs::path& csv, const tracking::Tra
 
 }  // namespace
 
+namespace {
+
+// The edge and screw fits of a peierls_scan summary (its file or folder) into `peierls`, and
+// what summary.json says of them.
+nlohmann::json read_local_peierls(const std::string& path, LocalPeierls& peierls) {
+  const app::PeierlsSummaryFit edge = app::read_peierls_fit(path, "edge");
+  const app::PeierlsSummaryFit screw = app::read_peierls_fit(path, "screw");
+  peierls = {edge.law, screw.law};
+  return {{"source", edge.file.string()},
+          {"edge", {{"k1", edge.law.k1}, {"k2", edge.law.k2}}},
+          {"screw", {{"k1", screw.law.k1}, {"k2", screw.law.k2}}},
+          {"window_b_core", {edge.law.b_min, edge.law.b_max}}};
+}
+
+// What to read, in order: every file whole, or the frames of one label from each file, or
+// those of a slip event's three labels, label by label. Pairs of file and label ("": all).
+std::vector<std::pair<std::string, std::string>> snapshot_reads(
+    const std::vector<std::string>& files, const std::string& label, int slip) {
+  std::vector<std::pair<std::string, std::string>> reads;
+  if (slip > 0) {
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "slip_%03d_", slip);
+    for (const char* part : {"before", "path", "after"}) {
+      for (const auto& file : files)
+        reads.emplace_back(file, std::string(prefix) + part);
+    }
+  } else {
+    for (const auto& file : files)
+      reads.emplace_back(file, label);
+  }
+  return reads;
+}
+
+nlohmann::json summary_json(const nlohmann::json& inputs, const FrameOptions& o,
+                            const nlohmann::json& peierls_json, std::size_t frames,
+                            const Tally& tally, const std::map<std::string, int>& counts,
+                            double wall) {
+  const tracking::DetectOptions& detect = o.detect;
+  const tracking::TrackOptions& track = o.track;
+  return {{"inputs", inputs},
+          {"options",
+           {{"min_length", detect.min_length},
+            {"slip_sign", detect.slip_sign},
+            {"tangent_half_window", detect.tangent_half_window},
+            {"screw_angle_deg", detect.screw_angle_deg},
+            {"min_overlap", track.min_overlap},
+            {"max_centroid_distance", track.max_centroid_distance},
+            {"max_motion", track.max_motion},
+            {"arrest_area", track.arrest_area},
+            {"centre_fraction", track.centre_fraction},
+            {"plot_every", o.plot_every},
+            {"profiles", o.profiles},
+            {"peierls", peierls_json}}},
+          {"results",
+           {{"frames", frames},
+            {"max_lines_per_frame", tally.max_lines},
+            {"lines_by_kind", tally.kinds},
+            {"events_by_type", counts},
+            {"figures", tally.figures}}},
+          {"run",
+           {{"detect_s", tally.detect_s},
+            {"detect_max_frame_s", tally.detect_max_s},
+            {"wall_s", wall},
+            {"provenance", app::provenance_json()}}}};
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
     CLI::App cli{"Find, trace and follow dislocation lines and loops in NetCDF snapshots"};
@@ -425,17 +493,10 @@ int main(int argc, char** argv) {
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     detect.validate();
     track.validate();
-    LocalPeierls& peierls = o.peierls;
     nlohmann::json peierls_json = nullptr;
     if (!peierls_path.empty()) {
       if (!profiles) throw std::invalid_argument("--peierls is drawn beside --profiles: add it");
-      const app::PeierlsSummaryFit edge = app::read_peierls_fit(peierls_path, "edge");
-      const app::PeierlsSummaryFit screw = app::read_peierls_fit(peierls_path, "screw");
-      peierls = {edge.law, screw.law};
-      peierls_json = {{"source", edge.file.string()},
-                      {"edge", {{"k1", edge.law.k1}, {"k2", edge.law.k2}}},
-                      {"screw", {{"k1", screw.law.k1}, {"k2", screw.law.k2}}},
-                      {"window_b_core", {edge.law.b_min, edge.law.b_max}}};
+      peierls_json = read_local_peierls(peierls_path, o.peierls);
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -447,20 +508,7 @@ int main(int argc, char** argv) {
     // A bad file anywhere in the list stops the run before any work (fields are read later).
     for (const auto& file : files)
       app::check_snapshot_file(file);
-    // What to read, in order: every file whole, or the frames of one label from each file, or
-    // those of a slip event's three labels, label by label.
-    std::vector<std::pair<std::string, std::string>> reads;  // file, label ("": all)
-    if (slip > 0) {
-      char prefix[32];
-      std::snprintf(prefix, sizeof prefix, "slip_%03d_", slip);
-      for (const char* part : {"before", "path", "after"}) {
-        for (const auto& file : files)
-          reads.emplace_back(file, std::string(prefix) + part);
-      }
-    } else {
-      for (const auto& file : files)
-        reads.emplace_back(file, label);
-    }
+    const auto reads = snapshot_reads(files, label, slip);
     for (const auto& [file, only] : reads) {
       const std::vector<slide::Snapshot> snaps = app::read_snapshots(file, only);
       if (snaps.empty()) continue;  // no frame of the label
@@ -490,31 +538,8 @@ int main(int argc, char** argv) {
                      {"frames", frames_json}});
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    app::write_json(dir / "summary.json", {{"inputs", inputs},
-                                           {"options",
-                                            {{"min_length", detect.min_length},
-                                             {"slip_sign", detect.slip_sign},
-                                             {"tangent_half_window", detect.tangent_half_window},
-                                             {"screw_angle_deg", detect.screw_angle_deg},
-                                             {"min_overlap", track.min_overlap},
-                                             {"max_centroid_distance", track.max_centroid_distance},
-                                             {"max_motion", track.max_motion},
-                                             {"arrest_area", track.arrest_area},
-                                             {"centre_fraction", track.centre_fraction},
-                                             {"plot_every", plot_every},
-                                             {"profiles", profiles},
-                                             {"peierls", peierls_json}}},
-                                           {"results",
-                                            {{"frames", info.size()},
-                                             {"max_lines_per_frame", tally.max_lines},
-                                             {"lines_by_kind", tally.kinds},
-                                             {"events_by_type", counts},
-                                             {"figures", tally.figures}}},
-                                           {"run",
-                                            {{"detect_s", tally.detect_s},
-                                             {"detect_max_frame_s", tally.detect_max_s},
-                                             {"wall_s", wall},
-                                             {"provenance", app::provenance_json()}}}});
+    app::write_json(dir / "summary.json",
+                    summary_json(inputs, o, peierls_json, info.size(), tally, counts, wall));
 
     std::printf("%zu frame(s), at most %zu line(s) per frame; events:", info.size(),
                 tally.max_lines);
