@@ -1,8 +1,10 @@
 #include "common/settings_cli.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <stdexcept>
+#include <vector>
 
 namespace asperity::app {
 
@@ -29,6 +31,22 @@ settings::Value parse_setting(const settings::Info& setting, const std::string& 
       const double x = std::strtod(text.c_str(), &end);
       if (text.empty() || end != text.c_str() + text.size()) bad("not a number");
       v = x;
+      break;
+    }
+    case settings::Kind::numbers: {
+      // Comma-separated, as the tools' list flags always took them ("--a 30,60,120").
+      std::vector<double> list;
+      std::size_t from = 0;
+      while (from <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', from), text.size());
+        const std::string item = text.substr(from, comma - from);
+        char* end = nullptr;
+        const double x = std::strtod(item.c_str(), &end);
+        if (item.empty() || end != item.c_str() + item.size()) bad("not a list of numbers");
+        list.push_back(x);
+        from = comma + 1;
+      }
+      v = std::move(list);
       break;
     }
     case settings::Kind::choice:

@@ -88,6 +88,7 @@ class SettingFlags {
           ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
                       : info.kind == settings::Kind::integer ? "INT"
                       : info.kind == settings::Kind::boolean ? "BOOL"
+                      : info.kind == settings::Kind::numbers ? "LIST"
                                                              : "NUMBER");
     }
   }

@@ -513,9 +513,9 @@ std::string explicit_slide_fingerprint(const ExplicitSlideScene& scene,
   const auto& m = scene.model;
   // alpha enters through contact.alpha (mu/alpha, tau_max of the snapshots); the tip follows
   // from R, the potential from G in eps/sigma^3 and sigma/d.
-  return common_fingerprint(explicit_as_slide_scene(scene, alpha)) +
-         " model=explicit G_eps_sigma3=" + format_number(m.G_eps_sigma3) +
-         " sigma_over_d=" + format_number(m.sigma_over_d) + " tip_R=" + format_number(m.R);
+  return common_fingerprint(explicit_as_slide_scene(scene, alpha)) + " model=explicit " +
+         settings::fingerprint(m, explicit_model::ExplicitScene::settings()) +
+         " tip_R=" + format_number(m.R);
 }
 
 std::vector<std::uint8_t> encode_checkpoint(const SlideCheckpoint& checkpoint) {

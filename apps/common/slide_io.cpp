@@ -414,8 +414,7 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
   ExplicitSlideScene s;
   s.slide = read_slide_keys(reader);
   auto& m = s.model;
-  m.G_eps_sigma3 = reader.number("explicit.G", m.G_eps_sigma3, Range::positive());
-  m.sigma_over_d = reader.number("explicit.sigma_over_d", m.sigma_over_d, Range::closed(0.75, 1.0));
+  reader.read(explicit_model::ExplicitScene::settings(), m);
   reader.reject_unknown();
   check_relations(s.slide, path, check_slips);
   m.R = s.slide.contact.R;

@@ -199,13 +199,15 @@ std::optional<settings::Value> SceneReader::value(const settings::Info& setting)
     case settings::Kind::number:
       if (const auto v = optional_number(key, setting.range)) return settings::Value(*v);
       return std::nullopt;
+    case settings::Kind::numbers:
+      if (auto v = optional_numbers(key, setting.range)) return settings::Value(std::move(*v));
+      return std::nullopt;
     case settings::Kind::choice: {
       const toml::node* node = find(key);
       if (!node) return std::nullopt;
       if (!node->is_string()) {
         throw std::invalid_argument(source_ + ": key '" + std::string(key) +
-                                    "': expected a string, got " + describe(*node) +
-                                    where(*node));
+                                    "': expected a string, got " + describe(*node) + where(*node));
       }
       const settings::Value v(*node->value<std::string>());
       try {

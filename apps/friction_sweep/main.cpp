@@ -18,11 +18,13 @@
 // The points run in runner.cpp, the report is written by report.cpp; this file wires the flags.
 #include <CLI/CLI.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/cli.hpp"
 #include "common/cli_checks.hpp"
+#include "common/settings_cli.hpp"
 #include "runner.hpp"
 #include "sweep.hpp"
 
@@ -32,26 +34,14 @@ int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
     CLI::App cli{"Static friction of the lateral force model over many (a, R) points"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/sweep_default.toml";
-    std::vector<double> R, a, targets;
-    std::optional<int> jobs;
     app::SweepRunOptions o{.out = "results/friction_sweep"};
     std::string out = o.out.string();
     cli.add_option("scene", scene_path, "Sweep scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    auto* R_opt = cli.add_option("--R", R, "Sphere radii (d), comma-separated")
-                      ->delimiter(',')
-                      ->check(app::positive());
-    auto* a_opt = cli.add_option("--a", a, "Contact radii (d), comma-separated")
-                      ->delimiter(',')
-                      ->check(app::positive());
-    auto* x_opt = cli.add_option("--a-over-bcore0", targets,
-                                 "Targets of a/b_core^0, comma-separated (instead of --a)")
-                      ->delimiter(',')
-                      ->check(app::positive());
-    a_opt->excludes(x_opt);
-    cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads / fft.threads)")
-        ->check(CLI::Range(1, 1024));
+    // --R, --a, --a-over-bcore0, --jobs: from the sweep's settings table.
+    app::SettingFlags flags;
+    flags.add(cli, app::SweepScene::settings());
     auto* figures_opt =
         cli.add_flag("--figures", o.figures,
                      "Per point also the figures and NetCDF snapshots (as contact_slide)");
@@ -73,16 +63,14 @@ int main(int argc, char** argv) {
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     app::SweepScene s = app::read_sweep_scene(scene_path);
-    if (R_opt->count() > 0) s.R = {R, "--R"};
-    if (a_opt->count() > 0) {
-      s.a = app::ValueList{a, "--a"};
-      s.a_over_bcore0.reset();
+    // A list on the command line replaces the scene's, and --a or --a-over-bcore0 the other.
+    const bool a_given = flags.given("sweep.a"), x_given = flags.given("sweep.a_over_bcore0");
+    if (a_given && x_given) {
+      throw std::invalid_argument("--a and --a-over-bcore0: give one of them");
     }
-    if (x_opt->count() > 0) {
-      s.a_over_bcore0 = app::ValueList{targets, "--a-over-bcore0"};
-      s.a.reset();
-    }
-    if (jobs) s.jobs = *jobs;
+    if (a_given) s.a_over_bcore0.reset();
+    if (x_given) s.a.reset();
+    flags.apply(app::SweepScene::settings(), s);
     s.base.contact.validate();
     s.base.options.validate();
     o.out = out;

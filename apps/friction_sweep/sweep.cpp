@@ -51,9 +51,69 @@ void check_list(const ValueList& list) {
   }
 }
 
+// A list row over a ValueList (`optional`: absent when empty), named by its key in messages.
+template <class Ref>
+settings::Setting<SweepScene> list_row(std::string key, Ref ref, std::string unit,
+                                       std::string meaning, std::string flag) {
+  settings::Setting<SweepScene> s;
+  static_cast<settings::Info&>(s) = {
+      std::move(key),  settings::Kind::numbers, Range::positive(), {},
+      std::move(unit), std::move(meaning),      std::move(flag)};
+  s.get = [ref](const SweepScene& r) {
+    const auto& list = ref(r);
+    if constexpr (requires { list.has_value(); }) {
+      return settings::Value(list ? list->values : std::vector<double>{});
+    } else {
+      return settings::Value(list.values);
+    }
+  };
+  s.set = [ref, key = s.key](SweepScene& r, const settings::Value& v) {
+    auto& list = ref(r);
+    const auto& values = std::get<std::vector<double>>(v);
+    if constexpr (requires { list.reset(); }) {
+      if (values.empty()) {
+        list.reset();
+      } else {
+        list = ValueList{values, key};
+      }
+    } else {
+      list = ValueList{values, key};
+    }
+  };
+  return s;
+}
+
 }  // namespace
 
+const settings::Table<SweepScene>& SweepScene::settings() {
+  static const settings::Table<SweepScene> table = [] {
+    settings::Table<SweepScene> t = {
+        list_row(
+            "sweep.R", [](auto& s) -> auto& { return s.R; }, "d", "sphere radii", "--R"),
+        list_row(
+            "sweep.a", [](auto& s) -> auto& { return s.a; }, "d",
+            "contact radii (exactly one of sweep.a and sweep.a_over_bcore0)", "--a"),
+        list_row(
+            "sweep.a_over_bcore0", [](auto& s) -> auto& { return s.a_over_bcore0; }, "",
+            "targets of the control parameter a/b_core^0 (instead of sweep.a)", "--a-over-bcore0"),
+        settings::neutral(settings::integer<SweepScene>(
+            "sweep.jobs", [](auto& s) -> auto& { return s.jobs; }, Range::closed(0, 1024), "",
+            "points run at once (0: hardware threads / fft.threads)", "--jobs")),
+        settings::choice<SweepScene>(
+            "sweep.model", [](auto& s) -> auto& { return s.model; }, {"lfm", "explicit", "both"},
+            "which models run the points: the lateral force model (sweep.csv), the explicit "
+            "tip (sweep_explicit.csv) or both"),
+    };
+    settings::lift(
+        t, explicit_model::ExplicitScene::settings(), "",
+        [](auto& s) -> auto& { return s.potential; });
+    return t;
+  }();
+  return table;
+}
+
 void SweepScene::validate() const {
+  settings::validate(*this, settings());
   check_list(R);
   if (a && a_over_bcore0) {
     throw std::invalid_argument(a->key + " and " + a_over_bcore0->key +
@@ -66,10 +126,6 @@ void SweepScene::validate() const {
                                 "them (contact radii (d) or targets of a/b_core^0)");
   }
   check_list(a ? *a : *a_over_bcore0);
-  if (jobs < 0 || jobs > 1024) {
-    throw std::invalid_argument(source + ": sweep.jobs = " + std::to_string(jobs) +
-                                ": allowed: [1, 1024] (0: default)");
-  }
 }
 
 int SweepScene::effective_jobs() const {
@@ -92,24 +148,11 @@ SweepScene read_sweep_scene(const std::string& path) {
   SweepScene s;
   s.source = path;
   s.base = read_slide_scene(r);
-  const std::string prefix = path + ": ";
-  auto R = r.optional_numbers("sweep.R", Range::positive());
-  if (!R) {
-    throw std::invalid_argument(prefix +
-                                "sweep.R: missing: give the sphere radii (d), e.g. R = [535]");
+  r.read(SweepScene::settings(), s);
+  if (s.R.values.empty()) {
+    throw std::invalid_argument(
+        path + ": sweep.R: missing or empty: give the sphere radii (d), e.g. R = [535]");
   }
-  s.R = {std::move(*R), prefix + "sweep.R"};
-  if (auto a = r.optional_numbers("sweep.a", Range::positive())) {
-    s.a = ValueList{std::move(*a), prefix + "sweep.a"};
-  }
-  if (auto x = r.optional_numbers("sweep.a_over_bcore0", Range::positive())) {
-    s.a_over_bcore0 = ValueList{std::move(*x), prefix + "sweep.a_over_bcore0"};
-  }
-  s.jobs = r.integer("sweep.jobs", 0, Range::closed(1, 1024));
-  s.model = r.string("sweep.model", "lfm", {"lfm", "explicit", "both"});
-  auto& m = s.potential;
-  m.G_eps_sigma3 = r.number("explicit.G", m.G_eps_sigma3, Range::positive());
-  m.sigma_over_d = r.number("explicit.sigma_over_d", m.sigma_over_d, Range::closed(0.75, 1.0));
   r.reject_unknown();
   s.validate();
   return s;
@@ -258,9 +301,8 @@ std::string explicit_settings_fingerprint(const SweepScene& s) {
   // contact.alpha is the LFM's: the explicit points take alpha from the potential.
   SlideScene base = s.base;
   base.contact.alpha = 0.0;
-  return settings_fingerprint(base) +
-         " model=explicit G_eps_sigma3=" + format_number(s.potential.G_eps_sigma3) +
-         " sigma_over_d=" + format_number(s.potential.sigma_over_d);
+  return settings_fingerprint(base) + " model=explicit " +
+         settings::fingerprint(s.potential, explicit_model::ExplicitScene::settings());
 }
 
 const std::vector<std::string>& sweep_columns() {

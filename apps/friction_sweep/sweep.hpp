@@ -28,7 +28,7 @@ namespace asperity::app {
 // A list of numbers with its origin, so that errors name what the user wrote.
 struct ValueList {
   std::vector<double> values;
-  std::string key;  // "<file>: sweep.a", or the command-line flag "--a"
+  std::string key;  // its setting, "sweep.a"
 };
 
 struct SweepScene {
@@ -43,6 +43,9 @@ struct SweepScene {
   // R, material and d are set per point.
   explicit_model::ExplicitScene potential;
 
+  // The [sweep] and [explicit] settings (common/settings.hpp), flags --R, --a, --a-over-bcore0,
+  // --jobs; the slide's own are SlideScene::settings().
+  static const settings::Table<SweepScene>& settings();
   // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty,
   // values positive and finite, exactly one of a and a_over_bcore0. The a < R check needs the
   // points: see sweep_points().

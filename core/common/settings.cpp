@@ -49,6 +49,11 @@ std::string to_string(const Value& value) {
           return std::to_string(v);
         } else if constexpr (std::is_same_v<T, double>) {
           return format_number(v);
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          std::string out = "[";
+          for (std::size_t i = 0; i < v.size(); ++i)
+            out.append(i ? ", " : "").append(format_number(v[i]));
+          return out.append("]");
         } else {
           return v;
         }
@@ -64,6 +69,11 @@ std::string Info::allowed() const {
       return "an integer " + range.describe(true);
     case Kind::number: {
       std::string s = range.describe() == "any" ? "a finite number" : range.describe();
+      return unit.empty() ? s : s + " " + unit;
+    }
+    case Kind::numbers: {
+      std::string s = "a list of numbers";
+      if (range.describe() != "any") s.append(" ").append(range.describe());
       return unit.empty() ? s : s + " " + unit;
     }
     case Kind::choice: {
@@ -99,6 +109,12 @@ void Info::check(const Value& value) const {
       if (!std::holds_alternative<double>(value) || !std::isfinite(std::get<double>(value)) ||
           !range.contains(std::get<double>(value)))
         fail();
+      return;
+    case Kind::numbers:
+      if (!std::holds_alternative<std::vector<double>>(value)) fail();
+      for (const double x : std::get<std::vector<double>>(value)) {
+        if (!std::isfinite(x) || !range.contains(x)) fail();
+      }
       return;
     case Kind::choice:
       if (!std::holds_alternative<std::string>(value)) fail();

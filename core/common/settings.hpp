@@ -50,12 +50,13 @@ struct Range {
 // Shortest text that reads back to the same double (std::to_chars: 0.1, 1e-05, 4096).
 std::string format_number(double v);
 
-enum class Kind { boolean, integer, number, choice };
+enum class Kind { boolean, integer, number, choice, numbers };
 
-// A setting's value: bool, integer (long long), number (double) or choice (string).
-using Value = std::variant<bool, long long, double, std::string>;
+// A setting's value: bool, integer (long long), number (double), choice (string) or a list of
+// numbers (a sweep's radii, a scan's core widths; empty: not given).
+using Value = std::variant<bool, long long, double, std::string, std::vector<double>>;
 // As it reads in a scene file and a fingerprint: true/false, the integer, format_number(), the
-// choice's name.
+// choice's name, [x, y, ...].
 std::string to_string(const Value& value);
 
 // What a setting is, apart from the struct it lives in.
@@ -136,6 +137,19 @@ Setting<Root> choice(std::string key, Ref ref, std::vector<std::string> choices,
                            std::move(meaning), std::move(flag)};
   s.get = [ref, name](const Root& r) { return Value(std::string(name(ref(r)))); };
   s.set = [ref, parse](Root& r, const Value& v) { ref(r) = parse(std::get<std::string>(v)); };
+  return s;
+}
+
+// A list of numbers, each finite and within `range` (an empty list: not given; whether one must
+// be is the struct's validate() to say, as it is for lists that exclude each other).
+template <class Root, class Ref>
+Setting<Root> numbers(std::string key, Ref ref, Range range, std::string unit, std::string meaning,
+                      std::string flag = {}) {
+  Setting<Root> s;
+  static_cast<Info&>(s) = {std::move(key),  Kind::numbers,      range,          {},
+                           std::move(unit), std::move(meaning), std::move(flag)};
+  s.get = [ref](const Root& r) { return Value(std::vector<double>(ref(r))); };
+  s.set = [ref](Root& r, const Value& v) { ref(r) = std::get<std::vector<double>>(v); };
   return s;
 }
 

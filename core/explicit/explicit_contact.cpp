@@ -15,13 +15,25 @@
 
 namespace asperity::explicit_model {
 
+const settings::Table<ExplicitScene>& ExplicitScene::settings() {
+  using R = settings::Range;
+  static const settings::Table<ExplicitScene> table = {
+      settings::number<ExplicitScene>(
+          "explicit.G", [](auto& s) -> auto& { return s.G_eps_sigma3; }, R::positive(),
+          "eps/sigma^3", "substrate shear modulus in the potential's units"),
+      // Below 0.75 the cutoff barely exceeds the hollow-site gap d/sqrt(2) and tip atoms sink
+      // into the hollows; above 1, the neighbour windows grow beyond 3 x 3.
+      settings::number<ExplicitScene>(
+          "explicit.sigma_over_d", [](auto& s) -> auto& { return s.sigma_over_d; },
+          R::closed(0.75, 1.0), "d", "Lennard-Jones sigma (2^(-1/6): cutoff r_c = d)"),
+  };
+  return table;
+}
+
 void ExplicitScene::validate() const {
   require_positive("ExplicitScene.R", R);
-  require_positive("ExplicitScene.G_eps_sigma3", G_eps_sigma3);
   require_positive("ExplicitScene.d", d);
-  if (!(sigma_over_d >= 0.75 && sigma_over_d <= 1.0)) {
-    reject("ExplicitScene.sigma_over_d", std::to_string(sigma_over_d), "0.75 to 1.0");
-  }
+  settings::validate(*this, settings());
   material.validate();
 }
 

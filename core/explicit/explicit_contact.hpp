@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
 #include "common/shape.hpp"
 #include "common/termination.hpp"
 #include "contact/hertz.hpp"
@@ -61,6 +62,9 @@ struct ExplicitScene {
   // the cutoff barely exceeds the hollow-site gap d/sqrt(2) and tip atoms sink into the hollows;
   // above, the neighbour windows grow beyond 3 x 3.
   void validate() const;
+  // The scene's own settings ("explicit.G", "explicit.sigma_over_d"; common/settings.hpp): R,
+  // material and d come from the contact (ContactScene) and are not repeated.
+  static const settings::Table<ExplicitScene>& settings();
   [[nodiscard]] LennardJones potential() const;  // in G and d
   // One eps/sigma in G d^2 (forces) and one eps in G d^3 (energies).
   [[nodiscard]] double force_unit() const;

@@ -112,9 +112,9 @@ check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
 check $fs "give exactly one" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
 check $fs "sweep.a" "$(scene w3 <<<$'[sweep]\nR = [535]\na = [-1]')"
 check $fs "contact.a" "$(scene w4 <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na = 5')"
-check $fs "sweep.jobs" "$(scene w5 <<<$'[sweep]\nR = [535]\na = [5]\njobs = 0')"
+check $fs "sweep.jobs" "$(scene w5 <<<$'[sweep]\nR = [535]\na = [5]\njobs = 2000')"
 check $fs "--R" --R 535,nan
-check $fs "--jobs" --jobs 0
+check $fs "--jobs" --jobs 2000
 check $fs "contact.R" --R 1e308 --a 5
 ASPERITY_MEMORY_GIB=1 check $fs "GiB of memory" --R 1e6 --a 600,700 --jobs 2
 ASPERITY_DISK_GIB=0.1 check $fs "GiB of disk" --R 1e4 --a 100,200 --figures

@@ -27,6 +27,7 @@
 #include "common/output_files.hpp"
 #include "common/plot.hpp"
 #include "common/point_runner.hpp"
+#include "common/settings_cli.hpp"
 #include "common/toml_reader.hpp"
 
 namespace asperity::app {
@@ -89,6 +90,32 @@ TEST(SceneReader, RangeViolationNamesKeyValueAndRange) {
               s.integer("contact.n", 1, Range::at_least(1));
             }).find("contact.n = 0: allowed: >= 1"),
             std::string::npos);
+}
+
+// A list row (settings::Kind::numbers) read from a scene and from a flag's comma-separated text,
+// each value range-checked: the sweep's radii.
+TEST(SceneReader, ListRowsReadFromScenesAndFlags) {
+  struct Holder {
+    std::vector<double> radii{1.0};
+  };
+  const settings::Table<Holder> table = {settings::numbers<Holder>(
+      "sweep.R", [](auto& h) -> auto& { return h.radii; }, Range::positive(), "d", "radii", "--R")};
+  Holder h;
+  auto s = scene("[sweep]\nR = [40, 535.5]\n");
+  s.read(table, h);
+  EXPECT_EQ(h.radii, (std::vector<double>{40.0, 535.5}));
+  Holder untouched;
+  scene("[sweep]\n").read(table, untouched);
+  EXPECT_EQ(untouched.radii, std::vector<double>{1.0});  // absent: the default stays
+  EXPECT_NE(invalid_argument_message([&] {
+              Holder bad;
+              scene("[sweep]\nR = [40, -2]\n").read(table, bad);
+            }).find("sweep.R"),
+            std::string::npos);
+  EXPECT_EQ(std::get<std::vector<double>>(parse_setting(table[0], "30,60.5,120")),
+            (std::vector<double>{30.0, 60.5, 120.0}));
+  EXPECT_THROW(parse_setting(table[0], "30,,60"), std::invalid_argument);
+  EXPECT_THROW(parse_setting(table[0], "30,-1"), std::invalid_argument);
 }
 
 TEST(SceneReader, TypeErrorsNameKeyAndValue) {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "common/settings.hpp"
 #include "interface/envelope.hpp"
@@ -84,6 +85,30 @@ TEST(Settings, CheckRefusesWrongKindsAndOutOfRangeValues) {
             "method = \"bfgs\": allowed: one of \"lbfgs\", \"cg\", \"fire\", \"newton\", \"flow\"");
   EXPECT_EQ(settings::Range::closed(0, 1000000).describe(true), "[0, 1000000]");
   EXPECT_FALSE(settings::Range::any().contains(std::nan("")));
+}
+
+// A list of numbers (Kind::numbers: a sweep's radii, a scan's core widths): each value checked
+// against the row's range, written as [x, y] in fingerprints and summaries.
+TEST(Settings, NumberListsCheckEachValueAndPrintAsLists) {
+  struct Holder {
+    std::vector<double> radii;
+  };
+  const auto row = settings::numbers<Holder>(
+      "sweep.R", [](auto& h) -> auto& { return h.radii; }, settings::Range::positive(), "d",
+      "sphere radii");
+  Holder h{{535.0, 0.1}};
+  EXPECT_NO_THROW(row.check(row.get(h)));
+  EXPECT_EQ(settings::to_string(row.get(h)), "[535, 0.1]");
+  EXPECT_EQ(message_of([&] {
+              row.check(settings::Value(std::vector<double>{535.0, -1.0}));
+            }),
+            "sweep.R = [535, -1]: allowed: a list of numbers > 0 d");
+  EXPECT_THROW(row.check(settings::Value(std::vector<double>{std::nan("")})),
+               std::invalid_argument);
+  EXPECT_THROW(row.check(settings::Value(2.0)), std::invalid_argument);  // not a list
+  row.set(h, settings::Value(std::vector<double>{40.0}));
+  EXPECT_EQ(h.radii, std::vector<double>{40.0});
+  EXPECT_EQ(settings::fingerprint(h, settings::Table<Holder>{row}), "sweep.R=[40]");
 }
 
 // The Hertz envelope: tau_max = alpha p(r) with the Hertz p (MODEL.md 3), zero outside a.
