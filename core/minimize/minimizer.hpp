@@ -17,7 +17,7 @@
 //   not risen. flow_scheme rkc (default): second-order Runge-Kutta-Chebyshev, stages chosen for
 //   stability, steps for accuracy; euler: explicit Euler with the error estimate of ODE12r
 //   (Makri, Ortner & Kermode, J. Chem. Phys. 150, 094109, 2019), without ODE12r's acceptance on
-//   a falling residual: the flow is the answer, not a way to it (details in minimizer.cpp,
+//   a falling residual: the flow is the answer, not a way to it (details in flow.cpp,
 //   class Flow). With preconditioner = interface the mobility is G M (the flow in the interface
 //   filter's metric): not the reference, but cheaper. Slower than lbfgs through a slip (3-10x
 //   the FFT passes, docs/solvers.md), it defines which minimum an instability falls into; the
@@ -52,9 +52,11 @@
 
 namespace asperity::minimize {
 
+// Each method is a class behind detail::MinimizerMethod with a row in method_registry(), which
+// gives its name (minimize/relaxation.hpp).
 enum class Method { lbfgs, cg, fire, newton, flow };
 enum class StabilityCheck { none, perturb, lanczos };
-// Integrator of the flow (minimizer.cpp): rkc (second-order Runge-Kutta-Chebyshev, stages chosen
+// Integrator of the flow (flow.cpp): rkc (second-order Runge-Kutta-Chebyshev, stages chosen
 // for stability, steps limited by accuracy) or euler (explicit Euler, steps limited by the
 // fastest interface mode: the simplest scheme, the cross-check).
 enum class FlowScheme { rkc, euler };

@@ -1,6 +1,7 @@
 // Unit tier: the lateral force model's interface physics and the minimisers (MODEL.md 3,
 // SOLVERS.md): force and curvature against finite differences, all methods reaching the same
-// minimum, and a state started exactly on a saddle being left rather than returned.
+// minimum, a state started exactly on a saddle being left rather than returned, and each method
+// run by the class registered for it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "interface/lfm.hpp"
 #include "interface/sincos.hpp"
 #include "minimize/minimizer.hpp"
+#include "minimize/relaxation.hpp"
 #include "slide/lfm_problem.hpp"
 
 using namespace asperity;
@@ -393,4 +395,42 @@ TEST(Minimizer, FlowRejectsBadTolerance) {
   for (auto scheme : {minimize::FlowScheme::rkc, minimize::FlowScheme::euler})
     EXPECT_EQ(minimize::flow_scheme_from_string(minimize::to_string(scheme)), scheme);
   EXPECT_THROW(minimize::flow_scheme_from_string("rk45"), std::invalid_argument);
+}
+
+TEST(Minimizer, EveryMethodIsTheClassRegisteredUnderItsName) {
+  // A method is a class plus its row in method_registry() (minimize/relaxation.hpp): every value
+  // of minimize::Method has a row, the row's class implements that value (a row that makes
+  // another method's class runs the wrong minimiser under the right name), and the names the
+  // "method" setting offers are the registry's, each read back to its own value.
+  using M = minimize::Method;
+  Washboard p;
+  const std::vector<double> u{0.1}, f{0.1 / p.g};
+  const auto try_method = [&](M m) {
+    const minimize::MinimizerOptions o{.method = m};
+    minimize::detail::Relaxation run(p, o, u, f, nullptr);
+    return minimize::detail::make_method(m, run)->method();
+  };
+  for (M m : {M::lbfgs, M::cg, M::fire, M::newton, M::flow}) {
+    EXPECT_EQ(minimize::detail::registered(m).method, m) << minimize::to_string(m);
+    EXPECT_EQ(minimize::to_string(try_method(m)), minimize::to_string(m));
+  }
+  const auto* row = settings::find(minimize::MinimizerOptions::settings(), "method");
+  ASSERT_NE(row, nullptr);
+  std::vector<M> seen;
+  for (const std::string& name : row->choices) {
+    const M m = minimize::method_from_string(name);
+    EXPECT_EQ(minimize::to_string(m), name);
+    EXPECT_EQ(minimize::to_string(try_method(m)), name);
+    seen.push_back(m);
+  }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(std::unique(seen.begin(), seen.end()), seen.end()) << "two names, one method";
+  EXPECT_EQ(seen.size(), minimize::detail::method_registry().size());
+  // A value with no row is refused, not run as some other method.
+  const auto unknown = static_cast<M>(99);
+  EXPECT_THROW(minimize::detail::registered(unknown), std::invalid_argument);
+  EXPECT_THROW(try_method(unknown), std::invalid_argument);
+  EXPECT_THROW(minimize::MinimizerOptions{.method = unknown}.validate(), std::invalid_argument);
+  std::vector<double> u2 = u, f2 = f;
+  EXPECT_THROW(minimize::minimize(p, u2, f2, {.method = unknown}), std::invalid_argument);
 }
