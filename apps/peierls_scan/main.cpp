@@ -36,7 +36,6 @@ int main(int argc, char** argv) {
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
     std::string out = "results/peierls_scan";
     std::vector<double> b_core, theta;
-    std::optional<int> jobs;
     bool snapshots = false, list_angles = false;
     cli.add_option("scene", scene_path, "Scan scene file (TOML)")
         ->check(CLI::ExistingFile)
@@ -48,12 +47,10 @@ int main(int argc, char** argv) {
     cli.add_option("--theta", theta, "Line angles (degrees, 0 screw, 90 edge), comma-separated")
         ->delimiter(',')
         ->check(app::finite_number(0, 90));
-    // --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance: from the scene's
-    // settings table.
+    // --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance, --jobs: from the
+    // scene's settings table.
     app::SettingFlags flags;
     flags.add(cli, scene_settings());
-    cli.add_option("--jobs", jobs, "Points run at once (default: hardware threads)")
-        ->check(CLI::Range(1, 1024));
     // A switch without a value, which a table's boolean flag (--flag true|false) is not.
     cli.add_flag("--snapshots", snapshots, "NetCDF snapshots of each point's cell");
     cli.add_flag("--list-angles", list_angles, "Print the angles the cell offers and exit");
@@ -64,7 +61,6 @@ int main(int argc, char** argv) {
     if (!b_core.empty()) s.b_core = b_core;
     if (!theta.empty()) s.theta = theta;
     flags.apply(scene_settings(), s);
-    if (jobs) s.jobs = *jobs;
     if (snapshots) s.snapshots = true;
     s.options.validate();
     s.cell_size.validate();
