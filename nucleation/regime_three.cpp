@@ -90,6 +90,31 @@ double bcore0(double a, double R, double alpha, double nu) {
   return R / (c * alpha * a);
 }
 
+namespace {
+
+// What bcore0 requires of the contact, for its relatives below.
+void check_contact(const char* where, double R, double alpha, double nu) {
+  require_positive(std::string(where) + ".R", R);
+  require_positive(std::string(where) + ".alpha", alpha);
+  if (!(nu >= 0.0 && nu < 1.0)) reject(std::string(where) + ".nu", std::to_string(nu), "[0, 1)");
+}
+
+}  // namespace
+
+double control_parameter(double a, double R, double alpha, double nu) {
+  require_positive("control_parameter.a", a);
+  check_contact("control_parameter", R, alpha, nu);
+  const double c = contact::bcore_factor(nu);
+  return c * alpha * a * a / R;
+}
+
+double contact_radius(double a_over_bcore0, double R, double alpha, double nu) {
+  require_positive("contact_radius.a_over_bcore0", a_over_bcore0);
+  check_contact("contact_radius", R, alpha, nu);
+  const double c = contact::bcore_factor(nu);
+  return std::sqrt(a_over_bcore0 * R / (c * alpha));
+}
+
 // The law is capped at tau_P = tau_max: the interface cannot hold more than its ideal strength
 // (a fitted k1 > 1 exceeds it below b_core = ln(k1) / k2, 0.47 d for k1 = 2.3, k2 = 1.8).
 double regime_three_central(double beta, const PeierlsLaw& law) {

@@ -46,8 +46,13 @@ struct PeierlsLaw {
 enum class RegimeThreeForm { central, integrated };
 std::string to_string(RegimeThreeForm form);
 
-// b_core^0 / d of a Hertz contact: R / (c alpha a), c = 4 / (pi (1 - nu)) (MODEL.md 3).
+// b_core^0 / d of a Hertz contact: R / (c alpha a), c = 4 / (pi (1 - nu)) (MODEL.md 3). The
+// expression is its own inverse in a: bcore0(beta, R, alpha, nu) is the a where b_core^0 = beta.
 double bcore0(double a, double R, double alpha, double nu);
+// The control parameter a / b_core^0 = c alpha a^2 / R of that contact, and its inverse, the
+// contact radius a = sqrt(a_over_bcore0 R / (c alpha)) (d) where it takes a given value.
+double control_parameter(double a, double R, double alpha, double nu);
+double contact_radius(double a_over_bcore0, double R, double alpha, double nu);
 
 // Local Peierls stress tau_P / G where the envelope is tau_max (in G): the law at the local core
 // width b_core / d = G / tau_max (MODEL.md 3, 6), capped at tau_max; 0 outside the contact

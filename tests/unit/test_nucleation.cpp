@@ -1,6 +1,6 @@
 // nucleation/ (MODEL.md 8): window selection, the c0 fit on exact data, the nucleation
-// condition's limits, the Regime III forms, the LM fit on exact data, crossovers, regimes, and
-// the options' validation.
+// condition's limits, the Regime III forms, the LM fit on exact data, crossovers, regimes, the
+// comparison of a model with data (comparison.hpp), and the options' validation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <tuple>
 #include <vector>
 
+#include "nucleation/comparison.hpp"
 #include "nucleation/regime_map.hpp"
 #include "nucleation/regime_three.hpp"
 #include "nucleation/regime_two.hpp"
@@ -203,6 +204,19 @@ TEST(RegimeThree, LocalPeierlsStressIsTheLawAtTheLocalCoreWidth) {
   EXPECT_EQ(local_peierls_stress(-1.0, law), 0.0);
 }
 
+// a / b_core^0 = c alpha a^2 / R and its inverse, consistent with b_core^0 = R / (c alpha a).
+TEST(RegimeThree, ControlParameterAndContactRadius) {
+  const double c = 8.0 / std::numbers::pi;  // nu = 0.5
+  EXPECT_NEAR(control_parameter(250, 1700, 0.7, 0.5), c * 0.7 * 250.0 * 250.0 / 1700.0, 1e-12);
+  EXPECT_NEAR(contact_radius(control_parameter(250, 1700, 0.7, 0.5), 1700, 0.7, 0.5), 250.0, 1e-12);
+  // a / (a / b_core^0) is b_core^0.
+  EXPECT_NEAR(250.0 / control_parameter(250, 1700, 0.7, 0.5), bcore0(250, 1700, 0.7, 0.5), 1e-12);
+  // bcore0 is its own inverse in a: the contact whose centre core width is 1.5 d.
+  EXPECT_NEAR(bcore0(bcore0(1.5, 1700, 0.7, 0.5), 1700, 0.7, 0.5), 1.5, 1e-12);
+  EXPECT_THROW(contact_radius(0.0, 1700, 0.7, 0.5), std::invalid_argument);
+  EXPECT_THROW(control_parameter(250, 1700, 0.7, 1.0), std::invalid_argument);
+}
+
 TEST(RegimeThree, FormsAndBcore0) {
   const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
   // b_core^0 = R / (c alpha a), c = 8 / pi at nu = 0.5.
@@ -376,4 +390,164 @@ TEST(RegimeMap, RegimeOneTwoBoundaryIsWhereTheNearerAsymptoteChanges) {
   };
   EXPECT_EQ(regime(x * (1 - 1e-9)), Regime::one);
   EXPECT_EQ(regime(x * (1 + 1e-9)), Regime::two);
+}
+
+// comparison.hpp: the law on the reported footing and where it is extrapolated.
+TEST(Comparison, ScaledErrorsAndExtrapolation) {
+  const PeierlsLaw law{.k1 = 2.3,
+                       .k1_error = 0.1,
+                       .k2 = 1.8,
+                       .k2_error = 0.02,
+                       .correlation = 0.9,
+                       .b_min = 2,
+                       .b_max = 6};
+  const PeierlsLaw s = scaled_errors(law, 1.5);
+  EXPECT_EQ(s.k1, 2.3);
+  EXPECT_EQ(s.k2, 1.8);
+  EXPECT_DOUBLE_EQ(s.k1_error, 0.15);
+  EXPECT_DOUBLE_EQ(s.k2_error, 0.03);
+  EXPECT_EQ(s.correlation, 0.9);
+  EXPECT_TRUE(law_extrapolated(1.9, law));
+  EXPECT_FALSE(law_extrapolated(2.0, law));
+  EXPECT_FALSE(law_extrapolated(6.0, law));
+  EXPECT_TRUE(law_extrapolated(6.1, law));
+  // An unknown window (0) is never left.
+  EXPECT_FALSE(law_extrapolated(0.01, {.k1 = 2.3, .k2 = 1.8}));
+  EXPECT_FALSE(law_extrapolated(0.01, {.k1 = 2.3, .k2 = 1.8, .b_max = 6}));
+  EXPECT_TRUE(law_extrapolated(7.0, {.k1 = 2.3, .k2 = 1.8, .b_max = 6}));
+}
+
+// A point on the I/II boundary is undetermined once c0 has an error; far from it, or with exact
+// parameters, it is not.
+TEST(Comparison, RegimeUndeterminedOnABoundaryOnly) {
+  const Model exact{.c0 = 0.2, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
+  const double x12 = regime_one_two_boundary(0.2);
+  EXPECT_FALSE(regime_undetermined(x12 * 1.001, 3.0, exact, 0.0));
+  EXPECT_TRUE(regime_undetermined(x12 * 1.001, 3.0, exact, 0.01));
+  EXPECT_FALSE(regime_undetermined(x12 * 10.0, 3.0, exact, 0.01));
+  // The law's errors alone: at the II -> III crossover a move of (k1, k2) changes the regime.
+  const Model uncertain{
+      .c0 = 0.2, .law = {.k1 = 2.3, .k1_error = 0.2, .k2 = 1.8, .k2_error = 0.05}, .f_P = 0.5};
+  const Crossover c = regime_two_three_crossover(1700, 0.7, 0.5, uncertain);
+  ASSERT_TRUE(c.found);
+  const double beta = c.a / c.a_over_bcore0;
+  EXPECT_TRUE(regime_undetermined(c.a_over_bcore0, beta, uncertain, 0.0));
+  EXPECT_FALSE(regime_undetermined(c.a_over_bcore0, beta, uncertain, 0.0, 0.0));
+  // No valid model two errors away (c0 would be negative): undetermined.
+  EXPECT_TRUE(regime_undetermined(x12 * 10.0, 3.0, exact, 0.15));
+}
+
+// Per point: the prediction, its b_core^0, and the tally of the regime map.
+TEST(Comparison, PointsAndTheMapsAgreement) {
+  const Model model{.c0 = 0.2,
+                    .law = {.k1 = 2.3, .k1_error = 0.2, .k2 = 1.8, .k2_error = 0.05, .b_min = 2},
+                    .f_P = 0.5};
+  const double x12 = regime_one_two_boundary(0.2);
+  // Regime I well below the boundary, II well above it, one on the boundary, and one the
+  // simulation puts in III that the prediction puts in II (b_core^0 = 4 d: law in its window).
+  const std::vector<ScalingPoint> pts = {
+      {.a_over_bcore0 = 0.5, .mu_over_alpha = 1.0, .a = 0.5, .R = 100},
+      {.a_over_bcore0 = 30, .mu_over_alpha = 0.2, .a = 30.0, .R = 100},
+      {.a_over_bcore0 = x12 * 1.001, .mu_over_alpha = 0.9, .a = 2.0, .R = 100},
+      {.a_over_bcore0 = 40, .mu_over_alpha = 0.3, .a = 160.0, .R = 100}};
+  const std::vector<Regime> simulated = {Regime::one, Regime::two, Regime::one, Regime::three};
+  const auto cmp = compare_points(pts, simulated, model, 0.01);
+  ASSERT_EQ(cmp.size(), 4u);
+  EXPECT_DOUBLE_EQ(cmp[1].beta, 1.0);
+  EXPECT_DOUBLE_EQ(cmp[3].beta, 4.0);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Prediction p = predict(pts[i].a_over_bcore0, cmp[i].beta, model);
+    EXPECT_EQ(cmp[i].prediction.mu_over_alpha, p.mu_over_alpha);
+    EXPECT_EQ(cmp[i].simulated, simulated[i]);
+  }
+  EXPECT_EQ(cmp[0].prediction.regime, Regime::one);
+  EXPECT_EQ(cmp[1].prediction.regime, Regime::two);
+  EXPECT_EQ(cmp[2].prediction.regime, Regime::two);  // just past the boundary
+  EXPECT_EQ(cmp[3].prediction.regime, Regime::two);
+  EXPECT_TRUE(cmp[0].law_extrapolated);  // b_core^0 = 1 d, below b_min = 2 d
+  EXPECT_FALSE(cmp[3].law_extrapolated);
+  EXPECT_FALSE(cmp[0].undetermined);
+  EXPECT_TRUE(cmp[2].undetermined);
+  EXPECT_FALSE(cmp[3].undetermined);
+  const MapAgreement m = map_agreement(cmp);
+  EXPECT_EQ(m.points, 4u);
+  EXPECT_EQ(m.agree, 2u);           // points 0 and 1
+  EXPECT_EQ(m.undetermined, 1u);    // point 2
+  EXPECT_EQ(m.contradictions, 1u);  // point 3: the prediction decides, and differs
+  EXPECT_EQ(m.in_law, 1u);          // point 3 alone has b_core^0 >= 2 d
+  EXPECT_EQ(m.agree_in_law, 0u);
+  EXPECT_THROW(compare_points(pts, std::vector<Regime>(3), model, 0.01), std::invalid_argument);
+}
+
+// The crossover's error: exact parameters give none; an error of c0 alone gives the larger
+// shift of a when c0 moves by one error either way.
+TEST(Comparison, CrossoverErrorFromTheMovedModels) {
+  const Model exact{.c0 = 0.2, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
+  const CrossoverEstimate none = crossover_with_error(1700, 0.7, 0.5, exact, 0.0);
+  ASSERT_TRUE(none.crossover.found);
+  EXPECT_EQ(none.R, 1700.0);
+  EXPECT_EQ(none.a_error, 0.0);
+  EXPECT_TRUE(none.a_error_complete);
+  const CrossoverEstimate e = crossover_with_error(1700, 0.7, 0.5, exact, 0.01);
+  EXPECT_EQ(e.crossover.a, none.crossover.a);
+  double shift = 0.0;
+  // c0 moved as moved_model moves it, so that the crossovers are the same to the bit.
+  for (double c0 : {0.2 + 1.0 * 0.01, 0.2 + -1.0 * 0.01}) {
+    const Crossover moved =
+        regime_two_three_crossover(1700, 0.7, 0.5, {.c0 = c0, .law = exact.law});
+    ASSERT_TRUE(moved.found);
+    shift = std::max(shift, std::abs(moved.a - none.crossover.a));
+  }
+  EXPECT_GT(shift, 0.0);
+  EXPECT_NEAR(e.a_error, shift, 1e-12 * shift);
+  EXPECT_TRUE(e.a_error_complete);
+  // c0 cannot move down by its error: the error is incomplete.
+  EXPECT_FALSE(crossover_with_error(1700, 0.7, 0.5, exact, 0.3).a_error_complete);
+}
+
+// Upturns: per series and R, the lowest point before the first rising one, then the rising
+// ones; slopes and the worst factor against the integrated law; the fit of k1, k2 to the rising
+// points recovers the law they were made from.
+TEST(Comparison, UpturnsAndTheRegimeThreeFitToThem) {
+  const PeierlsLaw law{.k1 = 2.3, .k2 = 1.8};
+  const Model model{.c0 = 0.2, .law = law, .f_P = 0.5};
+  std::vector<ScalingPoint> pts;
+  std::vector<PointComparison> cmp;
+  // Series 1 at R = 40 (given first, a descending), then series 0 at R = 40 and R = 60.
+  const auto add = [&](int series, double R, double a, double mu, Regime simulated) {
+    const double x = control_parameter(a, R, 0.7, 0.5);
+    pts.push_back({.a_over_bcore0 = x, .mu_over_alpha = mu, .a = a, .R = R, .series = series});
+    cmp.push_back({.prediction = predict(x, a / x, model), .simulated = simulated, .beta = a / x});
+  };
+  const auto on_law = [&](double a, double R) {
+    return regime_three_integrated(bcore0(a, R, 0.7, 0.5), law, 0.5);
+  };
+  for (double a : {40.0, 36.0, 32.0, 28.0, 24.0})
+    add(1, 40, a, a >= 32 ? on_law(a, 40) : 0.25 - a / 200, a >= 32 ? Regime::three : Regime::two);
+  for (double a : {20.0, 24.0, 28.0, 32.0, 36.0})
+    add(0, 40, a, a >= 32 ? on_law(a, 40) : 0.25 - a / 200, a >= 32 ? Regime::three : Regime::two);
+  add(0, 60, 30.0, 0.2, Regime::two);  // no upturn at R = 60
+  const auto ups = regime_three_upturns(pts, cmp);
+  ASSERT_EQ(ups.size(), 2u);
+  EXPECT_EQ(ups[0].series, 0);
+  EXPECT_EQ(ups[1].series, 1);
+  // Series 0: its lowest point before the upturn (a = 28 d, index 7), then a = 32, 36 d.
+  EXPECT_EQ(ups[0].points, (std::vector<std::size_t>{7, 8, 9}));
+  // Series 1, given by falling a: sorted by a, the lowest of a = 24, 28 d (index 3), then 32 ...
+  EXPECT_EQ(ups[1].points, (std::vector<std::size_t>{3, 2, 1, 0}));
+  // The rising points lie on the integrated law: factor 1 there, the lowest point sets it.
+  const double lowest = pts[3].mu_over_alpha / cmp[3].prediction.integrated;
+  EXPECT_NEAR(ups[1].worst_factor, std::max(lowest, 1.0 / lowest), 1e-12);
+  EXPECT_GT(ups[1].slope_data, 0.0);
+  EXPECT_GT(ups[1].slope_integrated, 0.0);
+  const auto few = fit_regime_three_to_upturns(pts, cmp, std::span(ups).first(1), 0.5);
+  EXPECT_EQ(few.points, 2u);
+  EXPECT_FALSE(few.attempted);
+  EXPECT_FALSE(few.reason.empty());
+  const auto fit = fit_regime_three_to_upturns(pts, cmp, ups, 0.5);
+  EXPECT_EQ(fit.points, 5u);
+  ASSERT_TRUE(fit.attempted);
+  ASSERT_TRUE(fit.fit.valid) << fit.fit.reason;
+  EXPECT_NEAR(fit.fit.law.k1, 2.3, 1e-6);
+  EXPECT_NEAR(fit.fit.law.k2, 1.8, 1e-6);
 }

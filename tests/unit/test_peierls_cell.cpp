@@ -1,5 +1,6 @@
 // Unit tier: the periodic Peierls cell (peierls/cell.hpp), its minimiser
-// (minimize/stiffness_minimizer.hpp) and the exponential fit (peierls/fit.hpp).
+// (minimize/stiffness_minimizer.hpp), the exponential fit (peierls/fit.hpp) and a scan's points,
+// results, fits and snapshots (peierls/scan.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "minimize/stiffness_minimizer.hpp"
 #include "peierls/cell.hpp"
 #include "peierls/fit.hpp"
+#include "peierls/scan.hpp"
 
 using namespace asperity;
 using namespace asperity::peierls;
@@ -201,4 +203,146 @@ TEST(PeierlsFit, RecoversExactParametersAndHonestErrors) {
   EXPECT_LT(inside, trials * 94 / 100);
   // Fewer than three points in the window: no fit.
   EXPECT_FALSE(fit_exponential(b, ratio, 5.0, 6.0).valid);
+}
+
+// A scan's points: every angle mapped onto an orientation of the cell (each once, in the order
+// asked), the core widths sorted and distinct, orientation by orientation.
+TEST(PeierlsScan, PointsByOrientationThenCoreWidth) {
+  const std::vector<double> theta = {90.0, 0.0, 90.3};
+  const auto o = scan_orientations(64, theta, 0.5, 16.0);
+  ASSERT_EQ(o.size(), 2u);
+  EXPECT_EQ(o[0].mx, 1);  // edge first, as asked
+  EXPECT_EQ(o[0].my, 0);
+  EXPECT_EQ(o[1].mx, 0);
+  const std::vector<double> off = {63.4};
+  EXPECT_THROW(scan_orientations(16, off, 0.5, 16.0), std::invalid_argument);
+  const std::vector<double> given = {6, 2, 4, 2};
+  const auto b = scan_core_widths(given);
+  EXPECT_EQ(b, (std::vector<double>{2, 4, 6}));
+  const auto p = scan_points(b, o);
+  ASSERT_EQ(p.size(), 6u);
+  EXPECT_EQ(p[0].b_core, 2.0);
+  EXPECT_EQ(p[0].orientation.mx, 1);
+  EXPECT_EQ(p[2].b_core, 6.0);
+  EXPECT_EQ(p[3].b_core, 2.0);
+  EXPECT_EQ(p[3].orientation.mx, 0);
+  const PeierlsOptions at = point_options(PeierlsOptions{}, p[4]);
+  EXPECT_EQ(at.cell.b_core, 4.0);
+  EXPECT_EQ(at.cell.mx, 0);
+  EXPECT_EQ(at.cell.my, 1);
+}
+
+// A point's result in units of tau_max, and its tau_P: the mean of the resolved signs.
+TEST(PeierlsScan, PointResultAndItsPeierlsRatio) {
+  CellSizeResult c;
+  c.result.L = 256;
+  c.result.tau_max = 0.25;
+  c.result.positive = {.resolved = true, .tau_P = 0.01, .undetermined = 2, .floor = 1e-6};
+  c.result.negative = {.resolved = true, .tau_P = 0.012, .undetermined = 1, .floor = 2e-6};
+  c.result.transforms = 77;
+  c.change = 0.003;
+  c.converged = true;
+  const ScanPoint point{.b_core = 3.0, .orientation = {.mx = 1, .my = 0}};
+  const PointResult r = point_result(point, c);
+  EXPECT_EQ(r.L, 256);
+  EXPECT_DOUBLE_EQ(r.tau_pos, 0.04);
+  EXPECT_DOUBLE_EQ(r.tau_neg, 0.048);
+  EXPECT_DOUBLE_EQ(r.floor, 8e-6);  // the larger of the two floors
+  EXPECT_EQ(r.undetermined, 3);
+  EXPECT_EQ(r.transforms, 77);
+  EXPECT_EQ(r.L_change, 0.003);
+  EXPECT_TRUE(r.L_converged);
+  ASSERT_TRUE(peierls_ratio(r));
+  EXPECT_DOUBLE_EQ(*peierls_ratio(r), 0.044);
+  PointResult one = r;
+  one.resolved_pos = false;
+  EXPECT_DOUBLE_EQ(peierls_ratio(one).value_or(0.0), 0.048);
+  one.resolved_neg = false;
+  EXPECT_FALSE(peierls_ratio(one));
+  PointResult failed = r;
+  failed.failure = "diverged";
+  EXPECT_FALSE(peierls_ratio(failed));
+}
+
+// The rigid-profile k2 is the decay rate of rigid_peierls_estimate beyond its prefactor:
+// estimate(b) = A b exp(-k2 b).
+TEST(PeierlsScan, RigidProfileK2IsTheDecayOfTheRigidEstimate) {
+  for (const auto& [mx, my] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{2, 1}}) {
+    const Orientation o{.mx = mx, .my = my, .theta_deg = line_angle_deg(mx, my)};
+    const double k2 = rigid_profile_k2(o, 0.3);
+    const double b1 = 2.0, b2 = 5.0;
+    const double decay = std::log(rigid_peierls_estimate(b2, mx, my, 0.3) /
+                                  rigid_peierls_estimate(b1, mx, my, 0.3) / (b2 / b1)) /
+                         (b1 - b2);
+    EXPECT_NEAR(k2, decay, 1e-9 * k2) << mx << ", " << my;
+  }
+}
+
+// Fits per orientation take that orientation's resolved results in the window, nothing else.
+TEST(PeierlsScan, FitsPerOrientation) {
+  const Orientation edge{.mx = 1, .my = 0, .theta_deg = 90},
+      screw{.mx = 0, .my = 1, .theta_deg = 0};
+  std::vector<PointResult> results;
+  for (double b : {1.0, 2.0, 3.0, 4.0, 5.0}) {
+    PointResult e{.point = {.b_core = b, .orientation = edge}, .resolved_pos = true};
+    e.tau_pos = 2.5 * std::exp(-1.8 * b);
+    PointResult s{.point = {.b_core = b, .orientation = screw}, .resolved_neg = true};
+    s.tau_neg = 1.4 * std::exp(-0.8 * b);
+    results.push_back(e);
+    results.push_back(s);
+  }
+  // Neither resolved, and failed: left out.
+  results.push_back({.point = {.b_core = 3.5, .orientation = edge}});
+  PointResult failed{.point = {.b_core = 2.5, .orientation = screw}, .resolved_pos = true};
+  failed.tau_pos = 1.0;
+  failed.failure = "diverged";
+  results.push_back(failed);
+  const std::vector<Orientation> both = {edge, screw};
+  const auto fits = fit_orientations(results, both, 2.0, 1e9, 0.5);
+  ASSERT_EQ(fits.size(), 2u);
+  EXPECT_EQ(fits[0].orientation.mx, 1);
+  ASSERT_TRUE(fits[0].fit.valid);
+  EXPECT_EQ(fits[0].fit.points, 4u);  // b = 1 is outside the window
+  EXPECT_NEAR(fits[0].fit.k1, 2.5, 1e-12);
+  EXPECT_NEAR(fits[0].fit.k2, 1.8, 1e-12);
+  ASSERT_TRUE(fits[1].fit.valid);
+  EXPECT_EQ(fits[1].fit.points, 4u);
+  EXPECT_NEAR(fits[1].fit.k1, 1.4, 1e-12);
+  EXPECT_NEAR(fits[1].fit.k2, 0.8, 1e-12);
+  EXPECT_EQ(fits[1].k2_rigid, rigid_profile_k2(screw, 0.5));
+}
+
+// The snapshot of a cell carries the cell's own interface stress, site for site (X * L + Y),
+// for the full cell and for the reduced one expanded to L x L.
+TEST(PeierlsScan, CellSnapshotHoldsTheCellsInterfaceStress) {
+  for (const CellModel model : {CellModel::full, CellModel::reduced}) {
+    CellOptions o;
+    o.L = 16;
+    o.mx = 2;
+    o.my = 1;
+    o.model = model;
+    const PeierlsCell cell(o);
+    std::vector<double> u = cell.initial_state();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+    for (double& x : u)
+      x += jitter(rng);
+    const slide::Snapshot s = cell_snapshot(cell, u, "loaded", 0.02);
+    EXPECT_EQ(s.label, "loaded");
+    EXPECT_DOUBLE_EQ(s.Fx, 0.02 * 256);
+    ASSERT_EQ(s.tau_x.size(), 256u);
+    o.model = CellModel::full;
+    const PeierlsCell full(o);
+    const std::vector<double> expanded = cell.expand(u);
+    std::vector<double> f(full.size());
+    full.interface_force(expanded, f);
+    for (std::size_t i = 0; i < 256; ++i) {
+      EXPECT_NEAR(s.tau_x[i], f[i], 1e-12) << i;
+      EXPECT_NEAR(s.tau_y[i], f[256 + i], 1e-12) << i;
+      EXPECT_EQ(s.ux[i], expanded[i]);
+      EXPECT_EQ(s.tau_max[i], cell.tau_max());
+    }
+    // s_x - X - u_x is minus the unwrapped frustration w = (m_x X + m_y Y) / L.
+    EXPECT_NEAR(s.sx[15 * 16 + 15] - 15 - s.ux[15 * 16 + 15], -(2.0 * 15 + 15) / 16, 1e-12);
+  }
 }

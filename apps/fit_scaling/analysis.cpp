@@ -1,0 +1,83 @@
+// fit_scaling's analysis: the data handed to nucleation/ (fit, model, comparison, crossovers,
+// upturns) in the order the tool reports them.
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "fit_io.hpp"
+
+namespace asperity::app::fit_scaling {
+
+namespace nuc = asperity::nucleation;
+
+Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const Options& o) {
+  Analysis an;
+  an.map_alpha = common_alpha(pts);
+  an.alpha = an.map_alpha.alpha;
+  an.nu = pts.front().nu;
+
+  // Branches (falling, then rising) are per model and R: one series per model, numbered in the
+  // order the models first appear.
+  std::map<std::string, int> series_of;
+  for (const auto& p : pts)
+    series_of.emplace(p.model, static_cast<int>(series_of.size()));
+  an.series_names.resize(series_of.size());
+  for (const auto& [name, series] : series_of)
+    an.series_names[static_cast<std::size_t>(series)] = name;
+  for (const auto& p : pts)
+    an.points.push_back({.a_over_bcore0 = p.x,
+                         .mu_over_alpha = p.mu,
+                         .a = p.a,
+                         .R = p.R,
+                         .series = series_of.at(p.model)});
+
+  // Regime II fit.
+  an.fit_options = {.bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
+  an.fit_options.automatic.rise_tolerance = o.rise_tolerance;
+  if (!o.window.empty()) an.fit_options.window = std::pair{o.window[0], o.window[1]};
+  an.fit = nuc::fit_regime_two(an.points, an.fit_options);
+  if (!an.fit.valid)
+    throw std::invalid_argument("no Regime II fit: " + an.fit.reason +
+                                " (give --window, or add points)");
+  // k1 and k2 errors of a peierls_scan summary are plain standard errors: on the footing of
+  // c0's reported error they are multiplied by t_factor of their degrees of freedom
+  // (statistics.hpp), in the model too, so that the per-point regime_three_log_error is a
+  // reported error like every other (+-2 of them: the 95.45% interval).
+  an.model = {.c0 = an.fit.c0, .law = nuc::scaled_errors(law.law, law.error_factor), .f_P = o.f_P};
+  for (std::size_t i : an.fit.used)
+    an.window_R.insert(pts[i].R);
+
+  // Per point: predictions and regimes.
+  const std::vector<nuc::Regime> simulated =
+      nuc::simulated_regimes(an.points, an.fit.c0, o.rise_tolerance);
+  an.comparisons = nuc::compare_points(an.points, simulated, an.model, an.fit.c0_error);
+  an.agreement = nuc::map_agreement(an.comparisons);
+
+  // Crossovers: Regime I (a/b_core^0, any R), II -> III per R of the data.
+  for (const auto& p : pts)
+    an.Rs.insert(p.R);
+  an.x_one = nuc::regime_one_crossover(an.fit.c0);
+  an.x_one_two = nuc::regime_one_two_boundary(an.fit.c0);
+  for (double R : an.Rs)
+    an.crossovers.push_back(
+        nuc::crossover_with_error(R, an.alpha, an.nu, an.model, an.fit.c0_error));
+
+  // Regime III: the upturn of each branch against the prediction, and a fit of k1, k2 to the
+  // rising points where there are enough. Listed, and fitted, by model name and R: the
+  // summaries have always listed them so, and the fit's sums run in this order.
+  an.upturns = nuc::regime_three_upturns(an.points, an.comparisons);
+  std::stable_sort(an.upturns.begin(), an.upturns.end(), [&](const auto& u, const auto& v) {
+    const auto& name_u = an.series_names[static_cast<std::size_t>(u.series)];
+    const auto& name_v = an.series_names[static_cast<std::size_t>(v.series)];
+    return std::tie(name_u, u.R) < std::tie(name_v, v.R);
+  });
+  an.fit_three = nuc::fit_regime_three_to_upturns(an.points, an.comparisons, an.upturns, o.f_P);
+  return an;
+}
+
+}  // namespace asperity::app::fit_scaling

@@ -1,0 +1,225 @@
+// fit_scaling's figures: collapse.png (mu/alpha against a/b_core^0, data and every prediction)
+// and regime_map.png (the predicted mu/alpha over (a, R), the regime boundaries and the data in
+// their simulated regimes). The numbers are nucleation/'s; this draws them.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/plot.hpp"
+#include "fit_io.hpp"
+
+namespace asperity::app::fit_scaling {
+
+namespace fs = std::filesystem;
+namespace nuc = asperity::nucleation;
+
+namespace {
+
+// mu/alpha vs a/b_core^0 (log-log): data by model and R, the Regime I line, the fitted Regime II
+// law and the nucleation condition, the Regime III predictions per R.
+fs::path collapse_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
+                         const LawSource& law, const Analysis& an, const Options& o) {
+  std::vector<app::Series> s;
+  std::map<std::pair<std::string, double>, app::Series> groups;
+  const char* markers[] = {"7", "5", "9", "11", "13", "15"};
+  for (const auto& p : pts) {
+    auto& g = groups[{p.model, p.R}];
+    g.x.push_back(p.x);
+    g.y.push_back(p.mu);
+  }
+  // One colour per R (data and its predictions), one marker per model.
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"};
+  std::map<double, std::string> colour_of;
+  for (double R : an.Rs)
+    colour_of[R] = colours[colour_of.size() % 6];
+  std::map<std::string, std::string> marker_of;
+  for (auto& [key, g] : groups) {
+    if (!marker_of.count(key.first)) marker_of[key.first] = markers[marker_of.size() % 6];
+    g.title = key.first + ", R = " + fmt("%g", key.second) + " d";
+    g.style =
+        "points pt " + marker_of[key.first] + " ps 1.6 lc rgb '" + colour_of[key.second] + "'";
+    s.push_back(g);
+  }
+  double xmin = pts.front().x, xmax = xmin;
+  for (const auto& p : pts) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+  }
+  xmin /= 2.0;
+  xmax *= 3.0;
+  // Far enough to show each R's predicted II -> III crossover.
+  for (const auto& cr : an.crossovers) {
+    if (cr.crossover.found) xmax = std::max(xmax, 2.0 * cr.crossover.a_over_bcore0);
+  }
+  app::Series one{.title = "Regime I: mu/alpha = 1", .style = "lines dt 3 lw 2 lc 'gray40'"};
+  one.x = {xmin, xmax};
+  one.y = {1.0, 1.0};
+  s.push_back(one);
+  app::Series law_in{.title = "Regime II fit: c0 = " + fmt("%.3f", an.fit.c0) + " +- " +
+                              fmt("%.3f", an.fit.c0_error) + " (window " +
+                              fmt("%g", an.fit.window_lo) + ".." + fmt("%g", an.fit.window_hi) +
+                              ")",
+                     .style = "lines lw 2.5 lc 'black'"};
+  app::Series law_out{.title = "", .style = "lines dt 2 lw 1 lc 'black'"};
+  app::Series cond{.title = "nucleation condition (no expansion), min(1, 3(1 - x*^2))",
+                   .style = "lines lw 1.5 lc 'dark-orange'"};
+  for (int i = 0; i <= 200; ++i) {
+    const double x = xmin * std::pow(xmax / xmin, i / 200.0);
+    const double y = nuc::regime_two_law(x, an.fit.c0);
+    const bool inside = x >= an.fit.window_lo && x <= an.fit.window_hi;
+    law_in.x.push_back(x);
+    law_in.y.push_back(inside ? y : NAN);
+    law_out.x.push_back(x);
+    law_out.y.push_back(y <= 1.5 ? y : NAN);
+    cond.x.push_back(x);
+    cond.y.push_back(nuc::nucleation_condition(x, an.fit.c0).mu_over_alpha);
+  }
+  s.push_back(law_out);
+  s.push_back(law_in);
+  s.push_back(cond);
+  for (double R : an.Rs) {
+    app::Series r3{.title = "Regime III, integrated f_P tau_P, R = " + fmt("%g", R) + " d",
+                   .style = "lines lw 2 dt 4 lc rgb '" + colour_of[R] + "'"};
+    app::Series comb{.title = "prediction max(II, III), R = " + fmt("%g", R) + " d",
+                     .style = "lines lw 1 dt 1 lc rgb '" + colour_of[R] + "'"};
+    for (int i = 0; i <= 200; ++i) {
+      const double x = xmin * std::pow(xmax / xmin, i / 200.0);
+      const double a = nuc::contact_radius(x, R, an.alpha, an.nu);
+      const nuc::Prediction pr = nuc::predict(x, a / x, an.model);
+      r3.x.push_back(x);
+      r3.y.push_back(pr.integrated > 1e-3 ? pr.integrated : NAN);
+      comb.x.push_back(x);
+      comb.y.push_back(pr.mu_over_alpha);
+    }
+    s.push_back(r3);
+    s.push_back(comb);
+  }
+  const fs::path png = dir / "collapse.png";
+  app::plot_png(png, s,
+                {.title = "Friction collapse: alpha = " + fmt("%g", an.alpha) +
+                          ", nu = " + fmt("%g", an.nu) + "; k1 = " + fmt("%.3g", law.law.k1) +
+                          ", k2 = " + fmt("%.3g", law.law.k2) + ", f_P = " + fmt("%g", o.f_P),
+                 .xlabel = "a / b_core^0",
+                 .ylabel = "mu / alpha",
+                 .logx = true,
+                 .logy = true,
+                 .width = 1100,
+                 .height = 750,
+                 .yrange = std::pair{1e-3, 2.0},
+                 .extra_commands = {"set key bottom left font ',9'", "set grid"}});
+  return png;
+}
+
+// Predicted log10(mu/alpha) over (a/d, R/d) with the regime boundaries, the data points marked by
+// their simulated regime and the disagreements circled.
+fs::path regime_map_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
+                           const LawSource& law, const Analysis& an, const Options& o) {
+  const int n = 80;
+  std::vector<double> ax, Ry, v;
+  std::vector<double> map_a = o.map_a, map_R = o.map_R;
+  if (map_a.empty()) {
+    double lo = pts.front().a, hi = lo;
+    for (const auto& p : pts) {
+      lo = std::min(lo, p.a);
+      hi = std::max(hi, p.a);
+    }
+    for (const auto& cr : an.crossovers) {
+      if (cr.crossover.found) hi = std::max(hi, 1.5 * cr.crossover.a);
+    }
+    map_a = {lo / 2.0, 3.0 * hi};
+  }
+  if (map_R.empty()) map_R = {*an.Rs.begin() / 2.0, *an.Rs.rbegin() * 2.0};
+  for (int i = 0; i < n; ++i) {
+    ax.push_back(map_a[0] * std::pow(map_a[1] / map_a[0], i / (n - 1.0)));
+    Ry.push_back(map_R[0] * std::pow(map_R[1] / map_R[0], i / (n - 1.0)));
+  }
+  for (double a : ax) {
+    for (double R : Ry) {
+      const double x = nuc::control_parameter(a, R, an.alpha, an.nu);
+      v.push_back(std::log10(nuc::predict(x, a / x, an.model).mu_over_alpha));
+    }
+  }
+  std::vector<app::Series> overlays;
+  app::Series b12{.title = "I | II (a/b_core^0 = " + fmt("%.2f", an.x_one_two) + ")",
+                  .style = "lines lw 2.5 lc 'black'"};
+  app::Series b23{.title = "II | III (prediction)", .style = "lines lw 2.5 lc 'red'"};
+  app::Series slope{.title = "a = 0.1 R", .style = "lines dt 2 lw 1.5 lc 'gray70'"};
+  for (double R : Ry) {
+    b12.x.push_back(nuc::contact_radius(an.x_one_two, R, an.alpha, an.nu));
+    b12.y.push_back(R);
+    const nuc::Crossover cr = nuc::regime_two_three_crossover(R, an.alpha, an.nu, an.model);
+    b23.x.push_back(cr.found ? cr.a : NAN);
+    b23.y.push_back(R);
+    slope.x.push_back(0.1 * R);
+    slope.y.push_back(R);
+  }
+  overlays.push_back(b12);
+  overlays.push_back(b23);
+  overlays.push_back(slope);
+  if (law.law.b_min > 0.0) {
+    // Right of this line the centre's core width is below the Peierls fit window.
+    app::Series edge{
+        .title = "b_core^0 = " + fmt("%g", law.law.b_min) + " d (right: Peierls law extrapolated)",
+        .style = "lines dt 4 lw 2 lc 'white'"};
+    for (double R : Ry) {
+      edge.x.push_back(nuc::bcore0(law.law.b_min, R, an.alpha, an.nu));
+      edge.y.push_back(R);
+    }
+    overlays.push_back(edge);
+  }
+  const char* style[] = {"points pt 7 ps 1.6 lc 'orange'", "points pt 5 ps 1.6 lc 'cyan'",
+                         "points pt 9 ps 2 lc 'magenta'"};
+  for (nuc::Regime r : {nuc::Regime::one, nuc::Regime::two, nuc::Regime::three}) {
+    app::Series d{.title = "simulated " + nuc::to_string(r),
+                  .style = style[static_cast<int>(r) - 1]};
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (an.comparisons[i].simulated != r) continue;
+      d.x.push_back(pts[i].a);
+      d.y.push_back(pts[i].R);
+    }
+    if (!d.x.empty()) overlays.push_back(d);
+  }
+  // Disagreements: circled where the prediction decides, boxed where it cannot (a point on
+  // a boundary within 2 errors of the fits, regime_undetermined).
+  app::Series wrong{.title = "predicted regime differs", .style = "points pt 6 ps 3 lc 'black'"};
+  app::Series open{.title = "differs, on a boundary within 2 errors",
+                   .style = "points pt 4 ps 3 lc 'black'"};
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const nuc::PointComparison& cmp = an.comparisons[i];
+    if (cmp.agrees()) continue;
+    app::Series& into = cmp.undetermined ? open : wrong;
+    into.x.push_back(pts[i].a);
+    into.y.push_back(pts[i].R);
+  }
+  for (app::Series* ser : {&wrong, &open})
+    if (!ser->x.empty()) overlays.push_back(*ser);
+  const fs::path png = dir / "regime_map.png";
+  app::heatmap_png(
+      png, ax, Ry, v,
+      {.title = "Predicted log10(mu/alpha): c0 = " + fmt("%.3f", an.fit.c0) +
+                ", k1 = " + fmt("%.3g", law.law.k1) + ", k2 = " + fmt("%.3g", law.law.k2) +
+                ", f_P = " + fmt("%g", o.f_P) + ", alpha = " + fmt("%g", an.alpha),
+       .xlabel = "a / d",
+       .ylabel = "R / d",
+       .logx = true,
+       .logy = true,
+       .width = 1500,
+       .height = 750,
+       .extra_commands = {"set rmargin 50", "set key at screen 0.99,0.85 right top font ',9'"}},
+      "log10(mu/alpha)", std::nullopt, overlays);
+  return png;
+}
+
+}  // namespace
+
+std::vector<fs::path> write_figures(const fs::path& dir, const std::vector<DataPoint>& pts,
+                                    const LawSource& law, const Analysis& an, const Options& o) {
+  return {collapse_figure(dir, pts, law, an, o), regime_map_figure(dir, pts, law, an, o)};
+}
+
+}  // namespace asperity::app::fit_scaling

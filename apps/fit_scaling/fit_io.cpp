@@ -1,0 +1,211 @@
+// fit_scaling's inputs: the options' checks, the friction_sweep tables, the common alpha of the
+// regime map and the Peierls law.
+#include "fit_io.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+#include <utility>
+
+#include "common/output_files.hpp"
+#include "common/peierls_summary.hpp"
+#include "nucleation/statistics.hpp"
+
+namespace asperity::app::fit_scaling {
+
+namespace fs = std::filesystem;
+namespace nuc = asperity::nucleation;
+
+void Options::validate() const {
+  if (sweeps.empty()) throw std::invalid_argument("at least one sweep table is required");
+  if (peierls.empty() && !(k1 && k2))
+    throw std::invalid_argument("--peierls or both --k1 and --k2 are required (Regime III law)");
+  if (!window.empty() && (window.size() != 2 || !(window[0] > 0.0) || !(window[1] >= window[0])))
+    throw std::invalid_argument("--window: two values 0 < lo <= hi (a/b_core^0) expected");
+  if (correlation && !(k1 && k2))
+    throw std::invalid_argument("--k1-k2-correlation: only with both --k1 and --k2");
+  for (const auto& [name, r] : {std::pair{"--map-a", map_a}, std::pair{"--map-R", map_R}}) {
+    if (r.empty()) continue;
+    if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > r[0]))
+      throw std::invalid_argument(std::string(name) + ": two values 0 < lo < hi expected");
+  }
+}
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+namespace {
+
+fs::path table_path(const std::string& p) {
+  const fs::path path(p);
+  return fs::is_directory(path) ? path / "sweep.csv" : path;
+}
+
+}  // namespace
+
+Loaded load_sweeps(const std::vector<std::string>& sweeps) {
+  Loaded out;
+  for (const auto& s : sweeps) {
+    const fs::path csv = table_path(s);
+    if (!fs::exists(csv)) throw std::invalid_argument(csv.string() + ": no such sweep table");
+    const app::CsvTable t = app::CsvTable::read(csv);
+    for (const char* c : {"a", "R", "alpha", "nu", "a_over_bcore0", "mu_over_alpha",
+                          "mu_is_lower_bound", "failed"}) {
+      if (std::find(t.columns().begin(), t.columns().end(), c) == t.columns().end())
+        throw std::invalid_argument(csv.string() + ": not a friction_sweep table (no column '" + c +
+                                    "')");
+    }
+    const bool has_model =
+        std::find(t.columns().begin(), t.columns().end(), "model") != t.columns().end();
+    const bool has_settings =
+        std::find(t.columns().begin(), t.columns().end(), "settings") != t.columns().end();
+    const bool has_slips =
+        std::find(t.columns().begin(), t.columns().end(), "slip_events") != t.columns().end();
+    std::size_t used = 0, failed = 0, lower = 0;
+    for (std::size_t i = 0; i < t.rows(); ++i) {
+      // A failed point has no result; a lower bound (the slide stopped before its peak) would
+      // bias a fit low: both are left out and counted.
+      if (t.integer(i, "failed") != 0) {
+        ++failed;
+        continue;
+      }
+      if (t.integer(i, "mu_is_lower_bound") != 0) {
+        ++lower;
+        continue;
+      }
+      DataPoint p;
+      p.source = csv.string();
+      // friction_sweep tables name the model in their settings ("model=explicit"); older
+      // tables and LFM rows do not.
+      p.model = has_model ? t.text(i, "model")
+                : has_settings && t.text(i, "settings").find("model=explicit") != std::string::npos
+                    ? "explicit"
+                    : "LFM";
+      p.a = t.number(i, "a");
+      p.R = t.number(i, "R");
+      p.alpha = t.number(i, "alpha");
+      p.nu = t.number(i, "nu");
+      p.x = t.number(i, "a_over_bcore0");
+      p.mu = t.number(i, "mu_over_alpha");
+      p.slip_events = has_slips ? static_cast<int>(t.integer(i, "slip_events")) : -1;
+      if (!(p.a > 0 && p.R > 0 && p.x > 0 && p.mu > 0 && std::isfinite(p.mu)))
+        throw std::invalid_argument(csv.string() + ": row " + std::to_string(i + 1) +
+                                    ": a, R, a_over_bcore0 and mu_over_alpha must be > 0");
+      out.points.push_back(p);
+      ++used;
+    }
+    out.sources.push_back({{"table", csv.string()},
+                           {"rows", t.rows()},
+                           {"used", used},
+                           {"failed_skipped", failed},
+                           {"lower_bound_skipped", lower}});
+  }
+  if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
+  // The bootstrap takes the points as independent measurements: a point given twice (a table
+  // passed twice, or a sweep and a copy of it) would count double and shrink c0's error.
+  std::map<std::tuple<std::string, double, double>, const DataPoint*> seen;
+  for (const auto& p : out.points) {
+    const auto [it, fresh] = seen.emplace(std::tuple{p.model, p.a, p.R}, &p);
+    if (!fresh)
+      throw std::invalid_argument("the point a = " + fmt("%g", p.a) + " d, R = " + fmt("%g", p.R) +
+                                  " d (" + p.model + ") is in " + it->second->source + " and in " +
+                                  p.source + ": give each point once");
+  }
+  return out;
+}
+
+MapAlpha common_alpha(const std::vector<DataPoint>& pts) {
+  constexpr double max_spread = 0.05;
+  const DataPoint& first = pts.front();
+  const DataPoint* lfm = nullptr;
+  double sum = 0.0;
+  MapAlpha out{.min = first.alpha, .max = first.alpha};
+  for (const auto& p : pts) {
+    if (std::abs(p.nu - first.nu) > 1e-12)
+      throw std::invalid_argument(p.source + ": nu = " + fmt("%g", p.nu) +
+                                  " differs from the first table's (" + fmt("%g", first.nu) +
+                                  "): one regime map needs one material");
+    if (p.model == "LFM") {
+      if (lfm && std::abs(p.alpha - lfm->alpha) > 1e-12)
+        throw std::invalid_argument(
+            p.source + ": alpha = " + fmt("%g", p.alpha) + " differs from " + lfm->source + "'s (" +
+            fmt("%g", lfm->alpha) + "): one regime map needs one alpha of the lateral force model");
+      if (!lfm) lfm = &p;
+    }
+    sum += p.alpha;
+    out.min = std::min(out.min, p.alpha);
+    out.max = std::max(out.max, p.alpha);
+  }
+  out.alpha = lfm ? lfm->alpha : sum / static_cast<double>(pts.size());
+  out.rule = lfm ? "the lateral force model's" : "mean of the rows' (explicit model: measured)";
+  for (const auto& p : pts) {
+    if (std::abs(p.alpha / out.alpha - 1.0) > max_spread)
+      throw std::invalid_argument(p.source + ": alpha = " + fmt("%g", p.alpha) + " is more than " +
+                                  fmt("%g", 100 * max_spread) + "% from the map's alpha " +
+                                  fmt("%g", out.alpha) + " (" + out.rule +
+                                  "): one regime map needs one alpha");
+  }
+  return out;
+}
+
+LawSource read_law(const Options& o) {
+  LawSource s;
+  double dof = 0.0;  // of the k1, k2 fit; 0: given or unknown
+  nlohmann::json j = {{"source", "given"}};
+  if (!o.peierls.empty()) {
+    const app::PeierlsSummaryFit fit = app::read_peierls_fit(o.peierls, "edge");
+    s.law = fit.law;
+    dof = std::max(0.0, fit.points - 2.0);
+    j = {{"source", fit.file.string()},
+         {"fit", "edge (theta = 90 deg), tau_P = k1 tau_max exp(-k2 b_core/d)"},
+         {"window_b_core", {s.law.b_min, s.law.b_max}},
+         {"points", fit.points},
+         {"L", fit.L}};
+    // Summaries before the correlation was written lack it: taken as 0, which overstates the
+    // errors of the predictions.
+    if (fit.correlation_missing)
+      j["correlation_missing"] = "taken as 0 (a peierls_scan summary without k1_k2_correlation)";
+  }
+  if (o.k1.has_value() != o.k2.has_value()) {
+    // k1 and k2 come from one fit, with correlated errors: one of them replaced would leave a
+    // law that no fit gave, with errors of unknown footing.
+    throw std::invalid_argument("give --k1 and --k2 together (" +
+                                std::string(o.k1 ? "--k1" : "--k2") + " alone was given)");
+  }
+  if (o.k1 || o.k2) {
+    dof = 0.0;  // given errors are taken as reported errors
+    // The summary's correlation belongs to its k1 and k2 together.
+    s.law.correlation = o.correlation.value_or(0.0);
+  }
+  if (o.k1) {
+    s.law.k1 = *o.k1;
+    s.law.k1_error = o.k1_error;
+    j["k1_given"] = true;
+  }
+  if (o.k2) {
+    s.law.k2 = *o.k2;
+    s.law.k2_error = o.k2_error;
+    j["k2_given"] = true;
+  }
+  s.law.validate();
+  // The scan's errors are plain standard errors; predictions and their uncertainties use them
+  // times this factor (statistics.hpp). Given errors are used as they are.
+  s.error_factor = dof > 0.0 ? nuc::t_factor(dof) : 1.0;
+  j["reported_error_factor"] = s.error_factor;
+  j.update({{"k1", s.law.k1},
+            {"k1_error", s.law.k1_error},
+            {"k2", s.law.k2},
+            {"k2_error", s.law.k2_error},
+            {"k1_k2_correlation", s.law.correlation}});
+  s.json = j;
+  return s;
+}
+
+}  // namespace asperity::app::fit_scaling

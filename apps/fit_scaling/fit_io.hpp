@@ -1,0 +1,128 @@
+// fit_scaling's pieces (main.cpp wires them): the options, the friction_sweep tables and the
+// Peierls law read in, the nucleation/ analysis they feed, and the files and report written
+// from it. The physics and statistics are nucleation/'s; this is input, wiring and output.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nucleation/comparison.hpp"
+#include "nucleation/regime_map.hpp"
+#include "nucleation/regime_three.hpp"
+#include "nucleation/regime_two.hpp"
+
+namespace asperity::app::fit_scaling {
+
+struct Options {
+  std::vector<std::string> sweeps;  // sweep.csv files or friction_sweep output folders
+  std::string peierls;              // peierls_scan summary.json or its folder; empty: k1, k2 given
+  std::optional<double> k1, k2;     // Peierls law (dimensionless); override the summary
+  double k1_error = 0.0, k2_error = 0.0;  // their errors when given
+  std::optional<double> correlation;      // of k1 and k2 when given, in [-1, 1]
+  double f_P = 0.5;                       // fraction of the local Peierls stress, (0, 1]
+  std::vector<double> window;  // Regime II window in a/b_core^0 (2 values); empty: automatic
+  int bootstrap = 4000;        // bootstrap resamples for c0
+  long long seed = 20240909;   // bootstrap seed
+  // Regime map ranges (d); empty: from the data (a/2 .. 3 a_max or past the crossovers, R/2 .. 2
+  // R).
+  std::vector<double> map_a, map_R;
+  double rise_tolerance = 0.02;  // relative rise of mu/alpha that marks Regime III data
+  std::string out = "results/fit_scaling";
+
+  // Throws std::invalid_argument naming the option and the constraint.
+  void validate() const;
+};
+
+// printf-style formatting of one number, for messages and figure titles.
+std::string fmt(const char* format, double v);
+
+struct DataPoint {
+  std::string source, model;
+  double a = 0, R = 0, alpha = 0, nu = 0, x = 0, mu = 0;  // x = a/b_core^0, mu = mu/alpha
+  int slip_events = 0;
+};
+
+struct Loaded {
+  std::vector<DataPoint> points;
+  nlohmann::json sources = nlohmann::json::array();  // per table: rows used and skipped
+};
+
+// The usable rows of friction_sweep tables (sweep.csv or its folder): failed points and lower
+// bounds are left out and counted. Throws std::invalid_argument for a missing or foreign table,
+// a bad row, no usable point or a point given twice.
+Loaded load_sweeps(const std::vector<std::string>& sweeps);
+
+// One regime map and one set of crossovers need one material and one alpha. The lateral force
+// model's alpha is a parameter, the same on every row of a sweep; the explicit model's is the
+// potential's, measured at each point's central load (0.709 ... 0.719 for a tip set up for 0.7,
+// data/reference/sweep_explicit_R160.csv). Each row carries its own alpha into a/b_core^0 and
+// b_core^0, so every per-point prediction uses it; only the map and the crossovers use the common
+// alpha: the LFM rows' if there are any, else the mean. Rows further than 5% from it would put
+// the map off by more than that in a/b_core^0, and are refused (std::invalid_argument).
+struct MapAlpha {
+  double alpha = 0.0;
+  double min = 0.0, max = 0.0;  // over all rows
+  std::string rule;
+};
+MapAlpha common_alpha(const std::vector<DataPoint>& pts);
+
+struct LawSource {
+  nucleation::PeierlsLaw law;
+  // Factor from the law's errors to reported errors (statistics.hpp): t_factor of the scan fit's
+  // degrees of freedom (points - 2) for its plain standard errors, 1 for given errors.
+  double error_factor = 1.0;
+  nlohmann::json json;  // the "peierls" entry of summary.json
+};
+
+// The edge fit of a peierls_scan summary, or k1, k2 given (the pair overrides the summary).
+LawSource read_law(const Options& o);
+
+// Everything fit_scaling reports, from nucleation/.
+struct Analysis {
+  MapAlpha map_alpha;
+  double alpha = 0.0, nu = 0.0;                  // of the map and the crossovers
+  std::vector<std::string> series_names;         // model name of each ScalingPoint::series
+  std::vector<nucleation::ScalingPoint> points;  // the data points, in order
+  nucleation::RegimeTwoFitOptions fit_options;
+  nucleation::RegimeTwoFit fit;
+  nucleation::Model model;    // c0 fitted, the law's errors on the reported footing
+  std::set<double> window_R;  // R of the points in the Regime II window
+  std::vector<nucleation::PointComparison> comparisons;  // per point
+  nucleation::MapAgreement agreement;
+  double x_one = 0.0;      // a/b_core^0 where the nucleation condition reaches mu = alpha
+  double x_one_two = 0.0;  // the predicted I/II boundary
+  std::set<double> Rs;     // R of the data
+  std::vector<nucleation::CrossoverEstimate> crossovers;  // II -> III, per R in Rs
+  std::vector<nucleation::Upturn> upturns;                // by model name, then R
+  nucleation::RegimeThreeFrictionFit fit_three;
+};
+
+// Throws std::invalid_argument when the data allow no Regime II fit or no common alpha.
+Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const Options& o);
+
+// predictions.csv: per data point, mu/alpha measured and every prediction, both regimes.
+void write_predictions(const std::filesystem::path& csv, const std::vector<DataPoint>& pts,
+                       const Analysis& an);
+
+// collapse.png and regime_map.png in `dir`; returns their paths.
+std::vector<std::filesystem::path> write_figures(const std::filesystem::path& dir,
+                                                 const std::vector<DataPoint>& pts,
+                                                 const LawSource& law, const Analysis& an,
+                                                 const Options& o);
+
+// summary.json.
+void write_summary(const std::filesystem::path& json, const Loaded& data, const LawSource& law,
+                   const Analysis& an, const Options& o,
+                   const std::vector<std::filesystem::path>& figures, double wall_s);
+
+// The results on stdout, a fit that misses its window's points on stderr.
+void print_report(const std::filesystem::path& dir, const LawSource& law, const Analysis& an,
+                  const Options& o, const std::vector<std::filesystem::path>& figures);
+
+}  // namespace asperity::app::fit_scaling
