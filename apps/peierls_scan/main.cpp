@@ -35,20 +35,12 @@ int main(int argc, char** argv) {
     CLI::App cli{"Peierls stress of an interfacial dislocation versus core width and line angle"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
     std::string out = "results/peierls_scan";
-    std::vector<double> b_core, theta;
     bool snapshots = false, list_angles = false;
     cli.add_option("scene", scene_path, "Scan scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    // Lists are not rows of the settings table (settings.hpp holds single values).
-    cli.add_option("--b-core", b_core, "Core widths d G / tau_max (d), comma-separated")
-        ->delimiter(',')
-        ->check(app::finite_number(0.1, 1000));
-    cli.add_option("--theta", theta, "Line angles (degrees, 0 screw, 90 edge), comma-separated")
-        ->delimiter(',')
-        ->check(app::finite_number(0, 90));
-    // --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance, --jobs: from the
-    // scene's settings table.
+    // --b-core, --theta, --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance,
+    // --jobs: from the scene's settings table.
     app::SettingFlags flags;
     flags.add(cli, scene_settings());
     // A switch without a value, which a table's boolean flag (--flag true|false) is not.
@@ -58,8 +50,6 @@ int main(int argc, char** argv) {
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     Scene s = read_scene(scene_path);
-    if (!b_core.empty()) s.b_core = b_core;
-    if (!theta.empty()) s.theta = theta;
     flags.apply(scene_settings(), s);
     if (snapshots) s.snapshots = true;
     s.options.validate();

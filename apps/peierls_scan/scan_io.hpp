@@ -17,7 +17,8 @@ namespace asperity::app::peierls_scan {
 
 struct Scene {
   std::string source;
-  std::vector<double> b_core, theta;
+  std::vector<double> b_core = {1, 2, 3, 4, 5, 6};  // core widths (d)
+  std::vector<double> theta = {0, 45, 63.4, 90};    // line angles (degrees)
   double angle_tolerance = 0.5;
   int jobs = 0;
   bool snapshots = false;
@@ -27,8 +28,8 @@ struct Scene {
   double fit_b_min = 2.0, fit_b_max = 1e9;
 };
 
-// Every setting of a scan scene but its lists (scan.b_core, scan.theta): the cell's, the
-// solver's and the cell-size search's (peierls/), and the scan's own.
+// Every setting of a scan scene: the cell's, the solver's and the cell-size search's (peierls/),
+// and the scan's own, its lists (scan.b_core, scan.theta) included.
 const settings::Table<Scene>& scene_settings();
 
 // Throws std::invalid_argument naming the file, key and constraint.

@@ -19,6 +19,12 @@ const settings::Table<Scene>& scene_settings() {
         t, peierls::PeierlsOptions::settings(), "", [](auto& s) -> auto& { return s.options; });
     settings::lift(
         t, peierls::CellSizeOptions::settings(), "", [](auto& s) -> auto& { return s.cell_size; });
+    t.push_back(settings::numbers<Scene>(
+        "scan.b_core", [](auto& s) -> auto& { return s.b_core; }, R::closed(0.1, 1000.0), "d",
+        "core widths d G / tau_max of the points", "--b-core"));
+    t.push_back(settings::numbers<Scene>(
+        "scan.theta", [](auto& s) -> auto& { return s.theta; }, R::closed(0.0, 90.0), "degrees",
+        "line angles of the points (0 screw, 90 edge)", "--theta"));
     t.push_back(settings::number<Scene>(
         "scan.angle_tolerance", [](auto& s) -> auto& { return s.angle_tolerance; },
         R::closed(0.0, 45.0), "degrees",
@@ -48,8 +54,6 @@ Scene read_scene(const std::string& path) {
   using app::Range;
   Scene s;
   s.source = path;
-  s.b_core = r.numbers("scan.b_core", {1, 2, 3, 4, 5, 6}, Range::closed(0.1, 1000));
-  s.theta = r.numbers("scan.theta", {0, 45, 63.4, 90}, Range::closed(0, 90));
   r.read(scene_settings(), s);
   r.reject_unknown();
   if (s.b_core.empty())
@@ -65,7 +69,9 @@ Scene read_scene(const std::string& path) {
 std::string fingerprint(const Scene& s) {
   return settings::fingerprint(
              s, scene_settings(), true,
-             {"scan.angle_tolerance", "cell.min_line_spacing", "fit.b_min", "fit.b_max"}) +
+             // A row carries its own b_core and angle: the lists only say which rows to make.
+             {"scan.b_core", "scan.theta", "scan.angle_tolerance", "cell.min_line_spacing",
+              "fit.b_min", "fit.b_max"}) +
          " code=" + app::provenance_token();
 }
 
