@@ -5,15 +5,15 @@
 // Also: building and applying the periodic GF of a 256 x 256 Peierls cell.
 #include <benchmark/benchmark.h>
 
-#include "interface/lfm.hpp"
-#include "minimize/minimizer.hpp"
-#include "slide/lfm_problem.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
 
 #include <cmath>
 #include <vector>
 
-#include "elastic/surface_gf.hpp"
-#include "fft/fft_engine.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
 
 using namespace asperity;
 

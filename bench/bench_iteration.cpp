@@ -19,11 +19,11 @@
 #include <map>
 #include <vector>
 
-#include "elastic/surface_gf.hpp"
-#include "fft/fft_engine.hpp"
-#include "interface/lfm.hpp"
-#include "minimize/minimizer.hpp"
-#include "slide/lfm_problem.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
 
 using namespace asperity;
 

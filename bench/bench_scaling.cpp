@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "tracking/lines.hpp"
-#include "tracking/synthetic.hpp"
-#include "tracking/tracker.hpp"
+#include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/synthetic.hpp"
+#include "asperity/tracking/tracker.hpp"
 
 using namespace asperity;
 using namespace asperity::tracking;

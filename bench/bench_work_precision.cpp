@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "slide/lfm_problem.hpp"
-#include "slide/slider.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

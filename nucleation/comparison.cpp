@@ -1,5 +1,5 @@
 // The fitted model against friction data (MODEL.md 8); see comparison.hpp.
-#include "nucleation/comparison.hpp"
+#include "asperity/nucleation/comparison.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "common/line_fit.hpp"
+#include "asperity/core/common/line_fit.hpp"
 
 namespace asperity::nucleation {
 

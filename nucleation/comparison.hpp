@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "nucleation/regime_map.hpp"
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
+#include "asperity/nucleation/regime_map.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
 
 namespace asperity::nucleation {
 

@@ -1,7 +1,7 @@
 // Predictions across regimes and the regime of a point (MODEL.md 5, 8); see regime_map.hpp.
-#include "nucleation/regime_map.hpp"
+#include "asperity/nucleation/regime_map.hpp"
 
-#include "contact/hertz.hpp"
+#include "asperity/core/contact/hertz.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -10,7 +10,7 @@
 #include <map>
 #include <numbers>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::nucleation {
 

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
 
 namespace asperity::nucleation {
 

@@ -1,8 +1,8 @@
 // Regime III predictions and the Levenberg-Marquardt fit of k1, k2 (MODEL.md 8); see
 // regime_three.hpp.
-#include "nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_three.hpp"
 
-#include "contact/hertz.hpp"
+#include "asperity/core/contact/hertz.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -15,8 +15,8 @@
 #include <unsupported/Eigen/LevenbergMarquardt>
 #include <vector>
 
-#include "common/validate.hpp"
-#include "nucleation/statistics.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 namespace asperity::nucleation {
 

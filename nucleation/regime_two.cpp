@@ -1,5 +1,5 @@
 // Regime II fit of c0 and the nucleation condition (MODEL.md 8); see regime_two.hpp.
-#include "nucleation/regime_two.hpp"
+#include "asperity/nucleation/regime_two.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <map>
 #include <stdexcept>
 
-#include "common/validate.hpp"
-#include "nucleation/statistics.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 namespace asperity::nucleation {
 

@@ -1,5 +1,5 @@
 // Student's t quantiles (Boost.Math) and the bootstrap of a mean; see statistics.hpp.
-#include "nucleation/statistics.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/distributions/students_t.hpp>

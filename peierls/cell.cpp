@@ -1,6 +1,6 @@
 // The periodic Peierls cell: MODEL.md sections 2 (periodic kernel), 3 (interface energy) and 6
 // (frustration w(X)); see cell.hpp for the reduced representation.
-#include "peierls/cell.hpp"
+#include "asperity/peierls/cell.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -13,8 +13,8 @@
 
 #include <Eigen/Dense>
 
-#include "common/validate.hpp"
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 namespace asperity::peierls {
 

@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
-#include "elastic/material.hpp"
-#include "fft/fft_engine.hpp"
-#include "minimize/stiffness_minimizer.hpp"
+#include "asperity/core/elastic/material.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/minimize/stiffness_minimizer.hpp"
 
 namespace asperity::peierls {
 

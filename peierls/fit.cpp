@@ -1,12 +1,12 @@
 // Closed-form log-linear least squares for tau_P = k1 tau_max exp(-k2 b_core); see fit.hpp.
-#include "peierls/fit.hpp"
+#include "asperity/peierls/fit.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
-#include "common/line_fit.hpp"
+#include "asperity/core/common/line_fit.hpp"
 
 namespace asperity::peierls {
 

@@ -1,5 +1,5 @@
 // Peierls stress by bisection on the applied stress; see peierls_stress.hpp (MODEL.md 6).
-#include "peierls/peierls_stress.hpp"
+#include "asperity/peierls/peierls_stress.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::peierls {
 

@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "common/termination.hpp"
-#include "minimize/stiffness_minimizer.hpp"
-#include "peierls/cell.hpp"
+#include "asperity/core/common/termination.hpp"
+#include "asperity/core/minimize/stiffness_minimizer.hpp"
+#include "asperity/peierls/cell.hpp"
 
 namespace asperity::peierls {
 

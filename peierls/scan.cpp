@@ -1,5 +1,5 @@
 // A Peierls-stress scan's points, results and fits; see scan.hpp.
-#include "peierls/scan.hpp"
+#include "asperity/peierls/scan.hpp"
 
 #include <algorithm>
 #include <cmath>

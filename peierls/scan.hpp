@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "peierls/cell.hpp"
-#include "peierls/fit.hpp"
-#include "peierls/peierls_stress.hpp"
-#include "slide/frames.hpp"
+#include "asperity/core/slide/frames.hpp"
+#include "asperity/peierls/cell.hpp"
+#include "asperity/peierls/fit.hpp"
+#include "asperity/peierls/peierls_stress.hpp"
 
 namespace asperity::peierls {
 

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::tracking {
 

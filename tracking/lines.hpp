@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "common/shape.hpp"
-#include "slide/frames.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/slide/frames.hpp"
 
 namespace asperity::tracking {
 

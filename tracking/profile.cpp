@@ -1,4 +1,4 @@
-#include "tracking/profile.hpp"
+#include "asperity/tracking/profile.hpp"
 
 #include <algorithm>
 #include <cmath>

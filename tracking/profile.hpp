@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "slide/frames.hpp"
-#include "tracking/lines.hpp"
+#include "asperity/core/slide/frames.hpp"
+#include "asperity/tracking/lines.hpp"
 
 namespace asperity::tracking {
 

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::tracking {
 

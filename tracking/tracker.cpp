@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::tracking {
 

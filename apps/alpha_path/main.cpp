@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/output_files.hpp"
-#include "common/plot.hpp"
-#include "explicit/alpha_path.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
 
 using namespace asperity;
 

@@ -1,4 +1,4 @@
-#include "common/cli.hpp"
+#include "asperity/apps/common/cli.hpp"
 
 #include <unistd.h>
 

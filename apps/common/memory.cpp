@@ -1,5 +1,5 @@
 // Memory checks before large allocations; see memory.hpp.
-#include "common/memory.hpp"
+#include "asperity/apps/common/memory.hpp"
 
 #include <sys/resource.h>
 #include <sys/statvfs.h>

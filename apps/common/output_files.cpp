@@ -1,4 +1,4 @@
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 #include <fcntl.h>
 #include <signal.h>

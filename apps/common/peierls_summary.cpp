@@ -1,4 +1,4 @@
-#include "common/peierls_summary.hpp"
+#include "asperity/apps/common/peierls_summary.hpp"
 
 #include <cmath>
 #include <fstream>

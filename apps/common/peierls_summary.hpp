@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_three.hpp"
 
 namespace asperity::app {
 

@@ -1,4 +1,4 @@
-#include "common/plot.hpp"
+#include "asperity/apps/common/plot.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 extern char** environ;
 

@@ -1,4 +1,4 @@
-#include "common/point_runner.hpp"
+#include "asperity/apps/common/point_runner.hpp"
 
 #include <algorithm>
 #include <exception>
@@ -6,7 +6,7 @@
 #include <thread>
 #include <vector>
 
-#include "common/cli.hpp"
+#include "asperity/apps/common/cli.hpp"
 
 namespace asperity::app {
 

@@ -1,4 +1,4 @@
-#include "common/settings_cli.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -13,7 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "common/settings.hpp"
+#include "asperity/core/common/settings.hpp"
 
 namespace asperity::app {
 

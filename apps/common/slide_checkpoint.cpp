@@ -1,5 +1,5 @@
 // Checkpoint files of contact_slide; see slide_checkpoint.hpp.
-#include "common/slide_checkpoint.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
 
 #include <bit>
 #include <charconv>
@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace asperity::app {
 namespace {

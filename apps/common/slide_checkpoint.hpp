@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "common/slide_io.hpp"
-#include "slide/slider.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 namespace asperity::app {
 

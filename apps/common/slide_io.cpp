@@ -1,21 +1,21 @@
 // Scene reading and outputs of the sliding tools; see slide_io.hpp.
-#include "common/slide_io.hpp"
+#include "asperity/apps/common/slide_io.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include "common/cli.hpp"
-#include "common/memory.hpp"
-#include "common/output_files.hpp"
-#include "common/plot.hpp"
-#include "common/settings_cli.hpp"
-#include "common/snapshot_io.hpp"
-#include "common/snapshot_sink.hpp"
-#include "common/toml_reader.hpp"
-#include "explicit/alpha_path.hpp"
-#include "slide/path.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/apps/common/snapshot_sink.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
+#include "asperity/core/slide/path.hpp"
 
 namespace asperity::app {
 

@@ -7,11 +7,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/snapshot_io.hpp"
-#include "explicit/explicit_contact.hpp"
-#include "explicit/explicit_slide.hpp"
-#include "interface/lfm.hpp"
-#include "slide/slider.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/core/explicit/explicit_contact.hpp"
+#include "asperity/core/explicit/explicit_slide.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 namespace asperity::app {
 

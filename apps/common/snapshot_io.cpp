@@ -1,4 +1,4 @@
-#include "common/snapshot_io.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 
 #include <netcdf.h>
 
@@ -13,8 +13,8 @@
 #include <string>
 #include <utility>
 
-#include "common/memory.hpp"
-#include "common/output_files.hpp"
+#include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace asperity::app {
 namespace {

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "slide/frames.hpp"
+#include "asperity/core/slide/frames.hpp"
 
 namespace asperity::app {
 

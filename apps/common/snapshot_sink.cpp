@@ -1,10 +1,10 @@
-#include "common/snapshot_sink.hpp"
+#include "asperity/apps/common/snapshot_sink.hpp"
 
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace asperity::app {
 

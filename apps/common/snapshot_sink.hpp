@@ -21,8 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/snapshot_io.hpp"
-#include "slide/frames.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/core/slide/frames.hpp"
 
 namespace asperity::app {
 

@@ -1,4 +1,4 @@
-#include "common/toml_reader.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
 
 #include <algorithm>
 #include <charconv>

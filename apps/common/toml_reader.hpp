@@ -12,7 +12,7 @@
 
 #include <toml++/toml.h>
 
-#include "common/settings.hpp"
+#include "asperity/core/common/settings.hpp"
 
 namespace asperity::app {
 

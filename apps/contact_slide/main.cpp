@@ -21,14 +21,14 @@
 #include <iostream>
 #include <optional>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/memory.hpp"
-#include "common/output_files.hpp"
-#include "common/settings_cli.hpp"
-#include "common/slide_checkpoint.hpp"
-#include "common/slide_io.hpp"
-#include "common/snapshot_sink.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/apps/common/snapshot_sink.hpp"
 
 using namespace asperity;
 

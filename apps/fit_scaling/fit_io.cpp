@@ -11,9 +11,9 @@
 #include <tuple>
 #include <utility>
 
-#include "common/output_files.hpp"
-#include "common/peierls_summary.hpp"
-#include "nucleation/statistics.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/peierls_summary.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 namespace asperity::app::fit_scaling {
 

@@ -12,10 +12,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "nucleation/comparison.hpp"
-#include "nucleation/regime_map.hpp"
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
+#include "asperity/nucleation/comparison.hpp"
+#include "asperity/nucleation/regime_map.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
 
 namespace asperity::app::fit_scaling {
 

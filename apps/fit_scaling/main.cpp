@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/output_files.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/output_files.hpp"
 #include "fit_io.hpp"
 
 using namespace asperity;

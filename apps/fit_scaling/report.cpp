@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
 #include "fit_io.hpp"
 
 namespace asperity::app::fit_scaling {

@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/settings_cli.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "runner.hpp"
 #include "sweep.hpp"
 

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
-#include "common/plot.hpp"
-#include "common/slide_io.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/slide_io.hpp"
 
 namespace asperity::app {
 

@@ -11,13 +11,13 @@
 #include <tuple>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/memory.hpp"
-#include "common/output_files.hpp"
-#include "common/point_runner.hpp"
-#include "common/slide_checkpoint.hpp"
-#include "common/slide_io.hpp"
-#include "common/snapshot_sink.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/point_runner.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/apps/common/snapshot_sink.hpp"
 #include "report.hpp"
 
 namespace asperity::app {

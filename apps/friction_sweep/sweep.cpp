@@ -1,6 +1,6 @@
 // Sweep scene, points and results table of friction_sweep; see sweep.hpp.
 #include "sweep.hpp"
-#include "common/line_fit.hpp"
+#include "asperity/core/common/line_fit.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,10 +12,10 @@
 #include <stdexcept>
 #include <thread>
 
-#include "common/cli.hpp"
-#include "common/line_fit.hpp"
-#include "common/toml_reader.hpp"
-#include "contact/hertz.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
+#include "asperity/core/common/line_fit.hpp"
+#include "asperity/core/contact/hertz.hpp"
 
 namespace asperity::app {
 namespace {

@@ -20,8 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/output_files.hpp"
-#include "common/slide_io.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/slide_io.hpp"
 
 namespace asperity::app {
 

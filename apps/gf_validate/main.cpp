@@ -10,11 +10,11 @@
 #include <iostream>
 #include <string>
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
-#include "common/plot.hpp"
-#include "common/toml_reader.hpp"
-#include "validation/gf_checks.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
+#include "asperity/core/validation/gf_checks.hpp"
 
 namespace fs = std::filesystem;
 using namespace asperity;

@@ -9,13 +9,13 @@
 #include <optional>
 #include <sstream>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/output_files.hpp"
-#include "common/settings_cli.hpp"
-#include "common/slide_io.hpp"
-#include "slide/path.hpp"
-#include "tracking/lines.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/core/slide/path.hpp"
+#include "asperity/tracking/lines.hpp"
 
 using namespace asperity;
 

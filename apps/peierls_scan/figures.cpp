@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/plot.hpp"
+#include "asperity/apps/common/plot.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {

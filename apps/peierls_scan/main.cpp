@@ -19,11 +19,11 @@
 #include <thread>
 #include <vector>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/output_files.hpp"
-#include "common/settings_cli.hpp"
-#include "peierls/scan.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/peierls/scan.hpp"
 #include "scan_io.hpp"
 
 using namespace asperity;

@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {

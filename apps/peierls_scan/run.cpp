@@ -12,10 +12,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/memory.hpp"
-#include "common/output_files.hpp"
-#include "common/point_runner.hpp"
-#include "common/snapshot_io.hpp"
+#include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/point_runner.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {

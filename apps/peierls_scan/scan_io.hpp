@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "peierls/scan.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/peierls/scan.hpp"
 
 namespace asperity::app::peierls_scan {
 

@@ -2,8 +2,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/cli.hpp"
-#include "common/toml_reader.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {

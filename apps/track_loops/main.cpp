@@ -22,16 +22,16 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/cli.hpp"
-#include "common/cli_checks.hpp"
-#include "common/output_files.hpp"
-#include "common/peierls_summary.hpp"
-#include "common/plot.hpp"
-#include "common/snapshot_io.hpp"
-#include "nucleation/regime_three.hpp"
-#include "tracking/lines.hpp"
-#include "tracking/profile.hpp"
-#include "tracking/tracker.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/peierls_summary.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
+#include "asperity/tracking/tracker.hpp"
 
 using namespace asperity;
 namespace fs = std::filesystem;

@@ -1,5 +1,5 @@
 // The worker pool of common/parallel.hpp.
-#include "common/parallel.hpp"
+#include "asperity/core/common/parallel.hpp"
 
 #include <condition_variable>
 #include <cstdint>

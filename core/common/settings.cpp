@@ -1,4 +1,4 @@
-#include "common/settings.hpp"
+#include "asperity/core/common/settings.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "common/shape.hpp"
+#include "asperity/core/common/shape.hpp"
 
 #include <cmath>
 

@@ -1,7 +1,7 @@
 // Matrix-free conjugate gradients on the masked Green's function; see bonded.hpp.
-#include "contact/bonded.hpp"
+#include "asperity/core/contact/bonded.hpp"
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/IterativeLinearSolvers>

@@ -1,7 +1,7 @@
 // Hertz relations of MODEL.md section 1; see hertz.hpp.
-#include "contact/hertz.hpp"
+#include "asperity/core/contact/hertz.hpp"
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 // traction under a tangential load (Johnson 7.2).
 #pragma once
 
-#include "elastic/material.hpp"
+#include "asperity/core/elastic/material.hpp"
 
 namespace asperity::contact {
 

@@ -1,7 +1,7 @@
 // Polonsky & Keer constrained conjugate gradients, load-controlled; see normal_contact.hpp.
-#include "contact/normal_contact.hpp"
+#include "asperity/core/contact/normal_contact.hpp"
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 #include <cmath>
 #include <stdexcept>

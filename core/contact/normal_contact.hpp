@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
-#include "common/termination.hpp"
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/common/termination.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 namespace asperity::contact {
 

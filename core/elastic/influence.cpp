@@ -1,5 +1,5 @@
 // Closed forms of MODEL.md section 2; see influence.hpp for the equations.
-#include "elastic/influence.hpp"
+#include "asperity/core/elastic/influence.hpp"
 
 #include <cassert>
 #include <cmath>

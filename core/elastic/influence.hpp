@@ -18,7 +18,7 @@
 
 #include <complex>
 
-#include "elastic/material.hpp"
+#include "asperity/core/elastic/material.hpp"
 
 namespace asperity::elastic {
 

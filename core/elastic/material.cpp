@@ -1,4 +1,4 @@
-#include "elastic/material.hpp"
+#include "asperity/core/elastic/material.hpp"
 
 #include <cassert>
 #include <cmath>
@@ -19,7 +19,9 @@ const settings::Table<Material>& Material::settings() {
   return table;
 }
 
-void Material::validate() const { settings::validate(*this, settings()); }
+void Material::validate() const {
+  settings::validate(*this, settings());
+}
 
 int component_count(Components c) {
   switch (c) {

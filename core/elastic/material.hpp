@@ -1,7 +1,7 @@
 // Isotropic linear-elastic substrate (MODEL.md section 1).
 #pragma once
 
-#include "common/settings.hpp"
+#include "asperity/core/common/settings.hpp"
 
 namespace asperity::elastic {
 

@@ -1,6 +1,6 @@
 // Discrete surface Green's functions; equations in surface_gf.hpp and influence.hpp
 // (MODEL.md section 2).
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 #include <Eigen/Dense>
 #include <cassert>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "elastic/influence.hpp"
+#include "asperity/core/elastic/influence.hpp"
 
 namespace asperity::elastic {
 

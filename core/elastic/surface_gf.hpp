@@ -24,9 +24,9 @@
 #include <span>
 #include <vector>
 
-#include "common/shape.hpp"
-#include "elastic/material.hpp"
-#include "fft/fft_engine.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/elastic/material.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
 
 namespace asperity::elastic {
 

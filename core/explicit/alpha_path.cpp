@@ -1,14 +1,14 @@
 // The minimum-energy path of one atom over a rigid square lattice at fixed normal force,
 // MODEL.md section 4; equations in alpha_path.hpp.
-#include "explicit/alpha_path.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "common/validate.hpp"
-#include "explicit/lennard_jones.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/explicit/lennard_jones.hpp"
 
 namespace asperity::explicit_model {
 

@@ -1,7 +1,7 @@
 // The explicit atomistic contact, MODEL.md section 4 (geometry, potential, protocol) on the
 // free-boundary GF of section 2 and the pair representation of SOLVERS.md; equations and
 // definitions in explicit_contact.hpp.
-#include "explicit/explicit_contact.hpp"
+#include "asperity/core/explicit/explicit_contact.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/validate.hpp"
-#include "minimize/problem.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/minimize/problem.hpp"
 
 namespace asperity::explicit_model {
 

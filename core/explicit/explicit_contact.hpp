@@ -39,15 +39,15 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "common/shape.hpp"
-#include "common/termination.hpp"
-#include "contact/hertz.hpp"
-#include "elastic/material.hpp"
-#include "elastic/surface_gf.hpp"
-#include "explicit/lennard_jones.hpp"
-#include "fft/fft_engine.hpp"
-#include "minimize/minimizer.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/common/termination.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/elastic/material.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/explicit/lennard_jones.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
 
 namespace asperity::explicit_model {
 

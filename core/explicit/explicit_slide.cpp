@@ -1,6 +1,6 @@
 // Sliding of the explicit model at fixed Fz (MODEL.md 4 and 5): the model side of
 // slide/protocol.hpp; design in explicit_slide.hpp.
-#include "explicit/explicit_slide.hpp"
+#include "asperity/core/explicit/explicit_slide.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "common/validate.hpp"
-#include "slide/protocol.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/slide/protocol.hpp"
 
 namespace asperity::explicit_model {
 

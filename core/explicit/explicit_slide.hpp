@@ -24,8 +24,8 @@
 // ignored).
 #pragma once
 
-#include "explicit/explicit_contact.hpp"
-#include "slide/types.hpp"
+#include "asperity/core/explicit/explicit_contact.hpp"
+#include "asperity/core/slide/types.hpp"
 
 namespace asperity::explicit_model {
 

@@ -1,9 +1,9 @@
 // Repulsive Lennard-Jones interface potential, MODEL.md section 4; equations in the header.
-#include "explicit/lennard_jones.hpp"
+#include "asperity/core/explicit/lennard_jones.hpp"
 
 #include <cmath>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::explicit_model {
 

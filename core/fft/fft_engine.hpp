@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "common/shape.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/common/shape.hpp"
 
 namespace asperity::fft {
 

@@ -25,7 +25,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "fft/fft_engine.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
 
 namespace asperity::fft {
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "contact/hertz.hpp"
+#include "asperity/core/contact/hertz.hpp"
 
 namespace asperity::interface {
 

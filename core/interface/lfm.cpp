@@ -1,9 +1,9 @@
 // Lateral force model, MODEL.md section 3; equations in lfm.hpp.
-#include "interface/lfm.hpp"
+#include "asperity/core/interface/lfm.hpp"
 
-#include "common/parallel.hpp"
-#include "common/validate.hpp"
-#include "interface/sincos.hpp"
+#include "asperity/core/common/parallel.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/interface/sincos.hpp"
 
 #include <algorithm>
 #include <cassert>

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "common/shape.hpp"
-#include "contact/hertz.hpp"
-#include "elastic/material.hpp"
-#include "interface/envelope.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/elastic/material.hpp"
+#include "asperity/core/interface/envelope.hpp"
 
 namespace asperity::interface {
 

@@ -6,9 +6,9 @@
 #include <utility>
 #include <vector>
 
-#include "minimize/kernels.hpp"
-#include "minimize/line_search.hpp"
-#include "minimize/relaxation.hpp"
+#include "asperity/core/minimize/kernels.hpp"
+#include "asperity/core/minimize/line_search.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
 
 namespace asperity::minimize::detail {
 

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "minimize/kernels.hpp"
-#include "minimize/relaxation.hpp"
+#include "asperity/core/minimize/kernels.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
 
 namespace asperity::minimize::detail {
 

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <span>
 
-#include "common/parallel.hpp"
+#include "asperity/core/common/parallel.hpp"
 
 namespace asperity::minimize::detail {
 

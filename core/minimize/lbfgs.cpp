@@ -9,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include "common/parallel.hpp"
-#include "minimize/kernels.hpp"
-#include "minimize/line_search.hpp"
-#include "minimize/relaxation.hpp"
-#include "solve/newton_krylov.hpp"
+#include "asperity/core/common/parallel.hpp"
+#include "asperity/core/minimize/kernels.hpp"
+#include "asperity/core/minimize/line_search.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
+#include "asperity/core/solve/newton_krylov.hpp"
 
 namespace asperity::minimize::detail {
 

@@ -1,12 +1,12 @@
 // Line searches of the line-search methods (lbfgs, newton, cg) and their steepest descent
 // fallback, in the pair representation of SOLVERS.md ("Free-boundary contact"); see
 // line_search.hpp.
-#include "minimize/line_search.hpp"
+#include "asperity/core/minimize/line_search.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "minimize/kernels.hpp"
+#include "asperity/core/minimize/kernels.hpp"
 
 namespace asperity::minimize::detail {
 

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "minimize/relaxation.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
 
 namespace asperity::minimize::detail {
 

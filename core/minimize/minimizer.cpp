@@ -2,7 +2,7 @@
 // minimizer.hpp for the methods: their names and settings, the registry of the classes that
 // implement them (relaxation.hpp), what every minimisation shares (Relaxation) and minimize(),
 // the loop around a method's iterations.
-#include "minimize/minimizer.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include "minimize/kernels.hpp"
-#include "minimize/relaxation.hpp"
+#include "asperity/core/minimize/kernels.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
 
 namespace asperity::minimize {
 

@@ -46,9 +46,9 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "common/termination.hpp"
-#include "minimize/problem.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/common/termination.hpp"
+#include "asperity/core/minimize/problem.hpp"
 
 namespace asperity::minimize {
 

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "minimize/minimizer.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
 
 namespace asperity::minimize::detail {
 

@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "minimize/kernels.hpp"
-#include "minimize/relaxation.hpp"
+#include "asperity/core/minimize/kernels.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
 
 namespace asperity::minimize {
 

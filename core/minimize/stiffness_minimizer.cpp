@@ -1,5 +1,5 @@
 // Preconditioned L-BFGS with slope-only line searches; see stiffness_minimizer.hpp.
-#include "minimize/stiffness_minimizer.hpp"
+#include "asperity/core/minimize/stiffness_minimizer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::minimize {
 

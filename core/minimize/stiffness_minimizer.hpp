@@ -20,8 +20,8 @@
 #include <span>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "common/termination.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/common/termination.hpp"
 
 namespace asperity::minimize {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/shape.hpp"
+#include "asperity/core/common/shape.hpp"
 
 namespace asperity::slide {
 

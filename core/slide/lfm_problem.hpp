@@ -5,9 +5,9 @@
 
 #include <numbers>
 
-#include "elastic/surface_gf.hpp"
-#include "interface/lfm.hpp"
-#include "minimize/problem.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/minimize/problem.hpp"
 
 namespace asperity::slide {
 

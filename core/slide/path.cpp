@@ -1,5 +1,5 @@
 // Path checks against the overdamped flow (path.hpp, MODEL.md 5).
-#include "slide/path.hpp"
+#include "asperity/core/slide/path.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 namespace asperity::slide {
 

@@ -43,9 +43,9 @@
 #include <utility>
 #include <vector>
 
-#include "common/validate.hpp"
-#include "slide/trace.hpp"
-#include "slide/types.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/slide/trace.hpp"
+#include "asperity/core/slide/types.hpp"
 
 namespace asperity::slide::detail {
 

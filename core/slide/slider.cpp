@@ -1,5 +1,5 @@
 // Quasi-static sliding of the lateral force model; protocols and criteria in slider.hpp.
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,10 +12,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/validate.hpp"
-#include "elastic/surface_gf.hpp"
-#include "slide/lfm_problem.hpp"
-#include "slide/protocol.hpp"
+#include "asperity/core/common/validate.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
+#include "asperity/core/slide/protocol.hpp"
 
 namespace asperity::slide {
 

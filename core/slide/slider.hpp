@@ -26,10 +26,10 @@
 #include <span>
 #include <string>
 
-#include "common/shape.hpp"
-#include "interface/lfm.hpp"
-#include "slide/frames.hpp"
-#include "slide/types.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/slide/frames.hpp"
+#include "asperity/core/slide/types.hpp"
 
 namespace asperity::slide {
 
@@ -39,7 +39,6 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 // Throws std::invalid_argument if control.start does not fit the scene (other block size).
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideControl& control);
-
 
 // Sites along each side of the block of unknowns that follows the tip: 2 H + 1, H = ceil(a/d) + 2
 // (the contact radius and two sites of margin). Snapshots are frames of this block.

@@ -1,5 +1,5 @@
 // Pure functions over a slide's trace (MODEL.md section 5): trace.hpp.
-#include "slide/trace.hpp"
+#include "asperity/core/slide/trace.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 
 #include <span>
 
-#include "slide/types.hpp"
+#include "asperity/core/slide/types.hpp"
 
 namespace asperity::slide::detail {
 

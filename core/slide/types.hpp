@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "common/shape.hpp"
-#include "fft/fft_engine.hpp"
-#include "minimize/minimizer.hpp"
-#include "slide/frames.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
+#include "asperity/core/slide/frames.hpp"
 
 namespace asperity::slide {
 

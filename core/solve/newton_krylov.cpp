@@ -1,7 +1,7 @@
 // KINSOL behind solve::newton_krylov; see newton_krylov.hpp.
-#include "solve/newton_krylov.hpp"
+#include "asperity/core/solve/newton_krylov.hpp"
 
-#include "common/validate.hpp"
+#include "asperity/core/common/validate.hpp"
 
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>

@@ -6,7 +6,7 @@
 #include <functional>
 #include <span>
 
-#include "common/termination.hpp"
+#include "asperity/core/common/termination.hpp"
 
 namespace asperity::solve {
 

@@ -1,13 +1,13 @@
 // Analytic GF checks of MODEL.md sections 1-2; formulas in gf_checks.hpp.
-#include "validation/gf_checks.hpp"
+#include "asperity/core/validation/gf_checks.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 
-#include "elastic/influence.hpp"
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/elastic/influence.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 namespace asperity::validation {
 

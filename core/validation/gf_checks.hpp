@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "common/shape.hpp"
-#include "common/termination.hpp"
-#include "contact/bonded.hpp"
-#include "contact/hertz.hpp"
-#include "contact/normal_contact.hpp"
-#include "fft/fft_engine.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/common/termination.hpp"
+#include "asperity/core/contact/bonded.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/contact/normal_contact.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
 
 namespace asperity::validation {
 

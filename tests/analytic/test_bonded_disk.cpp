@@ -16,7 +16,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "validation/gf_checks.hpp"
+#include "asperity/core/validation/gf_checks.hpp"
 
 using namespace asperity;
 

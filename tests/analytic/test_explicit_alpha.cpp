@@ -23,7 +23,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "explicit/alpha_path.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
 
 using namespace asperity::explicit_model;
 

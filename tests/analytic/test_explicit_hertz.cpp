@@ -18,8 +18,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "contact/hertz.hpp"
-#include "explicit/explicit_contact.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/explicit/explicit_contact.hpp"
 
 using namespace asperity;
 using namespace asperity::explicit_model;

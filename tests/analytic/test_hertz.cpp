@@ -15,8 +15,8 @@
 #include <cstdio>
 #include <numbers>
 
-#include "contact/hertz.hpp"
-#include "validation/gf_checks.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/validation/gf_checks.hpp"
 
 using namespace asperity;
 

@@ -18,7 +18,7 @@
 
 #include <cstdio>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -21,10 +21,10 @@
 #include <random>
 #include <vector>
 
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
-#include "nucleation/statistics.hpp"
-#include "peierls/fit.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
+#include "asperity/nucleation/statistics.hpp"
+#include "asperity/peierls/fit.hpp"
 
 using namespace asperity::nucleation;
 

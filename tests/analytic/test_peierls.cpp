@@ -35,7 +35,7 @@
 #include <tuple>
 #include <vector>
 
-#include "peierls/peierls_stress.hpp"
+#include "asperity/peierls/peierls_stress.hpp"
 
 using namespace asperity::peierls;
 

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 using namespace asperity;
 using elastic::Components;

@@ -13,7 +13,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -24,9 +24,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
 
 using namespace asperity;
 

@@ -12,7 +12,7 @@
 #include <numbers>
 #include <vector>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

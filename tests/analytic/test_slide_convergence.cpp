@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

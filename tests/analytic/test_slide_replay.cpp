@@ -26,7 +26,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -28,9 +28,9 @@
 #include <numbers>
 #include <ostream>
 
-#include "tracking/lines.hpp"
-#include "tracking/synthetic.hpp"
-#include "tracking/tracker.hpp"
+#include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/synthetic.hpp"
+#include "asperity/tracking/tracker.hpp"
 
 using namespace asperity;
 using namespace asperity::tracking;

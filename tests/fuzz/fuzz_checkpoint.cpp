@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "common/slide_checkpoint.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "common/slide_io.hpp"
-#include "common/toml_reader.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -23,7 +23,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/snapshot_io.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 
 namespace {
 

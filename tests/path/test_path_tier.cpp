@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "slide/path.hpp"
+#include "asperity/core/slide/path.hpp"
 
 using namespace asperity;
 

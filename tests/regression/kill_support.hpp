@@ -22,9 +22,9 @@
 #include <thread>
 #include <vector>
 
-#include "common/output_files.hpp"
-#include "common/slide_checkpoint.hpp"
-#include "common/snapshot_io.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 
 extern char** environ;
 

@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "common/output_files.hpp"
-#include "nucleation/regime_three.hpp"
-#include "nucleation/statistics.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 using asperity::app::CsvTable;
 

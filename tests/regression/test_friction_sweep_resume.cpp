@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace {
 

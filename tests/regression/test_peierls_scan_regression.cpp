@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 using asperity::app::CsvTable;
 

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
-#include "common/output_files.hpp"
-#include "common/snapshot_io.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 
 namespace {
 

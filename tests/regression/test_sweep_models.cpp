@@ -25,7 +25,7 @@
 #include <sstream>
 #include <string>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/output_files.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace {
 

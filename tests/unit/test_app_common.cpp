@@ -23,12 +23,12 @@
 
 #include "scratch.hpp"
 
-#include "common/cli.hpp"
-#include "common/output_files.hpp"
-#include "common/plot.hpp"
-#include "common/point_runner.hpp"
-#include "common/settings_cli.hpp"
-#include "common/toml_reader.hpp"
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/point_runner.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
 
 namespace asperity::app {
 namespace {

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "explicit/alpha_path.hpp"
-#include "explicit/lennard_jones.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
+#include "asperity/core/explicit/lennard_jones.hpp"
 
 using namespace asperity::explicit_model;
 

@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "contact/hertz.hpp"
-#include "explicit/explicit_contact.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/explicit/explicit_contact.hpp"
 
 using namespace asperity;
 using namespace asperity::explicit_model;

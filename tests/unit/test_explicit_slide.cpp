@@ -8,9 +8,9 @@
 #include <cmath>
 #include <vector>
 
-#include "contact/hertz.hpp"
-#include "explicit/alpha_path.hpp"
-#include "explicit/explicit_slide.hpp"
+#include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/explicit/alpha_path.hpp"
+#include "asperity/core/explicit/explicit_slide.hpp"
 
 using namespace asperity;
 

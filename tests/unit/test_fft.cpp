@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include "common/shape.hpp"
-#include "fft/fft_engine.hpp"
+#include "asperity/core/common/shape.hpp"
+#include "asperity/core/fft/fft_engine.hpp"
 
 using asperity::Shape2;
 namespace fft = asperity::fft;

@@ -12,12 +12,12 @@
 #include <utility>
 #include <vector>
 
-#include "elastic/surface_gf.hpp"
-#include "interface/lfm.hpp"
-#include "interface/sincos.hpp"
-#include "minimize/minimizer.hpp"
-#include "minimize/relaxation.hpp"
-#include "slide/lfm_problem.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/interface/sincos.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
+#include "asperity/core/minimize/relaxation.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
 
 using namespace asperity;
 

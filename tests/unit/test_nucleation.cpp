@@ -11,11 +11,11 @@
 #include <tuple>
 #include <vector>
 
-#include "nucleation/comparison.hpp"
-#include "nucleation/regime_map.hpp"
-#include "nucleation/regime_three.hpp"
-#include "nucleation/regime_two.hpp"
-#include "nucleation/statistics.hpp"
+#include "asperity/nucleation/comparison.hpp"
+#include "asperity/nucleation/regime_map.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
+#include "asperity/nucleation/statistics.hpp"
 
 using namespace asperity::nucleation;
 

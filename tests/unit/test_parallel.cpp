@@ -10,11 +10,11 @@
 #include <thread>
 #include <vector>
 
-#include "common/parallel.hpp"
-#include "elastic/surface_gf.hpp"
-#include "interface/lfm.hpp"
-#include "minimize/minimizer.hpp"
-#include "slide/lfm_problem.hpp"
+#include "asperity/core/common/parallel.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/minimize/minimizer.hpp"
+#include "asperity/core/slide/lfm_problem.hpp"
 
 using namespace asperity;
 

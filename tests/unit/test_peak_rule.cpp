@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "slide/trace.hpp"
+#include "asperity/core/slide/trace.hpp"
 
 using namespace asperity;
 using slide::TraceRow;

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include "minimize/stiffness_minimizer.hpp"
-#include "peierls/cell.hpp"
-#include "peierls/fit.hpp"
-#include "peierls/scan.hpp"
+#include "asperity/core/minimize/stiffness_minimizer.hpp"
+#include "asperity/peierls/cell.hpp"
+#include "asperity/peierls/fit.hpp"
+#include "asperity/peierls/scan.hpp"
 
 using namespace asperity;
 using namespace asperity::peierls;

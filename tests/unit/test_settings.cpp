@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "common/settings.hpp"
-#include "interface/envelope.hpp"
-#include "interface/lfm.hpp"
-#include "slide/slider.hpp"
+#include "asperity/core/common/settings.hpp"
+#include "asperity/core/interface/envelope.hpp"
+#include "asperity/core/interface/lfm.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

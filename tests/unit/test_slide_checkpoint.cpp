@@ -24,8 +24,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/slide_checkpoint.hpp"
-#include "slide/slider.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 namespace asperity {
 namespace {

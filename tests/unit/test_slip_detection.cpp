@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "slide/slider.hpp"
+#include "asperity/core/slide/slider.hpp"
 
 using namespace asperity;
 

@@ -19,9 +19,9 @@
 
 #include "scratch.hpp"
 
-#include "common/output_files.hpp"
-#include "common/snapshot_io.hpp"
-#include "common/snapshot_sink.hpp"
+#include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/apps/common/snapshot_sink.hpp"
 
 namespace asperity::app {
 namespace {

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "elastic/influence.hpp"
-#include "elastic/surface_gf.hpp"
+#include "asperity/core/elastic/influence.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 
 using namespace asperity;
 using elastic::Components;

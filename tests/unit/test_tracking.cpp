@@ -5,10 +5,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "tracking/lines.hpp"
-#include "tracking/profile.hpp"
-#include "tracking/synthetic.hpp"
-#include "tracking/tracker.hpp"
+#include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
+#include "asperity/tracking/synthetic.hpp"
+#include "asperity/tracking/tracker.hpp"
 
 using namespace asperity;
 using namespace asperity::tracking;
