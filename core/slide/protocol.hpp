@@ -272,6 +272,7 @@ class ProtocolRun {
   // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
   // in Regime III, with a few larger partial slips of 0.58 to 0.84).
   static constexpr double kSweptSlip = 0.5;
+  static constexpr const char* kSlipLimit = "slip event limit reached (slide.max_slips)";
 
   // Where the next step goes: its tip position; whether it is a trial that is undone if it
   // slips (the adaptive protocol's steps and bisection); the window state it probes the cycle
@@ -595,6 +596,12 @@ class ProtocolRun {
         peak_held(res_.trace, best_, state_.Fx / state_.Fz, state_.Dx, d_,
                   options_.slips_to_stop)) {
       res_.stop_reason = "slip events reached";
+      return true;
+    }
+    // The user's bound on the slips (a long Regime III run): after the automatic rule, so that a
+    // peak that held at this slip is reported as established.
+    if (options_.max_slips > 0 && res_.slip_events >= options_.max_slips) {
+      res_.stop_reason = kSlipLimit;
       return true;
     }
     // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
@@ -971,9 +978,11 @@ class ProtocolRun {
     // static peak lies further on, mu is only a lower bound.
     // So is any peak when the automatic cap stopped a slide with slips: had the peak held, the
     // slide would have stopped at a slip before the cap (Regime III still hardening).
+    // So is a peak of a slide stopped by SlideOptions::max_slips before the peak had held.
     res_.mu_is_lower_bound =
         peak_->Dx == res_.trace.back().Dx ||
-        (automatic_ && res_.slip_events > 0 && res_.stop_reason == "distance cap reached");
+        (automatic_ && res_.slip_events > 0 && res_.stop_reason == "distance cap reached") ||
+        res_.stop_reason == kSlipLimit;
     res_.mu = best_;
     res_.peak_Dx = peak_->Dx;
     res_.Fz = peak_->Fz;

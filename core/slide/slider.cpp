@@ -369,6 +369,11 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
         settings::integer<O>(
             "slide.slips_to_stop", [](auto& o) -> auto& { return o.slips_to_stop; },
             R::closed(1, 1000), "", "automatic distance: slip events after the held peak"),
+        settings::integer<O>(
+            "slide.max_slips", [](auto& o) -> auto& { return o.max_slips; }, R::closed(0, 1000000),
+            "",
+            "stop at this slip event whatever the distance, mu then a lower bound (0: no limit)",
+            "--max-slips"),
         settings::boolean<O>(
             "slide.extrapolate", [](auto& o) -> auto& { return o.extrapolate; },
             "warm start each step by linear extrapolation along the branch"),

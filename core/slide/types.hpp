@@ -45,6 +45,8 @@ struct SlideOptions {
   double max_distance = 0.0;  // cap of the automatic distance (d); 0 = 3 d + 3 alpha Fz / k
   int slips_to_stop = 2;      // automatic distance: slip events after the peak (which must
                               // also have held over d) before the slide stops
+  int max_slips = 0;          // stop at this slip event, whatever the distance (0: no limit);
+                              // mu is then a lower bound: the bound on a long Regime III run
   bool extrapolate = true;    // warm start each step by linear extrapolation along the branch
   // Adaptive protocol: after a slip that moved at least half the contact, probe one period d
   // after an accepted state of the last period; if the probe equals that state carried on by d
