@@ -2,7 +2,8 @@
 // contact simulator or of a Peierls cell (MODEL.md section 7; tracking/). Frames of all files,
 // in the order given, form one sequence.
 //
-// Writes into --out: lines.json (every frame and its lines), events.csv (nucleation, growth,
+// Writes into --out: lines.json (every frame and its lines), lines_NNNN.vtk (the lines of frame
+// NNNN as VTK polylines, for ParaView: apps/common/vtk_lines.hpp), events.csv (nucleation, growth,
 // retreat, arrest, annihilation, merge, split, reconnection), frame_NNNN.png (tau_x / tau_max
 // over the contact with the lines drawn on top, coloured by character) and summary.json. With
 // --profiles, per plotted frame also the stress along x and along y through the tip centre
@@ -28,6 +29,7 @@
 #include "asperity/apps/common/peierls_summary.hpp"
 #include "asperity/apps/common/plot.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/apps/common/vtk_lines.hpp"
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/tracking/lines.hpp"
 #include "asperity/tracking/profile.hpp"
@@ -285,6 +287,38 @@ struct Tally {
   double detect_s = 0.0, detect_max_s = 0.0;
 };
 
+static_assert(static_cast<int>(tracking::LineKind::loop) == 0 &&
+                  static_cast<int>(tracking::LineKind::open) == 1 &&
+                  static_cast<int>(tracking::LineKind::wrapping) == 2,
+              "the kind codes of the VTK lines (apps/common/vtk_lines.hpp)");
+
+// lines_NNNN.vtk: the frame's lines as polylines, the same points, ids and angles as lines.json.
+void write_vtk(const fs::path& dir, const slide::Snapshot& s, int index,
+               const tracking::FrameLines& f, const std::vector<int>& ids) {
+  app::VtkLinesFrame v{
+      .frame = index, .iteration = s.iteration, .Dx = s.Dx, .title = {}, .lines = {}};
+  std::ostringstream title;
+  title << "asperity track_loops: frame " << index << ", " << s.label << ", iteration "
+        << s.iteration << ", Dx = " << s.Dx << " d: " << f.lines.size() << " line(s)";
+  v.title = title.str();
+  for (std::size_t j = 0; j < f.lines.size(); ++j) {
+    const tracking::Line& l = f.lines[j];
+    app::VtkPolyline p{.id = ids[j],
+                       .kind = static_cast<int>(l.kind),
+                       .closed = l.kind == tracking::LineKind::loop,
+                       .burgers_x = l.burgers * f.d,
+                       .length = l.length,
+                       .points = {},
+                       .angle_deg = l.angle_deg};
+    for (const auto& q : l.points)
+      p.points.push_back({q.x, q.y});
+    v.lines.push_back(std::move(p));
+  }
+  char name[32];
+  std::snprintf(name, sizeof name, "lines_%04d.vtk", index);
+  app::write_vtk_lines(dir / name, v);
+}
+
 // One frame: its lines found and followed (MODEL.md 7), its figures, and its entry of
 // lines.json.
 nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int index,
@@ -302,6 +336,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
     lines.push_back(line_json(f.lines[j], ids[j], f, o.track.centre_fraction));
     ++tally.kinds[tracking::to_string(f.lines[j].kind)];
   }
+  write_vtk(dir, s, index, f, ids);
   char name[32];
   std::snprintf(name, sizeof name, "frame_%04d.png", index);
   const bool plot = o.plot_every > 0 && index % o.plot_every == 0;
@@ -501,6 +536,15 @@ int main(int argc, char** argv) {
 
     const auto start = std::chrono::steady_clock::now();
     const fs::path dir = app::ensure_directory(out);
+    // The VTK files of an earlier, longer run in this folder would read as frames of this one
+    // (ParaView opens the numbered series whole).
+    std::vector<fs::path> stale;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.starts_with("lines_") && name.ends_with(".vtk")) stale.push_back(entry.path());
+    }
+    for (const auto& file : stale)
+      fs::remove(file);
     tracking::Tracker tracker(track);
     nlohmann::json frames_json = nlohmann::json::array(), inputs = nlohmann::json::array();
     std::vector<FrameInfo> info;
