@@ -60,6 +60,11 @@ const settings::Table<SlideScene>& SlideScene::settings() {
     t.push_back(settings::neutral(settings::integer<SlideScene>(
         "output.deflate", [](auto& s) -> auto& { return s.snapshot_format.deflate_level; },
         R::closed(0, 9), "", "NetCDF deflate level of the snapshots (0: none)")));
+    t.push_back(settings::neutral(settings::boolean<SlideScene>(
+        "output.xyz", [](auto& s) -> auto& { return s.snapshot_format.xyz; },
+        "also write every snapshot file as extended XYZ beside it (<label>.xyz, paths.xyz), "
+        "for ASE and OVITO (docs/viewers.md)",
+        "--xyz")));
     return t;
   }();
   return table;
@@ -332,7 +337,11 @@ nlohmann::json snapshot_attributes(const SlideScene& scene, const nlohmann::json
 SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene) {
   const double side = slide::block_side(scene.contact);
   // 8 fields and in_contact per site; the NetCDF header and per-frame scalars are small.
-  const double per_site = 8.0 * (scene.snapshot_format.single_precision ? 4.0 : 8.0) + 1.0;
+  const bool single = scene.snapshot_format.single_precision;
+  double per_site = 8.0 * (single ? 4.0 : 8.0) + 1.0;
+  // The extended XYZ copies (output.xyz), at most: 3 coordinates of up to 24 characters, 9
+  // fields of up to 15 (float) or 24, and the species, in_contact and registry columns.
+  if (scene.snapshot_format.xyz) per_site += 72.0 + 9.0 * (single ? 15.0 : 24.0) + 24.0;
   SnapshotBytes b;
   b.frame = per_site * side * side + 4096.0;
   b.slip = 2.0 * b.frame;

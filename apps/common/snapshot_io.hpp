@@ -28,6 +28,11 @@ namespace asperity::app {
 struct SnapshotFormat {
   bool single_precision = false;  // fields as 32-bit floats (7 digits; half the size)
   int deflate_level = 1;          // 0: uncompressed; 1 (fastest) .. 9 (smallest)
+  // Also each file as extended XYZ beside it (<label>.xyz, paths.xyz: xyz_io.hpp), for ASE and
+  // OVITO, which do not read these CF NetCDF files. Off by default: the text is about 4 times
+  // the size of a compressed float file. Honoured by the frame sinks (snapshot_sink.hpp), not by
+  // write_snapshots.
+  bool xyz = false;
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };

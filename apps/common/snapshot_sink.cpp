@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/xyz_io.hpp"
 
 namespace asperity::app {
 
@@ -15,6 +16,16 @@ namespace {
 // Holds the NetCDF mutex, if there is one, for a scope.
 std::unique_lock<std::mutex> hold(std::mutex* m) {
   return m ? std::unique_lock<std::mutex>(*m) : std::unique_lock<std::mutex>();
+}
+
+// <label>.xyz beside <label>.nc, from the frame in memory (no NetCDF call: no lock needed).
+fs::path xyz_beside(const fs::path& nc) {
+  return fs::path(nc).replace_extension(".xyz");
+}
+
+void write_xyz_state(const fs::path& nc, const slide::Snapshot& frame,
+                     const nlohmann::json& attributes, const SnapshotFormat& format) {
+  if (format.xyz) write_extended_xyz(xyz_beside(nc), {frame}, attributes, format.single_precision);
 }
 
 }  // namespace
@@ -39,7 +50,8 @@ std::string SnapshotSink::start(std::optional<double> resume_Dx) {
   const auto lock = hold(netcdf_);
   std::error_code ec;
   if (!resume_Dx) {
-    for (const char* name : {"paths.nc", "paths.nc.partial", "paths.nc.resumed", "paths.nc.copy"})
+    for (const char* name :
+         {"paths.nc", "paths.nc.partial", "paths.nc.resumed", "paths.nc.copy", "paths.xyz"})
       fs::remove(dir_ / name, ec);
     return {};
   }
@@ -102,6 +114,11 @@ void SnapshotSink::state(const slide::Snapshot& frame) {
   }
   count(file);
   written_.push_back(file);
+  if (format_.xyz) {
+    write_xyz_state(file, frame, attributes_, format_);
+    count(xyz_beside(file));
+    written_.push_back(xyz_beside(file));
+  }
   // A slip's path comes after its "after" state; the next state ends it: on disk now, so that
   // a process killed later leaves it readable.
   if (dirty_) flush();
@@ -173,6 +190,18 @@ void SnapshotSink::finish() {
   count(paths_file());
   written_.push_back(paths_file());
   dirty_ = false;
+  // From the finished file rather than frame by frame as the paths come: a resumed run drops
+  // the frames after its checkpoint from the NetCDF file (start()), which a text file appended
+  // to would have to mirror; converting once at the end reads one frame at a time.
+  if (format_.xyz) {
+    const fs::path xyz = xyz_beside(paths_file());
+    {
+      const auto lock = hold(netcdf_);
+      convert_snapshots_to_xyz(paths_file(), xyz, attributes_, format_.single_precision);
+    }
+    count(xyz);
+    written_.push_back(xyz);
+  }
 }
 
 LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, SnapshotFormat format,
@@ -185,9 +214,12 @@ std::string LargestSlipSink::start(std::optional<int> largest_so_far) {
   ensure_directory(dir_);
   std::error_code ec;
   fs::remove(dir_ / "peak.nc", ec);  // made again at the end
+  fs::remove(dir_ / "peak.xyz", ec);
   if (!largest_so_far) {
     fs::remove(before_file(), ec);
     fs::remove(after_file(), ec);
+    fs::remove(xyz_beside(before_file()), ec);
+    fs::remove(xyz_beside(after_file()), ec);
     largest_ = 0;
     return {};
   }
@@ -204,8 +236,11 @@ std::string LargestSlipSink::start(std::optional<int> largest_so_far) {
 
 void LargestSlipSink::state(const slide::Snapshot& frame) {
   const auto write = [&](const slide::Snapshot& f, const fs::path& file) {
-    const auto lock = hold(netcdf_);
-    write_snapshots(file, {f}, attributes_, format_);
+    {
+      const auto lock = hold(netcdf_);
+      write_snapshots(file, {f}, attributes_, format_);
+    }
+    write_xyz_state(file, f, attributes_, format_);
   };
   if (frame.label.ends_with("_before")) {
     before_ = frame;

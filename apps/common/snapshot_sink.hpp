@@ -9,6 +9,8 @@
 //   "slip_NNN_path". While the run goes on it is paths.nc.partial, closed after each path and at
 //   each checkpoint (flush()) and opened again for the next path; finish() renames it. A
 //   resumed run keeps the frames up to its checkpoint and appends.
+// - with SnapshotFormat::xyz, each file also as extended XYZ beside it (<label>.xyz when the
+//   state is written, paths.xyz from paths.nc at finish(): xyz_io.hpp), for ASE and OVITO.
 #pragma once
 
 #include <cstdint>
@@ -85,7 +87,7 @@ class SnapshotSink final : public slide::FrameSink {
 // keep their labels, "slip_NNN_before/after"), peak.nc. A larger slip replaces the pair, so
 // the disk and memory of a point stay one frame pair however many slips it takes (a Regime III
 // slide takes hundreds); the "before" state of every slip is held until its "after" arrives.
-// No relaxation paths.
+// No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
   LargestSlipSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
