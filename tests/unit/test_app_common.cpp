@@ -29,6 +29,8 @@
 #include "asperity/apps/common/point_runner.hpp"
 #include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
+#include "asperity/apps/common/vtk_lines.hpp"
+#include "asperity/apps/common/xyz_io.hpp"
 
 namespace asperity::app {
 namespace {
@@ -481,4 +483,84 @@ TEST(PointRunner, RunsEveryPointOnceAndStopsOnFailure) {
       },
       stop);
   EXPECT_EQ(started.load(), 10);
+}
+
+namespace {
+
+// A 2 x 3 block at lattice origin (5, -1) with the explicit model's u_z.
+asperity::slide::Snapshot xyz_frame() {
+  asperity::slide::Snapshot s;
+  s.label = "slip_001_after";
+  s.Dx = 1.25;
+  s.block.shape = {2, 3};
+  s.block.origin0 = 5;
+  s.block.origin1 = -1;
+  const std::size_t n = 6;
+  for (auto* f : {&s.ux, &s.uy, &s.sx, &s.sy, &s.tau_x, &s.tau_y, &s.tau_max, &s.pressure, &s.uz})
+    f->assign(n, 0.0);
+  s.in_contact.assign(n, 1);
+  s.ux[4] = 0.1;    // site (1, 1): X = 6, Y = 0
+  s.uz[4] = -0.03;  // the explicit model's normal displacement: the height of the site
+  s.sx[4] = -1.6;   // registry index -2
+  s.sy[4] = 0.4;    // 0
+  return s;
+}
+
+}  // namespace
+
+// The explicit model's frames carry u_z: it is the z of the positions and a column of its own,
+// and the registry index is round(s) (halves away from zero, as the slider counts slips).
+TEST(ExtendedXyz, ExplicitHeightRegistryAndHeader) {
+  const std::string text = asperity::app::extended_xyz_frame(
+      xyz_frame(), {{"model", "explicit"}, {"bad key", 1}}, false);
+  std::istringstream in(text);
+  std::string count, comment, line;
+  std::getline(in, count);
+  std::getline(in, comment);
+  EXPECT_EQ(count, "6");
+  EXPECT_NE(comment.find("Lattice=\"2 0 0 0 3 0 0 0 1\""), std::string::npos) << comment;
+  EXPECT_NE(comment.find(":pressure:R:1:uz:R:1:in_contact:I:1:registry_x:I:1"), std::string::npos)
+      << comment;
+  EXPECT_NE(comment.find("label=\"slip_001_after\""), std::string::npos) << comment;
+  EXPECT_NE(comment.find("model=\"explicit\""), std::string::npos) << comment;
+  EXPECT_EQ(comment.find("bad key"), std::string::npos) << "a key the format cannot carry";
+  for (int k = 0; k <= 4; ++k)
+    std::getline(in, line);
+  EXPECT_EQ(line, "X 6.1 0 -0.03 0.1 0 -1.6 0.4 0 0 0 0 -0.03 1 -2 0");
+}
+
+TEST(ExtendedXyz, RefusesAFieldOfTheWrongSize) {
+  asperity::slide::Snapshot s = xyz_frame();
+  s.tau_x.pop_back();
+  EXPECT_THROW((void)asperity::app::extended_xyz_frame(s, nullptr, true), std::invalid_argument);
+}
+
+// A loop is closed by its first point again, whose angle is the closing segment's; the counts
+// of the legacy format agree with the points.
+TEST(VtkLines, LoopClosedAndCounted) {
+  asperity::app::VtkLinesFrame f{
+      .frame = 3, .iteration = 40, .Dx = 0.5, .title = "t\nx", .lines = {}};
+  f.lines.push_back({.id = 7,
+                     .kind = 0,
+                     .closed = true,
+                     .burgers_x = -1.0,
+                     .length = 3.0,
+                     .points = {{0, 0}, {1, 0}, {0, 1}},
+                     .angle_deg = {0.0, 45.0, 90.0}});
+  f.lines.push_back({.id = 9,
+                     .kind = 1,
+                     .closed = false,
+                     .burgers_x = -1.0,
+                     .length = 1.0,
+                     .points = {{2, 2}, {2, 3}},
+                     .angle_deg = {80.0}});
+  const std::string text = asperity::app::vtk_lines_text(f);
+  EXPECT_NE(text.find("\nt x\n"), std::string::npos) << "one title line";
+  EXPECT_NE(text.find("POINTS 6 double\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("LINES 2 8\n4 0 1 2 3\n2 4 5\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("SCALARS character int 1\nLOOKUP_TABLE default\n0\n1\n2\n2\n2\n2\n"),
+            std::string::npos)
+      << text;
+  f.lines[1].angle_deg.push_back(10.0);  // an open line has one segment fewer than points
+  EXPECT_THROW((void)asperity::app::vtk_lines_text(f), std::invalid_argument);
 }
