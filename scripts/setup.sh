@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   libnetcdf-dev netcdf-bin libspectra-dev gnuplot-nox
   python3-xarray python3-netcdf4 python3-ase python3-vtk9 python3-pytest
+  pybind11-dev python3-pybind11
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -119,6 +119,14 @@ SlideScene read_slide_scene(const std::string& path, bool check_slips) {
   return s;
 }
 
+SlideScene read_slide_scene_text(std::string_view text, const std::string& source) {
+  auto reader = SceneReader::from_string(text, source);
+  SlideScene s = read_slide_keys(reader);
+  reader.reject_unknown();
+  check_relations(s, source);
+  return s;
+}
+
 SlideScene read_slide_scene(SceneReader& reader) {
   SlideScene s = read_slide_keys(reader);
   check_relations(s, reader.source_name());

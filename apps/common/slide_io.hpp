@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -55,6 +56,8 @@ void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip
 // out-of-range values throw std::invalid_argument naming the file, key, value and range.
 // check_slips = false leaves check_slip_relaxation to a caller that applies flags first.
 SlideScene read_slide_scene(const std::string& path, bool check_slips = true);
+// The same from TOML text (the Python package's scenes), `source` naming it in messages.
+SlideScene read_slide_scene_text(std::string_view text, const std::string& source);
 
 // Reads the slide-scene keys (contact, material, slide, solver, fft) from `reader` and checks
 // their relations, but leaves reject_unknown() to the caller: a tool whose scenes add tables of

@@ -1,0 +1,197 @@
+// asperity._asperity: the compiled half of the Python package (issue 25; python/asperity holds
+// the Python half). Scenes are read by the tools' own reader from the same keys (one
+// description per setting: SlideScene::settings()), slides run through slide::slide with the
+// GIL released, and results come back as the tools write them (slide_summary) plus the trace as
+// columns. A bad key or value raises ValueError with the reader's message (key, value, allowed
+// range); Ctrl-C stops a slide at its next poll and raises KeyboardInterrupt.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <toml++/toml.h>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
+#include "asperity/apps/common/slide_io.hpp"
+#include "asperity/apps/common/toml_reader.hpp"
+#include "asperity/core/slide/slider.hpp"
+
+namespace py = pybind11;
+using namespace asperity;
+
+namespace {
+
+const char* phase_name(slide::SlidePhase p) {
+  switch (p) {
+    case slide::SlidePhase::start:
+      return "start";
+    case slide::SlidePhase::accepted:
+      return "accepted";
+    case slide::SlidePhase::step:
+      return "step";
+    case slide::SlidePhase::bisection:
+      return "bisection";
+    case slide::SlidePhase::slip:
+      return "slip";
+    case slide::SlidePhase::probe:
+      return "probe";
+    case slide::SlidePhase::peak:
+      return "peak";
+  }
+  return "?";
+}
+
+// A Python value as TOML: bool, int, float, str and lists of them; dicts become tables.
+void put(toml::table& into, const std::string& key, const py::handle& value);
+
+toml::array to_array(const py::handle& list) {
+  toml::array out;
+  for (const py::handle item : list) {
+    if (py::isinstance<py::bool_>(item)) {
+      out.push_back(item.cast<bool>());
+    } else if (py::isinstance<py::int_>(item)) {
+      out.push_back(item.cast<long long>());
+    } else if (py::isinstance<py::float_>(item)) {
+      out.push_back(item.cast<double>());
+    } else if (py::isinstance<py::str>(item)) {
+      out.push_back(item.cast<std::string>());
+    } else {
+      throw py::value_error("scene: list items must be numbers, booleans or strings, not " +
+                            std::string(py::str(py::type::of(item))));
+    }
+  }
+  return out;
+}
+
+void put(toml::table& into, const std::string& key, const py::handle& value) {
+  // "contact.a": 30 is the same key as {"contact": {"a": 30}}.
+  if (const auto dot = key.find('.'); dot != std::string::npos) {
+    const std::string head = key.substr(0, dot);
+    if (!into.contains(head)) into.insert(head, toml::table{});
+    toml::table* sub = into[head].as_table();
+    if (!sub) throw py::value_error("scene: '" + head + "' is both a value and a table");
+    put(*sub, key.substr(dot + 1), value);
+    return;
+  }
+  if (py::isinstance<py::dict>(value)) {
+    if (!into.contains(key)) into.insert(key, toml::table{});
+    toml::table* sub = into[key].as_table();
+    if (!sub) throw py::value_error("scene: '" + key + "' is both a value and a table");
+    for (const auto& [k, v] : value.cast<py::dict>())
+      put(*sub, py::str(k), v);
+  } else if (py::isinstance<py::bool_>(value)) {
+    into.insert_or_assign(key, value.cast<bool>());
+  } else if (py::isinstance<py::int_>(value)) {
+    into.insert_or_assign(key, value.cast<long long>());
+  } else if (py::isinstance<py::float_>(value)) {
+    into.insert_or_assign(key, value.cast<double>());
+  } else if (py::isinstance<py::str>(value)) {
+    into.insert_or_assign(key, value.cast<std::string>());
+  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    into.insert_or_assign(key, to_array(value));
+  } else {
+    throw py::value_error("scene: key '" + key + "': unsupported value of type " +
+                          std::string(py::str(py::type::of(value))));
+  }
+}
+
+// The scene from TOML text, through the tools' reader: same keys, defaults and messages.
+app::SlideScene scene_from_toml(const std::string& text, const std::string& source) {
+  try {
+    return app::read_slide_scene_text(text, source);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+app::SlideScene scene_from_dict(const py::dict& d) {
+  toml::table t;
+  for (const auto& [k, v] : d)
+    put(t, py::str(k), v);
+  std::ostringstream text;
+  text << t;
+  return scene_from_toml(text.str(), "scene");
+}
+
+// The trace as columns (NumPy arrays), keyed as trace.csv's columns.
+py::dict trace_columns(const std::vector<slide::TraceRow>& trace) {
+  const auto column = [&](auto get) {
+    using T = decltype(get(trace.front()));
+    py::array_t<T> out(static_cast<py::ssize_t>(trace.size()));
+    auto m = out.template mutable_unchecked<1>();
+    for (std::size_t i = 0; i < trace.size(); ++i)
+      m(static_cast<py::ssize_t>(i)) = get(trace[i]);
+    return out;
+  };
+  py::dict c;
+  if (trace.empty()) return c;
+  c["Dx"] = column([](const slide::TraceRow& r) { return r.Dx; });
+  c["Fx"] = column([](const slide::TraceRow& r) { return r.Fx; });
+  c["Fz"] = column([](const slide::TraceRow& r) { return r.Fz; });
+  c["energy"] = column([](const slide::TraceRow& r) { return r.energy; });
+  c["iterations"] =
+      column([](const slide::TraceRow& r) { return static_cast<long long>(r.iterations); });
+  c["gf_applications"] =
+      column([](const slide::TraceRow& r) { return static_cast<long long>(r.gf_applications); });
+  c["max_force"] = column([](const slide::TraceRow& r) { return r.max_force; });
+  c["slip"] = column([](const slide::TraceRow& r) { return r.slip; });
+  c["slipped_sites"] =
+      column([](const slide::TraceRow& r) { return static_cast<long long>(r.slipped_sites); });
+  c["replayed"] = column([](const slide::TraceRow& r) { return r.replayed; });
+  return c;
+}
+
+// One slide of `scene`: summary.json's content (as JSON text) and the trace's columns. The GIL
+// is released while it runs; `progress` (or None) is called with a dict per report.
+py::tuple run_slide(const app::SlideScene& scene, const py::object& progress) {
+  bool interrupted = false;
+  slide::SlideControl control;
+  if (!progress.is_none()) {
+    control.progress = [&](const slide::SlideProgressInfo& info) {
+      py::gil_scoped_acquire gil;
+      if (interrupted) return;  // a KeyboardInterrupt is pending: no more Python calls
+      progress(py::dict(py::arg("phase") = phase_name(info.phase), py::arg("Dx") = info.Dx,
+                        py::arg("target_Dx") = info.target_Dx,
+                        py::arg("slip_events") = info.slip_events, py::arg("steps") = info.steps,
+                        py::arg("gf_applications") = info.gf_applications,
+                        py::arg("wall_s") = info.wall_s, py::arg("iteration") = info.iteration));
+    };
+  }
+  // Ctrl-C: Python's handler runs when polled; the slide then stops where it stands.
+  control.stop_requested = [&] {
+    py::gil_scoped_acquire gil;
+    if (!interrupted && PyErr_CheckSignals() != 0) interrupted = true;
+    return interrupted;
+  };
+  slide::SlideResult result;
+  {
+    py::gil_scoped_release release;
+    result = slide::slide(scene.contact, scene.options, control);
+  }
+  if (interrupted) throw py::error_already_set();
+  return py::make_tuple(app::slide_summary(scene, result).dump(), trace_columns(result.trace));
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_asperity, m) {
+  m.doc() = "asperity's compiled core: scenes, slides (see the asperity package)";
+  py::class_<app::SlideScene>(m, "SlideScene", "A validated slide scene (data/scenes/default.toml)")
+      .def(
+          "settings_json",
+          [](const app::SlideScene& s) {
+            return app::settings_echo(s, app::SlideScene::settings()).dump();
+          },
+          "Every setting of the scene, keyed as in a scene file, as JSON text");
+  m.def("scene_from_dict", &scene_from_dict, py::arg("scene"),
+        "A slide scene from a dict (nested tables or dotted keys), read as a scene file is");
+  m.def("scene_from_toml", &scene_from_toml, py::arg("text"), py::arg("source") = "scene",
+        "A slide scene from TOML text, read as a scene file is");
+  m.def("slide", &run_slide, py::arg("scene"), py::arg("progress") = py::none(),
+        "Runs a slide; returns (summary JSON text, trace columns)");
+  m.def("version", [] { return app::provenance_string(); });
+}

@@ -1,0 +1,77 @@
+"""The Python package against the tools (issue 25): same scenes, same numbers, same messages."""
+import json
+import os
+import pathlib
+import signal
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import asperity
+
+BIN = pathlib.Path(os.environ["ASPERITY_BIN"])
+SMALL = {"contact": {"a": 12, "R": 125}}  # Regime I, about a second
+
+
+def test_imports_from_any_folder(tmp_path):
+    # The README's line: PYTHONPATH set, Debian's interpreter, any working directory.
+    out = subprocess.run(["/usr/bin/python3", "-c", "import asperity; print(asperity.version())"],
+                         cwd=tmp_path, check=True, capture_output=True, text=True).stdout
+    assert out.startswith("asperity")
+
+
+def test_scene_defaults_and_dotted_keys_are_the_tools():
+    nested = asperity.Scene(SMALL).settings
+    dotted = asperity.Scene({"contact.a": 12, "contact.R": 125}).settings
+    assert nested == dotted
+    assert nested["contact.a"] == 12 and nested["solver.tolerance"] == 1e-05
+
+
+@pytest.mark.parametrize(
+    "settings, words",
+    [({"contact": {"a": -3}}, "contact.a = -3"),
+     ({"contact": {"aa": 3}}, "unknown key"),
+     ({"solver": {"method": "bfgs"}}, "solver.method"),
+     ({"contact": {"a": 600}}, "contact.R")])
+def test_bad_settings_raise_value_error_naming_the_key(settings, words):
+    with pytest.raises(ValueError, match=words):
+        asperity.Scene(settings)
+
+
+def test_slide_gives_the_tools_numbers(tmp_path):
+    result = asperity.slide(SMALL)
+    subprocess.run([BIN / "contact_slide", "--a", "12", "--R", "125", "--out", tmp_path],
+                   check=True, capture_output=True)
+    tool = json.loads((tmp_path / "summary.json").read_text())
+    assert result.mu == tool["mu"]  # the same code: bit for bit
+    assert result.mu_over_alpha == tool["mu_over_alpha"]
+    trace = np.genfromtxt(tmp_path / "trace.csv", delimiter=",", names=True)
+    np.testing.assert_array_equal(result.trace["Dx"], trace["Dx"])
+    np.testing.assert_array_equal(result.trace["Fx"], trace["Fx"])
+    assert result.trace["slip"].dtype == bool
+
+
+def test_progress_is_called_and_phases_are_named():
+    seen = []
+    asperity.slide(SMALL, progress=seen.append)
+    assert seen[0]["phase"] == "start"
+    assert any(r["phase"] == "accepted" for r in seen)
+    assert all(seen[i]["Dx"] <= seen[i + 1]["Dx"] for i in range(len(seen) - 1))
+
+
+def test_ctrl_c_stops_the_slide_with_keyboard_interrupt():
+    # SIGINT while the slide runs in C++ without the GIL: the slide polls Python's handler and
+    # stops where it stands, well before the uninterrupted slide's end (a = 43 d, R = 535 d:
+    # about two seconds, 9 computed steps).
+    scene = asperity.Scene({"contact": {"a": 43, "R": 535}})
+    full = []
+    asperity.slide(scene, progress=lambda r: full.append(r["phase"]))
+    cut = []
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        asperity.slide(scene, progress=lambda r: cut.append(r["phase"]))
+    timer.join()
+    assert cut.count("accepted") < full.count("accepted")
