@@ -45,58 +45,63 @@ const char* phase_name(slide::SlidePhase p) {
   return "?";
 }
 
-// A Python value as TOML: bool, int, float, str and lists of them; dicts become tables.
-void put(toml::table& into, const std::string& key, const py::handle& value);
-
-toml::array to_array(const py::handle& list) {
-  toml::array out;
-  for (const py::handle item : list) {
-    if (py::isinstance<py::bool_>(item)) {
-      out.push_back(item.cast<bool>());
-    } else if (py::isinstance<py::int_>(item)) {
-      out.push_back(item.cast<long long>());
-    } else if (py::isinstance<py::float_>(item)) {
-      out.push_back(item.cast<double>());
-    } else if (py::isinstance<py::str>(item)) {
-      out.push_back(item.cast<std::string>());
-    } else {
-      throw py::value_error("scene: list items must be numbers, booleans or strings, not " +
-                            std::string(py::str(py::type::of(item))));
-    }
+// A Python scalar handed to `take` as the TOML value it reads as (bool, integer, float,
+// string); false if it is none of them.
+template <class Take>
+bool take_scalar(const py::handle& value, Take&& take) {
+  if (py::isinstance<py::bool_>(value)) {
+    take(value.cast<bool>());
+  } else if (py::isinstance<py::int_>(value)) {
+    take(value.cast<long long>());
+  } else if (py::isinstance<py::float_>(value)) {
+    take(value.cast<double>());
+  } else if (py::isinstance<py::str>(value)) {
+    take(value.cast<std::string>());
+  } else {
+    return false;
   }
-  return out;
+  return true;
 }
 
+std::string type_name(const py::handle& value) {
+  return py::str(py::type::of(value));
+}
+
+// The table `key` of `into`, made if missing.
+toml::table& subtable(toml::table& into, const std::string& key) {
+  if (!into.contains(key)) into.insert(key, toml::table{});
+  toml::table* sub = into[key].as_table();
+  if (!sub) throw py::value_error("scene: '" + key + "' is both a value and a table");
+  return *sub;
+}
+
+// A Python value as TOML: scalars and lists of them; dicts become tables, and a dotted key
+// ("contact.a": 30) is the same key as {"contact": {"a": 30}}.
 void put(toml::table& into, const std::string& key, const py::handle& value) {
-  // "contact.a": 30 is the same key as {"contact": {"a": 30}}.
   if (const auto dot = key.find('.'); dot != std::string::npos) {
-    const std::string head = key.substr(0, dot);
-    if (!into.contains(head)) into.insert(head, toml::table{});
-    toml::table* sub = into[head].as_table();
-    if (!sub) throw py::value_error("scene: '" + head + "' is both a value and a table");
-    put(*sub, key.substr(dot + 1), value);
+    put(subtable(into, key.substr(0, dot)), key.substr(dot + 1), value);
     return;
   }
   if (py::isinstance<py::dict>(value)) {
-    if (!into.contains(key)) into.insert(key, toml::table{});
-    toml::table* sub = into[key].as_table();
-    if (!sub) throw py::value_error("scene: '" + key + "' is both a value and a table");
+    toml::table& sub = subtable(into, key);
     for (const auto& [k, v] : value.cast<py::dict>())
-      put(*sub, py::str(k), v);
-  } else if (py::isinstance<py::bool_>(value)) {
-    into.insert_or_assign(key, value.cast<bool>());
-  } else if (py::isinstance<py::int_>(value)) {
-    into.insert_or_assign(key, value.cast<long long>());
-  } else if (py::isinstance<py::float_>(value)) {
-    into.insert_or_assign(key, value.cast<double>());
-  } else if (py::isinstance<py::str>(value)) {
-    into.insert_or_assign(key, value.cast<std::string>());
-  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
-    into.insert_or_assign(key, to_array(value));
-  } else {
-    throw py::value_error("scene: key '" + key + "': unsupported value of type " +
-                          std::string(py::str(py::type::of(value))));
+      put(sub, py::str(k), v);
+    return;
   }
+  if (take_scalar(value, [&](auto v) { into.insert_or_assign(key, std::move(v)); })) return;
+  if (!py::isinstance<py::list>(value) && !py::isinstance<py::tuple>(value)) {
+    throw py::value_error("scene: key '" + key + "': unsupported value of type " +
+                          type_name(value));
+  }
+  toml::array list;
+  for (const py::handle item : value) {
+    if (!take_scalar(item, [&](auto v) { list.push_back(std::move(v)); })) {
+      throw py::value_error("scene: key '" + key +
+                            "': list items must be numbers, booleans or strings, not " +
+                            type_name(item));
+    }
+  }
+  into.insert_or_assign(key, std::move(list));
 }
 
 // The scene from TOML text, through the tools' reader: same keys, defaults and messages.
