@@ -12,7 +12,7 @@ packages=(
   libeigen3-dev libfftw3-dev libsundials-dev libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   libnetcdf-dev netcdf-bin libspectra-dev gnuplot-nox
-  python3-xarray python3-netcdf4 python3-ase python3-vtk9 python3-pytest
+  python3-xarray python3-netcdf4 python3-ase python3-vtk9 python3-pytest python3-matplotlib
   pybind11-dev python3-pybind11
 )
 missing=()
