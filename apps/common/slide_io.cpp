@@ -111,20 +111,26 @@ void check_relations(const SlideScene& s, const std::string& path, bool check_sl
 
 }  // namespace
 
-SlideScene read_slide_scene(const std::string& path, bool check_slips) {
-  auto reader = SceneReader::from_file(path);
+namespace {
+
+// A whole document as a slide scene: its keys, nothing else, and their relations.
+SlideScene read_whole_slide_scene(SceneReader& reader, bool check_slips) {
   SlideScene s = read_slide_keys(reader);
   reader.reject_unknown();
-  check_relations(s, path, check_slips);
+  check_relations(s, reader.source_name(), check_slips);
   return s;
+}
+
+}  // namespace
+
+SlideScene read_slide_scene(const std::string& path, bool check_slips) {
+  auto reader = SceneReader::from_file(path);
+  return read_whole_slide_scene(reader, check_slips);
 }
 
 SlideScene read_slide_scene_text(std::string_view text, const std::string& source) {
   auto reader = SceneReader::from_string(text, source);
-  SlideScene s = read_slide_keys(reader);
-  reader.reject_unknown();
-  check_relations(s, source);
-  return s;
+  return read_whole_slide_scene(reader, true);
 }
 
 SlideScene read_slide_scene(SceneReader& reader) {

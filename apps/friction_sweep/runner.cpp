@@ -112,6 +112,8 @@ class SweepRunner {
 
  private:
   const SweepPoint& point_of(const Job& j) const { return j.x ? xpoints_[j.k] : points_[j.k]; }
+  // The fingerprint of the table a job's row goes to.
+  const std::string& row_settings(const Job& j) const { return j.x ? settings_x_ : settings_; }
 
   // The points without a row, cheapest first (cost grows as the a^2 contact sites): results
   // start arriving at once.
@@ -309,13 +311,12 @@ class SweepRunner {
     SlideScene ps = s_.base;
     ps.contact.a = point.a;
     ps.contact.R = point.R;
-    const std::string& row_settings = job.x ? settings_x_ : settings_;
     try {
       if (auto row = slide_point(job, point, ps)) record(job, std::move(*row));
     } catch (const std::exception& e) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      record(job, error_row(ps, e.what(), seconds, row_settings));
+      record(job, error_row(ps, e.what(), seconds, row_settings(job)));
     }
   }
 
@@ -384,7 +385,7 @@ class SweepRunner {
     }
     std::error_code ec;
     fs::remove(checkpoint_file, ec);  // the row is final
-    return sweep_row(ps, result, job.x ? settings_x_ : settings_);
+    return sweep_row(ps, result, row_settings(job));
   }
 
   const SweepScene& s_;

@@ -39,15 +39,11 @@ bool close(double x, double y) {
   return std::abs(x - y) <= 1e-9 * std::max(std::abs(x), std::abs(y));
 }
 
+// Each value is checked by its row (SweepScene::settings(): finite, > 0); what a row cannot say
+// is that its list must not be empty.
 void check_list(const ValueList& list) {
   if (list.values.empty()) {
-    throw std::invalid_argument(list.key + ": empty list: give at least one value");
-  }
-  for (std::size_t i = 0; i < list.values.size(); ++i) {
-    const double v = list.values[i];
-    if (!std::isfinite(v) || !(v > 0.0)) {
-      throw std::invalid_argument(element(list, i) + " = " + format_number(v) + ": allowed: > 0");
-    }
+    throw std::invalid_argument(list.key + ": missing or empty: give at least one value");
   }
 }
 
@@ -121,9 +117,9 @@ void SweepScene::validate() const {
                                 "a/b_core^0)");
   }
   if (!a && !a_over_bcore0) {
-    throw std::invalid_argument(source +
-                                ": [sweep]: missing a or a_over_bcore0: give exactly one of "
-                                "them (contact radii (d) or targets of a/b_core^0)");
+    throw std::invalid_argument(
+        "[sweep]: missing a or a_over_bcore0: give exactly one of them (contact radii (d) or "
+        "targets of a/b_core^0)");
   }
   check_list(a ? *a : *a_over_bcore0);
 }
@@ -149,12 +145,12 @@ SweepScene read_sweep_scene(const std::string& path) {
   s.source = path;
   s.base = read_slide_scene(r);
   r.read(SweepScene::settings(), s);
-  if (s.R.values.empty()) {
-    throw std::invalid_argument(
-        path + ": sweep.R: missing or empty: give the sphere radii (d), e.g. R = [535]");
-  }
   r.reject_unknown();
-  s.validate();
+  try {
+    s.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());  // named by the file, as the reader does
+  }
   return s;
 }
 

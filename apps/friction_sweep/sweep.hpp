@@ -34,7 +34,7 @@ struct ValueList {
 struct SweepScene {
   std::string source;                      // scene file
   SlideScene base;                         // settings shared by all points; a and R set per point
-  ValueList R;                             // sphere radii (d)
+  ValueList R{{}, "sweep.R"};              // sphere radii (d)
   std::optional<ValueList> a;              // contact radii (d); exactly one of a, a_over_bcore0
   std::optional<ValueList> a_over_bcore0;  // targets of the control parameter a / b_core^0
   int jobs = 0;               // points run at once; 0: max(1, hardware threads / fft.threads)

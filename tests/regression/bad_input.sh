@@ -109,6 +109,7 @@ check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
 
 fs=friction_sweep
 check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
+check $fs "sweep.R: missing" "$(scene w0 <<<$'[sweep]\na = [5]')"
 check $fs "give exactly one" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
 check $fs "sweep.a" "$(scene w3 <<<$'[sweep]\nR = [535]\na = [-1]')"
 check $fs "contact.a" "$(scene w4 <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na = 5')"
