@@ -113,33 +113,56 @@ void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attribu
 
 }  // namespace
 
-// Reads the per-site fields of frame k (a block of n0 x n1 sites) into `frame`. Snapshots hold
+// The files store fields as (frame, y, x), y slow, so that VTK's CF reader (ParaView) takes the
+// file's last dimension, x, for its x axis; blocks hold sites x slow (Shape2). Files written
+// before hold (frame, x, y): the readers take both, told apart by the dimensions of 'ux'.
+// Tiled so that a large block (4096^2 sites: 128 MiB a field) does not miss the cache on
+// every write: out[c * rows + r] = in[r * cols + c].
+template <class T>
+void transpose(const T* in, std::size_t rows, std::size_t cols, T* out) {
+  constexpr std::size_t kTile = 32;
+  for (std::size_t r0 = 0; r0 < rows; r0 += kTile) {
+    for (std::size_t c0 = 0; c0 < cols; c0 += kTile) {
+      const std::size_t r1 = std::min(rows, r0 + kTile), c1 = std::min(cols, c0 + kTile);
+      for (std::size_t r = r0; r < r1; ++r) {
+        for (std::size_t c = c0; c < c1; ++c)
+          out[c * rows + r] = in[r * cols + c];
+      }
+    }
+  }
+}
+
+// Reads the per-site fields of frame k (a block of n0 x n1 sites) into `frame`, from a file
+// whose fields are (frame, y, x) (`y_major`) or (frame, x, y). Snapshots hold
 // converged, finite states (a failed run saves its last good one): a non-finite value means a
 // damaged file, which would otherwise pass as an empty frame.
 template <class Error>
 void read_fields(const Dataset<Error>& in, int id, const std::array<int, kFields.size()>& fields,
                  int in_contact, int uz, std::size_t k, std::size_t n0, std::size_t n1,
-                 Snapshot& frame) {
+                 bool y_major, Snapshot& frame) {
   const auto finite = [&](const std::vector<double>& values, const char* name) {
     if (!std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
       in.fail(std::string("non-finite values in '") + name + "' of frame " + std::to_string(k));
   };
-  const std::size_t start[] = {k, 0, 0}, count[] = {1, n0, n1};
-  for (std::size_t f = 0; f < kFields.size(); ++f) {
-    std::vector<double>& values = frame.*kFields[f].values;
+  const std::size_t start[] = {k, 0, 0};
+  const std::size_t count[] = {1, y_major ? n1 : n0, y_major ? n0 : n1};
+  std::vector<double> file_order(y_major ? n0 * n1 : 0);
+  const auto get = [&](int var, const char* name, std::vector<double>& values) {
     values.resize(n0 * n1);
-    in.check(nc_get_vara_double(id, fields[f], start, count, values.data()),
-             std::string("reading '") + kFields[f].name + "'");
-    finite(values, kFields[f].name);
-  }
+    in.check(nc_get_vara_double(id, var, start, count, y_major ? file_order.data() : values.data()),
+             std::string("reading '") + name + "'");
+    if (y_major) transpose(file_order.data(), n1, n0, values.data());
+    finite(values, name);
+  };
+  for (std::size_t f = 0; f < kFields.size(); ++f)
+    get(fields[f], kFields[f].name, frame.*kFields[f].values);
   frame.in_contact.resize(n0 * n1);
-  in.check(nc_get_vara_uchar(id, in_contact, start, count, frame.in_contact.data()),
+  std::vector<unsigned char> contact_order(y_major ? n0 * n1 : 0);
+  in.check(nc_get_vara_uchar(id, in_contact, start, count,
+                             y_major ? contact_order.data() : frame.in_contact.data()),
            "reading 'in_contact'");
-  if (uz >= 0) {
-    frame.uz.resize(n0 * n1);
-    in.check(nc_get_vara_double(id, uz, start, count, frame.uz.data()), "reading 'uz'");
-    finite(frame.uz, "uz");
-  }
+  if (y_major) transpose(contact_order.data(), n1, n0, frame.in_contact.data());
+  if (uz >= 0) get(uz, "uz", frame.uz);
 }
 
 // Frames are written and read as whole chunks, once each: HDF5's cache of chunks (16 MiB per
@@ -163,10 +186,26 @@ void SnapshotFormat::validate() const {
 struct SnapshotAppender::Layout {
   int frame_dim = -1, x_dim = -1, y_dim = -1, label_dim = -1;
   int label = -1, iteration = -1, origin_x = -1, origin_y = -1, in_contact = -1, uz = -1;
+  int frame_index = -1;  // the frame coordinate (VTK's time axis); absent in older files
   std::array<int, kScalars.size()> scalars{};
   std::array<int, kFields.size()> fields{};
   std::size_t n0 = 0, n1 = 0, label_length = 0;
+  bool y_major = true;  // fields (frame, y, x); false: an older file's (frame, x, y)
+  // One frame's field in the file's order, reused by every write.
+  std::vector<double> values;
+  std::vector<unsigned char> flags;
 };
+
+namespace {
+// Whether the field `var` of an open file is stored (frame, y, x) rather than (frame, x, y).
+template <class Error>
+bool fields_y_major(const Dataset<Error>& in, int id, int var, int y_dim) {
+  std::array<int, NC_MAX_VAR_DIMS> dims{};
+  int ndims = 0;
+  in.check(nc_inq_var(id, var, nullptr, nullptr, &ndims, dims.data(), nullptr), "field layout");
+  return ndims == 3 && dims[1] == y_dim;
+}
+}  // namespace
 
 SnapshotAppender::SnapshotAppender(fs::path nc, nlohmann::json attributes, SnapshotFormat format,
                                    std::size_t label_length, std::size_t frames)
@@ -218,6 +257,8 @@ SnapshotAppender SnapshotAppender::open(const fs::path& nc) {
   for (std::size_t f = 0; f < kFields.size(); ++f)
     l.fields[f] = var(kFields[f].name);
   if (nc_inq_varid(a.id_, "uz", &l.uz) != NC_NOERR) l.uz = -1;
+  if (nc_inq_varid(a.id_, "frame", &l.frame_index) != NC_NOERR) l.frame_index = -1;
+  l.y_major = fields_y_major(out, a.id_, l.fields[0], l.y_dim);
   for (const int v : l.fields)
     no_chunk_cache(out, a.id_, v, "field");
   no_chunk_cache(out, a.id_, l.in_contact, "in_contact");
@@ -293,8 +334,8 @@ void SnapshotAppender::define(const Snapshot& first) {
   // exponents: the sites off the contact are zeros, and tau_max and pressure change slowly.
   const auto field = [&](const std::string& name, nc_type type, const std::string& units,
                          const std::string& long_name) {
-    const int v = define(name, type, {l.frame_dim, l.x_dim, l.y_dim}, units, long_name);
-    const std::size_t chunk[] = {1, l.n0, l.n1};
+    const int v = define(name, type, {l.frame_dim, l.y_dim, l.x_dim}, units, long_name);
+    const std::size_t chunk[] = {1, l.n1, l.n0};
     o.check(nc_def_var_chunking(id_, v, NC_CHUNKED, chunk), "chunking '" + name + "'");
     no_chunk_cache(o, id_, v, name);
     if (format_.deflate_level > 0) {
@@ -304,13 +345,21 @@ void SnapshotAppender::define(const Snapshot& first) {
     return v;
   };
   l.frame_dim = dim("frame", fixed_frames_ > 0 ? fixed_frames_ : NC_UNLIMITED);
-  l.x_dim = dim("x", l.n0);
   l.y_dim = dim("y", l.n1);
+  l.x_dim = dim("x", l.n0);
   l.label_dim = dim("label_length", l.label_length);
-  const int x_var = define("x", NC_DOUBLE, {l.x_dim}, "d", "x of the first frame's sites");
-  put_text(o, id_, x_var, "axis", "X");
-  const int y_var = define("y", NC_DOUBLE, {l.y_dim}, "d", "y of the first frame's sites");
-  put_text(o, id_, y_var, "axis", "Y");
+  // Coordinates as VTK's CF reader (ParaView's) takes them with its default settings (issue
+  // 25): it reads axis "X"/"Y" as longitude/latitude (a grid on a sphere) and the unit "d" as
+  // days (a time axis), so the sites' coordinates carry neither: units "1", in lattice
+  // spacings. The frame index is the time axis (axis "T"): a field is then a 2D grid per frame,
+  // and the per-frame numbers no longer decide which variables the reader loads.
+  l.frame_index =
+      per_frame("frame", NC_INT, "1", "frame index: the file's sequence of states, not a time");
+  put_text(o, id_, l.frame_index, "axis", "T");
+  const int x_var =
+      define("x", NC_DOUBLE, {l.x_dim}, "1", "x of the first frame's sites, in lattice spacings d");
+  const int y_var =
+      define("y", NC_DOUBLE, {l.y_dim}, "1", "y of the first frame's sites, in lattice spacings d");
   l.label = define("label", NC_CHAR, {l.frame_dim, l.label_dim}, "1", "snapshot label");
   if (fixed_frames_ > 0) contiguous(l.label, "label");
   put_text(o, id_, l.label, "_Encoding", "utf-8");
@@ -370,7 +419,7 @@ void SnapshotAppender::append(const Snapshot& frame) {
     validate({frame}, nullptr, context);
     define(frame);
   }
-  const Layout& l = *layout_;
+  Layout& l = *layout_;
   const Writer out(context);
   const auto invalid = [&](const std::string& problem) {
     throw std::invalid_argument(context + "frame " + std::to_string(frames_) + ": " + problem);
@@ -413,16 +462,32 @@ void SnapshotAppender::append(const Snapshot& frame) {
     out.check(nc_put_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
               std::string("writing '") + kScalars[s].name + "'");
   }
-  const std::size_t start[] = {k, 0, 0}, count[] = {1, l.n0, l.n1};
-  for (std::size_t f = 0; f < kFields.size(); ++f) {
-    out.check(nc_put_vara_double(id_, l.fields[f], start, count, (frame.*kFields[f].values).data()),
-              std::string("writing '") + kFields[f].name + "'");
+  if (l.frame_index >= 0) {
+    const int index = static_cast<int>(k);
+    out.check(nc_put_vara_int(id_, l.frame_index, at, one, &index), "writing 'frame'");
   }
-  out.check(nc_put_vara_uchar(id_, l.in_contact, start, count, frame.in_contact.data()),
-            "writing 'in_contact'");
-  if (l.uz >= 0) {
-    out.check(nc_put_vara_double(id_, l.uz, start, count, frame.uz.data()), "writing 'uz'");
+  const std::size_t start[] = {k, 0, 0};
+  const std::size_t count[] = {1, l.y_major ? l.n1 : l.n0, l.y_major ? l.n0 : l.n1};
+  // In the file's order (transpose()); an older file's fields are appended as they are.
+  const auto put = [&](int var, const std::vector<double>& values, const std::string& name) {
+    const double* data = values.data();
+    if (l.y_major) {
+      l.values.resize(sites);
+      transpose(values.data(), l.n0, l.n1, l.values.data());
+      data = l.values.data();
+    }
+    out.check(nc_put_vara_double(id_, var, start, count, data), "writing '" + name + "'");
+  };
+  for (std::size_t f = 0; f < kFields.size(); ++f)
+    put(l.fields[f], frame.*kFields[f].values, kFields[f].name);
+  const unsigned char* flags = frame.in_contact.data();
+  if (l.y_major) {
+    l.flags.resize(sites);
+    transpose(frame.in_contact.data(), l.n0, l.n1, l.flags.data());
+    flags = l.flags.data();
   }
+  out.check(nc_put_vara_uchar(id_, l.in_contact, start, count, flags), "writing 'in_contact'");
+  if (l.uz >= 0) put(l.uz, frame.uz, "uz");
   ++frames_;
 }
 
@@ -445,7 +510,7 @@ Snapshot SnapshotAppender::read(std::size_t k) const {
     in.check(nc_get_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
              std::string("reading '") + kScalars[s].name + "'");
   }
-  read_fields(in, id_, l.fields, l.in_contact, l.uz, k, l.n0, l.n1, frame);
+  read_fields(in, id_, l.fields, l.in_contact, l.uz, k, l.n0, l.n1, l.y_major, frame);
   return frame;
 }
 
@@ -539,7 +604,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
                        std::to_string(n) + " frame labels, as its header says");
 
   // Looks up a variable and checks its dimensions, so that reads cannot overrun the buffers.
-  const auto var = [&](const std::string& name, std::initializer_list<int> dims) {
+  const auto var = [&](const std::string& name, const std::vector<int>& dims) {
     int v = -1, ndims = -1;
     if (nc_inq_varid(in.id, name.c_str(), &v) != NC_NOERR)
       in.fail("variable '" + name + "' missing");
@@ -550,6 +615,12 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
       in.fail("variable '" + name + "' has unexpected dimensions");
     return v;
   };
+  // Fields (frame, y, x), or (frame, x, y) in files written before (transpose()).
+  int ux = -1;
+  if (nc_inq_varid(in.id, "ux", &ux) != NC_NOERR) in.fail("variable 'ux' missing");
+  const bool y_major = fields_y_major(in, in.id, ux, y_dim);
+  const std::vector<int> field_dims = y_major ? std::vector<int>{frame_dim, y_dim, x_dim}
+                                              : std::vector<int>{frame_dim, x_dim, y_dim};
   if (out == nullptr) {
     var("label", {frame_dim, label_dim});
     for (const char* name : {"iteration", "origin_x", "origin_y"})
@@ -557,8 +628,8 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
     for (const Scalar& sc : kScalars)
       var(sc.name, {frame_dim});
     for (const Field& f : kFields)
-      var(f.name, {frame_dim, x_dim, y_dim});
-    var("in_contact", {frame_dim, x_dim, y_dim});
+      var(f.name, field_dims);
+    var("in_contact", field_dims);
     return n;
   }
   const auto get_ints = [&](const std::string& name) {
@@ -596,7 +667,6 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
     if (only_label.empty() || frames[k].label == only_label) selected.push_back(k);
   }
   if (!only_label.empty()) check_memory(selected.size(), "'" + only_label + "' ");
-  const std::initializer_list<int> field_dims{frame_dim, x_dim, y_dim};
   std::array<int, kFields.size()> field_vars{};
   for (std::size_t f = 0; f < kFields.size(); ++f)
     field_vars[f] = var(kFields[f].name, field_dims);
@@ -610,7 +680,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
   out->clear();
   out->reserve(selected.size());
   for (const std::size_t k : selected) {
-    read_fields(in, in.id, field_vars, contact_var, uz_var, k, n0, n1, frames[k]);
+    read_fields(in, in.id, field_vars, contact_var, uz_var, k, n0, n1, y_major, frames[k]);
     out->push_back(std::move(frames[k]));
   }
   return n;

@@ -2,15 +2,23 @@
 // xarray, ParaView and track_loops.
 //
 // Layout: dimensions frame (unlimited, where a file grows frame by frame: paths.nc; fixed in
-// a file written whole: the states), x (n0), y (n1), label_length. Per frame: label(frame,
-// label_length) (text), iteration, origin_x, origin_y (int), Dx, Fx, Fz, energy (double). Fields
-// (frame, x, y): ux, uy, sx, sy, tau_x, tau_y, tau_max, pressure (double, or float with
-// SnapshotFormat::single_precision), in_contact (byte), and uz when the frames carry it (explicit
-// model); each chunked by frame and compressed (shuffle + deflate). Coordinates x(x), y(y) in units
-// of d are those of the first frame's block; the block may follow the tip, so site (i, j) of frame
-// k is at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
+// a file written whole: the states), y (n1), x (n0), label_length. Per frame: frame (the frame
+// index, axis "T"), label(frame, label_length) (text), iteration, origin_x, origin_y (int), Dx,
+// Fx, Fz, energy (double). Fields (frame, y, x), x fastest: ux, uy, sx, sy, tau_x, tau_y,
+// tau_max, pressure (double, or float with SnapshotFormat::single_precision), in_contact (byte),
+// and uz when the frames carry it (explicit model); each chunked by frame and compressed
+// (shuffle + deflate). Coordinates x(x), y(y) in lattice spacings d (units "1": see below) are
+// those of the first frame's block; the block may follow the tip, so site (i, j) of frame k is
+// at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
 // stresses G, forces G d^2, energy G d^3) and `long_name`; the global attribute field_precision
 // says float32 or float64.
+//
+// The layout is the one VTK's CF reader (ParaView's) reads right with its default settings
+// (issue 25; tests/regression/test_netcdf_vtk.py): a flat grid with x along VTK's x, one time
+// step per frame, every field as point data. Hence the field order, the frame index as the time
+// axis, and coordinates without axis "X"/"Y" (longitude/latitude to VTK) or unit "d" (days to
+// udunits and VTK). The readers also take the files written before, whose fields are
+// (frame, x, y) and which have no frame variable.
 #pragma once
 
 #include <filesystem>

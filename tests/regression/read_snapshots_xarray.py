@@ -21,7 +21,7 @@ with xr.open_dataset(f"{snapshots}/paths.nc") as paths, xr.open_dataset(
     labels = [str(v) for v in paths["label"].values.astype(str)]
     assert set(labels) == {"slip_001_path"}, set(labels)
     for name in ("ux", "uy", "sx", "sy", "tau_x", "tau_y", "tau_max", "pressure", "in_contact"):
-        assert paths[name].dims == ("frame", "x", "y"), (name, paths[name].dims)
+        assert paths[name].dims == ("frame", "y", "x"), (name, paths[name].dims)
         assert "units" in paths[name].attrs and "long_name" in paths[name].attrs, name
         assert paths[name].encoding.get("zlib") and paths[name].encoding.get("shuffle"), name
     assert paths["ux"].attrs["units"] == "d" and paths["tau_x"].attrs["units"] == "G"

@@ -38,6 +38,12 @@ def registry(s):
     return (np.sign(s) * np.floor(np.abs(s) + 0.5)).astype(int)
 
 
+def sites(ds, name, k):
+    """Frame k of field `name` in the order of the XYZ atoms: block sites, x slow (the .nc stores
+    (frame, y, x), as VTK's CF reader takes a grid)."""
+    return ds[name].transpose("frame", "x", "y").values[k].ravel()
+
+
 @pytest.mark.parametrize("nc", nc_files(), ids=os.path.basename)
 def test_ase_reads_the_same_frames(nc):
     frames = ase.io.read(os.path.splitext(nc)[0] + ".xyz", index=":", format="extxyz")
@@ -59,22 +65,22 @@ def test_ase_reads_the_same_frames(nc):
             assert not atoms.pbc.any()
             assert np.allclose(np.diag(atoms.cell), [n0, n1, 1.0])
             for name in FIELDS + (("uz",) if "uz" in ds else ()):
-                want = ds[name].values[k].ravel()  # (x, y): block-major, as the sites
+                want = sites(ds, name, k)
                 got = atoms.arrays[name].astype(dtype)
                 assert got.dtype == want.dtype
                 assert np.array_equal(got, want), (name, np.abs(got - want).max())
-            assert np.array_equal(atoms.arrays["in_contact"], ds["in_contact"].values[k].ravel())
+            assert np.array_equal(atoms.arrays["in_contact"], sites(ds, "in_contact", k))
             for axis, s in (("x", "sx"), ("y", "sy")):
-                want = registry(ds[s].values[k].ravel().astype(np.float64))
+                want = registry(sites(ds, s, k).astype(np.float64))
                 assert np.array_equal(atoms.arrays["registry_" + axis], want), axis
             # Positions: the site X = (origin + i) d plus the stored displacement.
             i0, i1 = np.meshgrid(np.arange(n0), np.arange(n1), indexing="ij")
             X = ds["origin_x"].values[k] + i0.ravel()
             Y = ds["origin_y"].values[k] + i1.ravel()
-            ux = ds["ux"].values[k].ravel().astype(np.float64)
-            uy = ds["uy"].values[k].ravel().astype(np.float64)
+            ux = sites(ds, "ux", k).astype(np.float64)
+            uy = sites(ds, "uy", k).astype(np.float64)
             pos = atoms.get_positions()
             assert np.allclose(pos[:, 0], X + ux, rtol=0, atol=1e-12)
             assert np.allclose(pos[:, 1], Y + uy, rtol=0, atol=1e-12)
-            uz = ds["uz"].values[k].ravel() if "uz" in ds else np.zeros(n0 * n1)
+            uz = sites(ds, "uz", k) if "uz" in ds else np.zeros(n0 * n1)
             assert np.array_equal(pos[:, 2].astype(dtype), uz.astype(dtype))

@@ -126,7 +126,7 @@ TEST_F(SnapshotIo, MetadataAndAttributes) {
 
   int nvars = 0, var = -1;
   ASSERT_EQ(nc_inq_nvars(id, &nvars), NC_NOERR);
-  EXPECT_EQ(nvars, 19);
+  EXPECT_EQ(nvars, 20);
   for (int v = 0; v < nvars; ++v) {
     EXPECT_NE(text(v, "units"), "<missing>") << "variable " << v;
     EXPECT_NE(text(v, "long_name"), "<missing>") << "variable " << v;
@@ -142,11 +142,155 @@ TEST_F(SnapshotIo, MetadataAndAttributes) {
   EXPECT_EQ(x[2], -3.0);
   EXPECT_EQ(y[0], -6.0);
   EXPECT_EQ(y[3], -3.0);
+  // As VTK's CF reader takes them (issue 25): x and y without axis "X"/"Y" (longitude and
+  // latitude to VTK) and without unit "d" (days); the frame index is the time axis.
+  EXPECT_EQ(text(var, "units"), "1");
+  EXPECT_EQ(text(var, "axis"), "<missing>");
+  ASSERT_EQ(nc_inq_varid(id, "frame", &var), NC_NOERR);
+  EXPECT_EQ(text(var, "axis"), "T");
+  int index[3] = {-1, -1, -1};
+  ASSERT_EQ(nc_get_var_int(id, var, index), NC_NOERR);
+  EXPECT_EQ(index[0], 0);
+  EXPECT_EQ(index[2], 2);
+  // Fields (frame, y, x): x varies fastest in the file, as VTK's x axis.
+  int dims[3] = {}, ndims = 0, x_dim = -1, y_dim = -1;
+  ASSERT_EQ(nc_inq_dimid(id, "x", &x_dim), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimid(id, "y", &y_dim), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(id, "tau_max", &var), NC_NOERR);
+  ASSERT_EQ(nc_inq_var(id, var, nullptr, nullptr, &ndims, dims, nullptr), NC_NOERR);
+  ASSERT_EQ(ndims, 3);
+  EXPECT_EQ(dims[1], y_dim);
+  EXPECT_EQ(dims[2], x_dim);
+  const Snapshot first = frames()[1];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      const std::size_t at[] = {1, static_cast<std::size_t>(j), static_cast<std::size_t>(i)};
+      double value = 0.0;
+      ASSERT_EQ(nc_get_var1_double(id, var, at, &value), NC_NOERR);
+      EXPECT_EQ(value, first.tau_max[first.block.shape.index(i, j)]) << i << ", " << j;
+    }
+  }
   nc_type type = NC_NAT;
   ASSERT_EQ(nc_inq_varid(id, "in_contact", &var), NC_NOERR);
   ASSERT_EQ(nc_inq_vartype(id, var, &type), NC_NOERR);
   EXPECT_EQ(type, NC_BYTE);
   EXPECT_EQ(nc_close(id), NC_NOERR);
+}
+
+// A copy of `from` in the layout of the files written before issue 25: fields (frame, x, y), no
+// frame coordinate.
+void write_xy_layout_copy(const fs::path& from, const fs::path& to) {
+  int in = -1, out = -1, ndims = 0, nvars = 0, unlimited = -1;
+  ASSERT_EQ(nc_open(from.c_str(), NC_NOWRITE, &in), NC_NOERR);
+  ASSERT_EQ(nc_create(to.c_str(), NC_CLOBBER | NC_NETCDF4 | NC_CLASSIC_MODEL, &out), NC_NOERR);
+  ASSERT_EQ(nc_inq(in, &ndims, &nvars, nullptr, &unlimited), NC_NOERR);
+  std::vector<int> new_dim(static_cast<std::size_t>(ndims));
+  for (const char* name : {"frame", "x", "y", "label_length"}) {
+    int d = -1;
+    std::size_t length = 0;
+    ASSERT_EQ(nc_inq_dimid(in, name, &d), NC_NOERR);
+    ASSERT_EQ(nc_inq_dimlen(in, d, &length), NC_NOERR);
+    ASSERT_EQ(nc_def_dim(out, name, d == unlimited ? NC_UNLIMITED : length,
+                         &new_dim[static_cast<std::size_t>(d)]),
+              NC_NOERR);
+  }
+  std::vector<std::pair<int, int>> fields;  // (in, out) variables to transpose
+  for (int v = 0; v < nvars; ++v) {
+    char name[NC_MAX_NAME + 1] = {};
+    nc_type type = NC_NAT;
+    int vdims[NC_MAX_VAR_DIMS] = {}, nd = 0, natts = 0, w = -1;
+    ASSERT_EQ(nc_inq_var(in, v, name, &type, &nd, vdims, &natts), NC_NOERR);
+    if (std::string(name) == "frame") continue;
+    int mapped[3] = {};
+    for (int k = 0; k < nd; ++k)
+      mapped[k] = new_dim[static_cast<std::size_t>(vdims[k])];
+    if (nd == 3) std::swap(mapped[1], mapped[2]);
+    ASSERT_EQ(nc_def_var(out, name, type, nd, mapped, &w), NC_NOERR);
+    for (int a = 0; a < natts; ++a) {
+      char att[NC_MAX_NAME + 1] = {};
+      ASSERT_EQ(nc_inq_attname(in, v, a, att), NC_NOERR);
+      ASSERT_EQ(nc_copy_att(in, v, att, out, w), NC_NOERR);
+    }
+    if (nd == 3) fields.emplace_back(v, w);
+  }
+  ASSERT_EQ(nc_enddef(out), NC_NOERR);
+  for (int v = 0; v < nvars; ++v) {
+    char name[NC_MAX_NAME + 1] = {};
+    int nd = 0, w = -1, vdims[NC_MAX_VAR_DIMS] = {};
+    ASSERT_EQ(nc_inq_var(in, v, name, nullptr, &nd, vdims, nullptr), NC_NOERR);
+    if (nd == 3 || std::string(name) == "frame") continue;
+    ASSERT_EQ(nc_inq_varid(out, name, &w), NC_NOERR);
+    std::size_t start[2] = {}, count[2] = {};  // explicit: the copy's frame dimension is empty
+    for (int k = 0; k < nd; ++k)
+      ASSERT_EQ(nc_inq_dimlen(in, vdims[k], &count[k]), NC_NOERR);
+    std::vector<char> bytes(1 << 16);  // every non-field variable of these files is smaller
+    ASSERT_EQ(nc_get_var(in, v, bytes.data()), NC_NOERR);
+    ASSERT_EQ(nc_put_vara(out, w, start, count, bytes.data()), NC_NOERR);
+  }
+  std::size_t n = 0, nx = 0, ny = 0;
+  int d = -1;
+  ASSERT_EQ(nc_inq_dimid(in, "frame", &d), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimlen(in, d, &n), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimid(in, "x", &d), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimlen(in, d, &nx), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimid(in, "y", &d), NC_NOERR);
+  ASSERT_EQ(nc_inq_dimlen(in, d, &ny), NC_NOERR);
+  for (const auto& [v, w] : fields) {
+    std::vector<double> yx(n * nx * ny), xy(n * nx * ny);
+    ASSERT_EQ(nc_get_var_double(in, v, yx.data()), NC_NOERR);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (std::size_t i = 0; i < nx; ++i) {
+        for (std::size_t j = 0; j < ny; ++j)
+          xy[(k * nx + i) * ny + j] = yx[(k * ny + j) * nx + i];
+      }
+    }
+    const std::size_t start[3] = {}, count[3] = {n, nx, ny};
+    ASSERT_EQ(nc_put_vara_double(out, w, start, count, xy.data()), NC_NOERR);
+  }
+  ASSERT_EQ(nc_close(out), NC_NOERR);
+  ASSERT_EQ(nc_close(in), NC_NOERR);
+}
+
+// Files written before the (frame, y, x) layout (runs in flight, committed answers) still read,
+// to the same frames, and an appender continues them in their own layout.
+TEST_F(SnapshotIo, ReadsAndAppendsTheOlderXYLayout) {
+  const fs::path now = dir_ / "now.nc", before = dir_ / "before.nc";
+  const std::vector<Snapshot> written = frames();
+  {
+    SnapshotAppender out(now, nlohmann::json::object(), {}, 16);
+    out.append(written[0]);
+    out.append(written[1]);
+    out.close();
+  }
+  write_xy_layout_copy(now, before);
+  ASSERT_FALSE(HasFatalFailure());
+  {  // the copy is in the older layout
+    int id = -1, var = -1, x_dim = -1, dims[3] = {}, ndims = 0;
+    ASSERT_EQ(nc_open(before.c_str(), NC_NOWRITE, &id), NC_NOERR);
+    ASSERT_EQ(nc_inq_dimid(id, "x", &x_dim), NC_NOERR);
+    ASSERT_EQ(nc_inq_varid(id, "ux", &var), NC_NOERR);
+    ASSERT_EQ(nc_inq_var(id, var, nullptr, nullptr, &ndims, dims, nullptr), NC_NOERR);
+    EXPECT_EQ(dims[1], x_dim);
+    EXPECT_NE(nc_inq_varid(id, "frame", &var), NC_NOERR);
+    nc_close(id);
+  }
+  {
+    SnapshotAppender more = SnapshotAppender::open(before);
+    EXPECT_EQ(bits(more.read(1).tau_y), bits(written[1].tau_y));
+    more.append(written[2]);
+    more.close();
+  }
+  const std::vector<Snapshot> read = read_snapshots(before);
+  ASSERT_EQ(read.size(), 3u);
+  EXPECT_EQ(check_snapshot_file(before), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    EXPECT_EQ(read[k].label, written[k].label);
+    for (auto field : {&Snapshot::ux, &Snapshot::uy, &Snapshot::sx, &Snapshot::sy, &Snapshot::tau_x,
+                       &Snapshot::tau_y, &Snapshot::tau_max, &Snapshot::pressure})
+      EXPECT_EQ(bits(read[k].*field), bits(written[k].*field));
+    EXPECT_EQ(read[k].in_contact, written[k].in_contact);
+  }
 }
 
 TEST_F(SnapshotIo, InvalidInputThrowsAndWritesNothing) {
@@ -253,7 +397,7 @@ TEST_F(SnapshotIo, NcdumpReadsTheHeader) {
   std::ifstream in(out);
   const std::string header((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(header.find(":Conventions = \"CF-1.8\""), std::string::npos) << header;
-  EXPECT_NE(header.find("double ux(frame, x, y)"), std::string::npos) << header;
+  EXPECT_NE(header.find("double ux(frame, y, x)"), std::string::npos) << header;
 }
 
 // The paths file of a run grows frame by frame (SnapshotAppender): frames read back as written,
