@@ -52,6 +52,17 @@ const std::array<Scalar, 4> kScalars{{
     {"energy", &Snapshot::energy, "G d^3", "total energy"},
 }};
 
+// The variables that are neither kFields nor kScalars, described once for define() and
+// snapshot_variables().
+const SnapshotVariable kIteration{"iteration", "1",
+                                  "minimiser iteration of a relaxation-path frame, else -1", false};
+const SnapshotVariable kOriginX{"origin_x", "d", "lattice index along x of the block's first site",
+                                false};
+const SnapshotVariable kOriginY{"origin_y", "d", "lattice index along y of the block's first site",
+                                false};
+const SnapshotVariable kUz{"uz", "d", "displacement along z (explicit model)", true};
+const SnapshotVariable kInContact{"in_contact", "1", "site in contact (1) or not (0)", true};
+
 // An open netCDF dataset, closed on destruction. check() turns a netCDF error status into an
 // Error whose message starts with `context` (which names the file).
 template <class Error>
@@ -363,12 +374,12 @@ void SnapshotAppender::define(const Snapshot& first) {
   l.label = define("label", NC_CHAR, {l.frame_dim, l.label_dim}, "1", "snapshot label");
   if (fixed_frames_ > 0) contiguous(l.label, "label");
   put_text(o, id_, l.label, "_Encoding", "utf-8");
-  l.iteration = per_frame("iteration", NC_INT, "1",
-                          "minimiser iteration of a relaxation-path frame, else -1");
-  l.origin_x =
-      per_frame("origin_x", NC_INT, "d", "lattice index along x of the block's first site");
-  l.origin_y =
-      per_frame("origin_y", NC_INT, "d", "lattice index along y of the block's first site");
+  const auto per_frame_int = [&](const SnapshotVariable& v) {
+    return per_frame(v.name, NC_INT, v.units, v.long_name);
+  };
+  l.iteration = per_frame_int(kIteration);
+  l.origin_x = per_frame_int(kOriginX);
+  l.origin_y = per_frame_int(kOriginY);
   for (std::size_t s = 0; s < kScalars.size(); ++s) {
     l.scalars[s] = per_frame(kScalars[s].name, NC_DOUBLE, kScalars[s].units, kScalars[s].long_name);
   }
@@ -377,9 +388,9 @@ void SnapshotAppender::define(const Snapshot& first) {
     l.fields[f] = field(kFields[f].name, value_type, kFields[f].units, kFields[f].long_name);
   // The normal displacement exists in the explicit model only (the LFM has none).
   if (!first.uz.empty()) {
-    l.uz = field("uz", value_type, "d", "displacement along z (explicit model)");
+    l.uz = field(kUz.name, value_type, kUz.units, kUz.long_name);
   }
-  l.in_contact = field("in_contact", NC_BYTE, "1", "site in contact (1) or not (0)");
+  l.in_contact = field(kInContact.name, NC_BYTE, kInContact.units, kInContact.long_name);
 
   if (attributes_.is_object()) {
     for (const auto& [key, value] : attributes_.items()) {
@@ -687,6 +698,23 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
 }
 
 }  // namespace
+
+const std::vector<SnapshotVariable>& snapshot_variables() {
+  static const std::vector<SnapshotVariable> all = [] {
+    std::vector<SnapshotVariable> v;
+    for (const Field& f : kFields)
+      v.push_back({f.name, f.units, f.long_name, true});
+    v.push_back(kUz);
+    v.push_back(kInContact);
+    for (const Scalar& sc : kScalars)
+      v.push_back({sc.name, sc.units, sc.long_name, false});
+    v.push_back(kIteration);
+    v.push_back(kOriginX);
+    v.push_back(kOriginY);
+    return v;
+  }();
+  return all;
+}
 
 std::vector<Snapshot> read_snapshots(const fs::path& nc, const std::string& label) {
   std::vector<Snapshot> frames;

@@ -32,6 +32,19 @@
 
 namespace asperity::app {
 
+// A variable of the snapshot files other than the coordinates and labels: its name, units,
+// long_name, and whether it is per site (a field) or per frame. The files' attributes and the
+// Python package's xarray Datasets (python/) are made from this one list.
+struct SnapshotVariable {
+  const char* name;
+  const char* units;
+  const char* long_name;
+  bool per_site;
+};
+// Fields ux .. pressure, uz, in_contact, then the per-frame Dx, Fx, Fz, energy, iteration,
+// origin_x, origin_y.
+const std::vector<SnapshotVariable>& snapshot_variables();
+
 // How the per-site fields are stored.
 struct SnapshotFormat {
   bool single_precision = false;  // fields as 32-bit floats (7 digits; half the size)

@@ -25,6 +25,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/lines_json.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/peierls_summary.hpp"
 #include "asperity/apps/common/plot.hpp"
@@ -57,46 +58,11 @@ bool periodic_attribute(const fs::path& nc) {
   return periodic;
 }
 
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
-}
-
 std::string join_ids(const std::vector<int>& ids) {
   std::string s;
   for (const int id : ids)
     s += (s.empty() ? "" : " ") + std::to_string(id);
   return s;
-}
-
-nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameLines& f,
-                         double centre_fraction) {
-  nlohmann::json points = nlohmann::json::array();
-  for (const auto& p : l.points)
-    points.push_back({p.x, p.y});
-  const double slipped =
-      l.slipped_region >= 0
-          ? static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()) *
-                f.d * f.d
-          : 0.0;
-  return {{"id", id},
-          {"kind", tracking::to_string(l.kind)},
-          {"burgers_x", l.burgers * f.d},
-          {"registry_consistency", l.registry_consistency},
-          {"interior_ends", l.interior_ends},
-          {"length", l.length},
-          {"area", l.kind == tracking::LineKind::loop ? nlohmann::json(l.area) : nullptr},
-          {"centroid", {l.centroid.x, l.centroid.y}},
-          {"bbox", {l.x_min, l.y_min, l.x_max, l.y_max}},
-          {"x_extent", l.x_max - l.x_min},
-          {"y_extent", l.y_max - l.y_min},
-          {"aspect_ratio", finite_or_null(l.aspect_ratio)},
-          {"screw_fraction", l.screw_fraction},
-          {"edge_fraction", l.edge_fraction},
-          {"mean_angle_deg", l.mean_angle_deg},
-          {"slipped_area", slipped},
-          {"location", tracking::location_class(f, l.centroid, centre_fraction)},
-          {"points", points},
-          {"angle_deg", l.angle_deg}};
 }
 
 // tau_x / tau_max over the contact with the lines on top: segments split by character into
@@ -333,7 +299,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
   tally.max_lines = std::max(tally.max_lines, f.lines.size());
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t j = 0; j < f.lines.size(); ++j) {
-    lines.push_back(line_json(f.lines[j], ids[j], f, o.track.centre_fraction));
+    lines.push_back(app::line_json(f.lines[j], ids[j], f, o.track.centre_fraction));
     ++tally.kinds[tracking::to_string(f.lines[j].kind)];
   }
   write_vtk(dir, s, index, f, ids);

@@ -1,0 +1,42 @@
+#include "asperity/apps/common/lines_json.hpp"
+
+#include <cmath>
+
+namespace asperity::app {
+
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
+
+nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameLines& f,
+                         double centre_fraction) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : l.points)
+    points.push_back({p.x, p.y});
+  const double slipped =
+      l.slipped_region >= 0
+          ? static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()) *
+                f.d * f.d
+          : 0.0;
+  return {{"id", id},
+          {"kind", tracking::to_string(l.kind)},
+          {"burgers_x", l.burgers * f.d},
+          {"registry_consistency", l.registry_consistency},
+          {"interior_ends", l.interior_ends},
+          {"length", l.length},
+          {"area", l.kind == tracking::LineKind::loop ? nlohmann::json(l.area) : nullptr},
+          {"centroid", {l.centroid.x, l.centroid.y}},
+          {"bbox", {l.x_min, l.y_min, l.x_max, l.y_max}},
+          {"x_extent", l.x_max - l.x_min},
+          {"y_extent", l.y_max - l.y_min},
+          {"aspect_ratio", finite_or_null(l.aspect_ratio)},
+          {"screw_fraction", l.screw_fraction},
+          {"edge_fraction", l.edge_fraction},
+          {"mean_angle_deg", l.mean_angle_deg},
+          {"slipped_area", slipped},
+          {"location", tracking::location_class(f, l.centroid, centre_fraction)},
+          {"points", points},
+          {"angle_deg", l.angle_deg}};
+}
+
+}  // namespace asperity::app
