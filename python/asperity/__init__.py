@@ -7,10 +7,17 @@ module turns its results into Python objects.
     scene = asperity.Scene({"contact": {"a": 30, "R": 535}})    # or Scene.from_toml(path)
     result = asperity.slide(scene, progress=print)
     result.mu_over_alpha, result.trace["Fx"], result.summary["cost"]
+    peak = result.snapshots["peak"]          # an xarray.Dataset, as snapshots/peak.nc
+    asperity.find_lines(result.snapshots["slip_001_before"])["lines"]
 
 Scenes take the keys of a scene file (data/scenes/default.toml, docs/settings.md), as nested
 dicts or dotted keys; a bad key or value raises ValueError naming the key, value and allowed
 range. slide() releases the GIL while it runs and stops on Ctrl-C (KeyboardInterrupt).
+
+Also here: the elastic half-space (FreeSurfaceGF, PeriodicSurfaceGF: u = G * f on NumPy arrays,
+without copies), the scaling laws (regime_two_law, nucleation_condition, control_parameter,
+predict, fit_regime_two), and asperity.tools, which runs the whole-run tools (peierls_scan,
+fit_scaling, track_loops, friction_sweep) and returns what they write.
 """
 
 import json
@@ -19,8 +26,12 @@ import pathlib
 import numpy as np
 
 from . import _asperity
+from ._asperity import (FreeSurfaceGF, PeriodicSurfaceGF, control_parameter, fit_regime_two,
+                        nucleation_condition, predict, regime_two_law)
 
-__all__ = ["Scene", "SlideResult", "slide", "version"]
+__all__ = ["Scene", "SlideResult", "slide", "version", "find_lines", "snapshot_dataset",
+           "FreeSurfaceGF", "PeriodicSurfaceGF", "regime_two_law", "nucleation_condition",
+           "control_parameter", "predict", "fit_regime_two", "tools"]
 
 
 def version():
@@ -47,18 +58,70 @@ class Scene:
         """Every setting, keyed as in a scene file ("contact.a", "solver.tolerance", ...)."""
         return json.loads(self._scene.settings_json())
 
+    @property
+    def snapshot_attributes(self):
+        """The global attributes the tools give this scene's snapshot files."""
+        return json.loads(self._scene.snapshot_attributes_json())
+
     def __repr__(self):
         s = self.settings
         return f"Scene(a={s['contact.a']} d, R={s['contact.R']} d, alpha={s['contact.alpha']})"
 
 
-class SlideResult:
-    """A slide's result: what contact_slide writes to summary.json, and its trace."""
+_VARIABLES = {v["name"]: v for v in _asperity.snapshot_variables()}
 
-    def __init__(self, summary, columns):
+
+def snapshot_dataset(frames, attributes=None):
+    """Frames of one label (dicts from the compiled core) as an xarray.Dataset in the layout of
+    the tools' NetCDF files (apps/common/snapshot_io.hpp): fields (frame, y, x), coordinates x
+    and y of the first frame's block in lattice spacings d, per-frame Dx, Fx, Fz, energy,
+    iteration, origin_x, origin_y and label, units and long_name on every variable."""
+    import xarray as xr
+
+    first = frames[0]
+    n0, n1 = first["fields"]["ux"].shape
+    x = first["origin_x"] + np.arange(n0, dtype=float)
+    y = first["origin_y"] + np.arange(n1, dtype=float)
+
+    def attrs(name):
+        v = _VARIABLES[name]
+        return {"units": v["units"], "long_name": v["long_name"]}
+
+    data = {}
+    for name in first["fields"]:
+        # (n0, n1) block-major -> (y, x): a view; one frame is not copied.
+        planes = [f["fields"][name].T for f in frames]
+        stacked = planes[0][np.newaxis] if len(planes) == 1 else np.stack(planes)
+        data[name] = (("frame", "y", "x"), stacked, attrs(name))
+    for name in ("Dx", "Fx", "Fz", "energy", "iteration", "origin_x", "origin_y"):
+        values = np.array([f[name] for f in frames])
+        data[name] = (("frame",), values, attrs(name))
+    data["label"] = (("frame",), np.array([f["label"] for f in frames]),
+                     {"units": "1", "long_name": "snapshot label"})
+    coords = {
+        "frame": (("frame",), np.arange(len(frames), dtype=np.int32),
+                  {"units": "1", "axis": "T",
+                   "long_name": "frame index: the file's sequence of states, not a time"}),
+        "x": (("x",), x, {"units": "1",
+                          "long_name": "x of the first frame's sites, in lattice spacings d"}),
+        "y": (("y",), y, {"units": "1",
+                          "long_name": "y of the first frame's sites, in lattice spacings d"}),
+    }
+    ds = xr.Dataset(data, coords=coords, attrs=dict(attributes or {}))
+    ds.attrs["label"] = first["label"]
+    return ds
+
+
+class SlideResult:
+    """A slide's result: what contact_slide writes to summary.json, its trace and snapshots."""
+
+    def __init__(self, summary, columns, frames=(), attributes=None):
         self.summary = summary
         names = list(columns)
         self.trace = np.rec.fromarrays([columns[n] for n in names], names=names)
+        self._frames = list(frames)
+        self._attributes = attributes or {}
+        self._snapshots = None
 
     @property
     def mu(self):
@@ -69,19 +132,68 @@ class SlideResult:
     def mu_over_alpha(self):
         return self.summary["mu_over_alpha"]
 
+    @property
+    def snapshots(self):
+        """The snapshots as xarray Datasets keyed by label, as the tools' files: "peak",
+        "slip_NNN_before", "slip_NNN_after" (one frame each) and "slip_NNN_path" (the frames of
+        a slip's relaxation path, as the tools' paths.nc holds them under that label)."""
+        if self._snapshots is None:
+            groups = {}
+            for f in self._frames:
+                groups.setdefault(f["label"], []).append(f)
+            self._snapshots = {label: snapshot_dataset(frames, self._attributes)
+                               for label, frames in groups.items()}
+        return self._snapshots
+
     def __repr__(self):
         return (f"SlideResult(mu/alpha={self.mu_over_alpha:.6g}, "
                 f"{len(self.trace)} rows, {self.summary.get('slip_events')} slip events)")
 
 
-def slide(scene, progress=None):
+def slide(scene, progress=None, snapshots=True):
     """Slides `scene` (a Scene or a dict of settings) quasi-statically (MODEL.md 5).
 
     progress: None, or a callable taking a dict (phase, Dx, target_Dx, slip_events, steps,
     gf_applications, wall_s, iteration), called before every relaxation, after every accepted
     step and from inside long relaxations.
+    snapshots: keep the states (peak, before and after each slip) and the relaxation paths the
+    scene asks for (slide.path_frame_every) as result.snapshots; False keeps none (a long slide
+    holds no frames in memory).
     """
     if not isinstance(scene, Scene):
         scene = Scene(scene)
-    summary, columns = _asperity.slide(scene._scene, progress)
-    return SlideResult(json.loads(summary), columns)
+    summary, columns, frames = _asperity.slide(scene._scene, progress, snapshots)
+    return SlideResult(json.loads(summary), columns, frames, scene.snapshot_attributes)
+
+
+def _frame_fields(frame, index):
+    """sx, tau_x, tau_max, in_contact (block-major, x slow) and the block origin of one frame of
+    an xarray Dataset in the snapshot layout (or a Dataset without a frame dimension)."""
+    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
+
+    def block(name):
+        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
+
+    origin_x = int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0])
+    origin_y = int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0])
+    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
+    return block("sx"), block("tau_x"), block("tau_max"), contact, origin_x, origin_y
+
+
+def find_lines(frame, index=0, periodic=None, **options):
+    """Dislocation lines in one snapshot frame (MODEL.md 7), as track_loops finds them.
+
+    frame: an xarray Dataset in the snapshot layout (result.snapshots[...], or a tools' .nc
+    opened with xarray); index: the frame in it. options: min_length (d, default 2),
+    slip_sign (-1: sliding along +x), tangent_half_window, screw_angle_deg, centre_fraction.
+    Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order) and the
+    frame's counts (contact_sites, contact_radius, core_crossings, ...).
+    """
+    sx, tau_x, tau_max, contact, ox, oy = _frame_fields(frame, index)
+    if periodic is None:
+        periodic = bool(frame.attrs.get("periodic", False))
+    return _asperity.find_lines(sx, tau_x, tau_max, contact, origin_x=ox, origin_y=oy,
+                                periodic=periodic, **options)
+
+
+from . import tools  # noqa: E402  (the tools need the names above)

@@ -14,11 +14,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "analysis.hpp"
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/slide_io.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "frames.hpp"
+#include "gf.hpp"
 
 namespace py = pybind11;
 using namespace asperity;
@@ -150,9 +153,11 @@ py::dict trace_columns(const std::vector<slide::TraceRow>& trace) {
   return c;
 }
 
-// One slide of `scene`: summary.json's content (as JSON text) and the trace's columns. The GIL
-// is released while it runs; `progress` (or None) is called with a dict per report.
-py::tuple run_slide(const app::SlideScene& scene, const py::object& progress) {
+// One slide of `scene`: summary.json's content (as JSON text), the trace's columns and the
+// snapshots (frames.hpp; none unless `snapshots`: the states, and the relaxation paths the
+// scene's slide.path_frame_every asks for). The GIL is released while it runs; `progress` (or
+// None) is called with a dict per report.
+py::tuple run_slide(const app::SlideScene& scene, const py::object& progress, bool snapshots) {
   bool interrupted = false;
   slide::SlideControl control;
   if (!progress.is_none()) {
@@ -172,13 +177,19 @@ py::tuple run_slide(const app::SlideScene& scene, const py::object& progress) {
     if (!interrupted && PyErr_CheckSignals() != 0) interrupted = true;
     return interrupted;
   };
+  // Without a sink the slide keeps its frames in the result; a sink that drops them spares the
+  // slide making them.
+  slide::DiscardFrames discard;
+  if (!snapshots) control.frames = &discard;
   slide::SlideResult result;
   {
     py::gil_scoped_release release;
     result = slide::slide(scene.contact, scene.options, control);
   }
   if (interrupted) throw py::error_already_set();
-  return py::make_tuple(app::slide_summary(scene, result).dump(), trace_columns(result.trace));
+  const std::string summary = app::slide_summary(scene, result).dump();
+  return py::make_tuple(summary, trace_columns(result.trace),
+                        python::frames_to_python(std::move(result.snapshots)));
 }
 
 }  // namespace
@@ -191,12 +202,23 @@ PYBIND11_MODULE(_asperity, m) {
           [](const app::SlideScene& s) {
             return app::settings_echo(s, app::SlideScene::settings()).dump();
           },
-          "Every setting of the scene, keyed as in a scene file, as JSON text");
+          "Every setting of the scene, keyed as in a scene file, as JSON text")
+      .def(
+          "snapshot_attributes_json",
+          [](const app::SlideScene& s) {
+            return app::snapshot_attributes(s, nlohmann::json::object()).dump();
+          },
+          "The global attributes the tools give this scene's snapshot files, as JSON text");
   m.def("scene_from_dict", &scene_from_dict, py::arg("scene"),
         "A slide scene from a dict (nested tables or dotted keys), read as a scene file is");
   m.def("scene_from_toml", &scene_from_toml, py::arg("text"), py::arg("source") = "scene",
         "A slide scene from TOML text, read as a scene file is");
   m.def("slide", &run_slide, py::arg("scene"), py::arg("progress") = py::none(),
-        "Runs a slide; returns (summary JSON text, trace columns)");
+        py::arg("snapshots") = true,
+        "Runs a slide; returns (summary JSON text, trace columns, snapshot frames)");
+  m.def("snapshot_variables", &python::snapshot_variables,
+        "The snapshot files' variables: name, units, long_name, per_site");
+  python::bind_gf(m);
+  python::bind_analysis(m);
   m.def("version", [] { return app::provenance_string(); });
 }

@@ -1,0 +1,194 @@
+// The analyses of snapshots and sweeps from Python: dislocation lines in one frame
+// (tracking::find_lines, MODEL.md section 7; records as track_loops' lines.json through
+// app::line_json) and the scaling laws of MODEL.md section 8 (nucleation/: the Regime II law and
+// its fit of c0, the nucleation condition, the prediction across regimes). Whole-run pipelines
+// (track_loops over a run, fit_scaling, peierls_scan) run as the tools themselves
+// (python/asperity/tools.py).
+#include "analysis.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "asperity/apps/common/lines_json.hpp"
+#include "asperity/nucleation/regime_map.hpp"
+#include "asperity/nucleation/regime_three.hpp"
+#include "asperity/nucleation/regime_two.hpp"
+#include "asperity/tracking/lines.hpp"
+
+namespace asperity::python {
+
+namespace py = pybind11;
+
+namespace {
+
+template <class T>
+using Array = py::array_t<T, py::array::c_style | py::array::forcecast>;
+
+// A library's std::invalid_argument as Python's ValueError.
+template <class F>
+auto checked(F f) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+py::object json_to_python(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
+                    const Array<double>& tau_max, const py::object& in_contact, int origin_x,
+                    int origin_y, double d, bool periodic, double min_length, int slip_sign,
+                    int tangent_half_window, double screw_angle_deg, double centre_fraction) {
+  if (sx.ndim() != 2) throw py::value_error("find_lines: sx must be 2D, (n0, n1) block-major");
+  tracking::FieldView view;
+  view.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
+  view.d = d;
+  view.periodic = periodic;
+  view.sx = {sx.data(), static_cast<std::size_t>(sx.size())};
+  view.tau_x = {tau_x.data(), static_cast<std::size_t>(tau_x.size())};
+  view.tau_max = {tau_max.data(), static_cast<std::size_t>(tau_max.size())};
+  Array<std::uint8_t> contact;
+  if (!in_contact.is_none()) {
+    contact = in_contact.cast<Array<std::uint8_t>>();
+    view.in_contact = {contact.data(), static_cast<std::size_t>(contact.size())};
+  }
+  tracking::DetectOptions o;
+  o.min_length = min_length;
+  o.slip_sign = slip_sign;
+  o.tangent_half_window = tangent_half_window;
+  o.screw_angle_deg = screw_angle_deg;
+  const tracking::FrameLines f = checked([&] {
+    py::gil_scoped_release release;
+    return tracking::find_lines(view, o);
+  });
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t k = 0; k < f.lines.size(); ++k)
+    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, centre_fraction));
+  return py::dict(
+      py::arg("lines") = json_to_python(lines),
+      py::arg("contact_centre") = py::make_tuple(f.contact_centre.x, f.contact_centre.y),
+      py::arg("contact_radius") = f.contact_radius, py::arg("contact_sites") = f.contact_sites,
+      py::arg("core_crossings") = f.core_crossings,
+      py::arg("registry_crossings") = f.registry_crossings,
+      py::arg("dropped_short") = f.dropped_short);
+}
+
+nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k1_error,
+                           double k2_error, double correlation) {
+  nucleation::Model m;
+  m.c0 = c0;
+  m.law.k1 = k1;
+  m.law.k2 = k2;
+  m.law.k1_error = k1_error;
+  m.law.k2_error = k2_error;
+  m.law.correlation = correlation;
+  m.f_P = f_P;
+  checked([&] {
+    m.validate();
+    return 0;
+  });
+  return m;
+}
+
+py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const py::object& a,
+                        const py::object& R, const py::object& window, int bootstrap,
+                        long long seed) {
+  if (x.size() != mu.size())
+    throw py::value_error("fit_regime_two: a_over_bcore0 and mu_over_alpha differ in length");
+  std::vector<nucleation::ScalingPoint> points(static_cast<std::size_t>(x.size()));
+  const auto column = [&](const py::object& values, const char* name) {
+    std::vector<double> v(points.size(), 0.0);
+    if (values.is_none()) return v;
+    const auto arr = values.cast<Array<double>>();
+    if (static_cast<std::size_t>(arr.size()) != points.size())
+      throw py::value_error(std::string("fit_regime_two: ") + name + " differs in length");
+    std::copy(arr.data(), arr.data() + arr.size(), v.begin());
+    return v;
+  };
+  const std::vector<double> av = column(a, "a"), Rv = column(R, "R");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = {x.data()[i], mu.data()[i], av[i], Rv[i], 0};
+  nucleation::RegimeTwoFitOptions o;
+  if (!window.is_none()) o.window = window.cast<std::pair<double, double>>();
+  o.bootstrap_samples = bootstrap;
+  o.seed = static_cast<std::uint64_t>(seed);
+  const nucleation::RegimeTwoFit fit = checked([&] {
+    o.validate();
+    return nucleation::fit_regime_two(points, o);
+  });
+  return py::dict(
+      py::arg("valid") = fit.valid, py::arg("reason") = fit.reason, py::arg("c0") = fit.c0,
+      py::arg("c0_error") = fit.c0_error, py::arg("c0_se_bootstrap") = fit.c0_se_bootstrap,
+      py::arg("c0_lo") = fit.c0_lo, py::arg("c0_hi") = fit.c0_hi,
+      py::arg("prefactor") = fit.prefactor, py::arg("prefactor_error") = fit.prefactor_error,
+      py::arg("window") = py::make_tuple(fit.window_lo, fit.window_hi),
+      py::arg("window_automatic") = fit.window_automatic, py::arg("used") = fit.used,
+      py::arg("points") = fit.points, py::arg("trimmed") = fit.trimmed,
+      py::arg("max_relative_deviation") = fit.max_relative_deviation,
+      py::arg("within_max_deviation") = fit.within_max_deviation,
+      py::arg("rms_log_residual") = fit.rms_log_residual, py::arg("free_slope") = fit.free_slope,
+      py::arg("free_slope_error") = fit.free_slope_error,
+      py::arg("c0_window_spread") = fit.c0_window_spread);
+}
+
+}  // namespace
+
+void bind_analysis(py::module_& m) {
+  m.def("find_lines", &find_lines, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
+        py::arg("in_contact") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
+        py::arg("d") = 1.0, py::arg("periodic") = false, py::arg("min_length") = 2.0,
+        py::arg("slip_sign") = -1, py::arg("tangent_half_window") = 1,
+        py::arg("screw_angle_deg") = 45.0, py::arg("centre_fraction") = 0.5,
+        "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; returns "
+        "the lines as lines.json records and the frame's counts");
+  m.def("regime_two_law", py::vectorize([](double x, double c0) {
+          return checked([&] { return nucleation::regime_two_law(x, c0); });
+        }),
+        py::arg("a_over_bcore0"), py::arg("c0"),
+        "mu/alpha = 3 (2 c0)^(2/3) (a/b_core^0)^(-2/3), the Regime II law (MODEL.md 8)");
+  m.def("nucleation_condition", py::vectorize([](double x, double c0) {
+          return checked([&] { return nucleation::nucleation_condition(x, c0).mu_over_alpha; });
+        }),
+        py::arg("a_over_bcore0"), py::arg("c0"),
+        "mu/alpha = min(1, 3 (1 - x*^2)), the nucleation condition without the small-b_core "
+        "expansion (Regimes I and II)");
+  m.def("control_parameter", py::vectorize([](double a, double R, double alpha, double nu) {
+          return checked([&] { return nucleation::control_parameter(a, R, alpha, nu); });
+        }),
+        py::arg("a"), py::arg("R"), py::arg("alpha") = 0.7, py::arg("nu") = 0.5,
+        "a/b_core^0 = c alpha a^2/(R d), c = 4/(pi (1 - nu)) (MODEL.md 3), lengths in d");
+  m.def(
+      "predict",
+      [](double x, double beta, double c0, double k1, double k2, double f_P, double k1_error,
+         double k2_error, double correlation) {
+        const nucleation::Model model = model_of(c0, k1, k2, f_P, k1_error, k2_error, correlation);
+        const nucleation::Prediction p =
+            checked([&] { return nucleation::predict(x, beta, model); });
+        return py::dict(py::arg("nucleation") = p.nucleation, py::arg("law_two") = p.law_two,
+                        py::arg("central") = p.central, py::arg("integrated") = p.integrated,
+                        py::arg("integrated_log_error") = p.integrated_log_error,
+                        py::arg("mu_over_alpha") = p.mu_over_alpha,
+                        py::arg("regime") = nucleation::to_string(p.regime));
+      },
+      py::arg("a_over_bcore0"), py::arg("beta"), py::arg("c0"), py::arg("k1"), py::arg("k2"),
+      py::arg("f_P") = 0.5, py::arg("k1_error") = 0.0, py::arg("k2_error") = 0.0,
+      py::arg("correlation") = 0.0,
+      "mu/alpha predicted across Regimes I-III at a/b_core^0 and beta = b_core^0/d, and the "
+      "regime (MODEL.md 8; fit_scaling's regime map)");
+  m.def("fit_regime_two", &fit_regime_two, py::arg("a_over_bcore0"), py::arg("mu_over_alpha"),
+        py::arg("a") = py::none(), py::arg("R") = py::none(), py::arg("window") = py::none(),
+        py::arg("bootstrap") = 4000, py::arg("seed") = 20240909LL,
+        "Fit of c0 to the Regime II law over a window (automatic unless given), with its "
+        "bootstrap error, as fit_scaling fits it");
+}
+
+}  // namespace asperity::python

@@ -1,0 +1,112 @@
+"""The elastic half-space on NumPy arrays, the scaling laws and the tools from Python
+(issue 25). Analytic answers are stated with their tolerances."""
+import json
+import math
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import asperity
+import asperity.tools as tools
+
+DATA = pathlib.Path(os.environ["ASPERITY_DATA"])
+
+
+def test_free_gf_far_field_is_cerruti():
+    # A unit force along x on one site of a 96 x 96 block; the displacement along x at r = 30 d
+    # on the x axis. Cerruti (point force on a half-space): u_x = F (1 - nu + nu x^2/r^2) /
+    # (2 pi G r) = 1 / (2 pi r) at nu = 0.5 on the axis. The patch model differs from a point
+    # force by O((d/r)^2) ~ 1e-3 of it at r = 30 d: tolerance 2e-3 relative.
+    gf = asperity.FreeSurfaceGF((96, 96), components="in_plane", G=1.0, nu=0.5)
+    f = np.zeros((2, 96, 96))
+    f[0, 20, 48] = 1.0
+    u = gf.apply(f)
+    assert u[0, 50, 48] == pytest.approx(1 / (2 * math.pi * 30), rel=2e-3)
+    # The convolution is its coefficients (to FFT rounding).
+    assert u[0, 50, 48] == pytest.approx(gf.coefficient(0, 0, 30, 0), rel=1e-12)
+    assert gf.applications == 1
+
+
+def test_free_gf_writes_in_place_without_copies():
+    gf = asperity.FreeSurfaceGF((32, 40), components="full")
+    rng = np.random.default_rng(3)
+    f = rng.standard_normal((3, 32, 40))
+    out = np.empty_like(f)
+    got = gf.apply(f, out=out)
+    assert got is out
+    np.testing.assert_array_equal(out, gf.apply(f))
+    # A Fortran-ordered input is converted (a copy) and gives the same numbers.
+    np.testing.assert_array_equal(gf.apply(np.asfortranarray(f)), out)
+    with pytest.raises(TypeError, match="C-contiguous float64"):
+        gf.apply(f, out=np.empty((3, 32, 40), dtype=np.float32))
+    with pytest.raises(ValueError, match=r"expected \(3, 32, 40\)"):
+        gf.apply(f[:2])
+    with pytest.raises(ValueError, match="overlap"):
+        gf.apply(out, out=out)
+    with pytest.raises(ValueError, match="nu"):
+        asperity.FreeSurfaceGF((8, 8), nu=0.7)
+    with pytest.raises(ValueError, match="components"):
+        asperity.FreeSurfaceGF((8, 8), components="xy")
+
+
+def test_periodic_gf_and_stiffness_are_inverse_but_for_the_mean():
+    # K G f = f - mean(f) per component (the q = 0 mode is left out): to rounding, 1e-12.
+    gf = asperity.PeriodicSurfaceGF((24, 16), components="in_plane", alias_images=4)
+    f = np.random.default_rng(5).standard_normal((2, 24, 16))
+    back = gf.apply_stiffness(gf.apply(f))
+    expected = f - f.mean(axis=(1, 2), keepdims=True)
+    np.testing.assert_allclose(back, expected, rtol=0, atol=1e-12)
+
+
+def test_laws_are_the_formulas():
+    x = np.array([2.0, 20.0, 200.0])
+    c0 = 0.7
+    np.testing.assert_allclose(asperity.regime_two_law(x, c0),
+                               3 * (2 * c0) ** (2 / 3) * x ** (-2 / 3), rtol=1e-15)
+    # a/b_core^0 = 4/(pi (1 - nu)) alpha a^2/(R d)
+    assert asperity.control_parameter(43.0, 535.0, 0.7, 0.5) == pytest.approx(
+        8 / math.pi * 0.7 * 43.0 ** 2 / 535.0, rel=1e-14)
+    assert asperity.nucleation_condition(0.01, c0) == 1.0  # Regime I: mu = alpha
+    p = asperity.predict(50.0, 2.0, c0=0.7, k1=1.0, k2=1.5)
+    assert p["regime"] in ("I", "II", "III")
+    assert p["mu_over_alpha"] == max(p["nucleation"], p["integrated"])
+    with pytest.raises(ValueError):
+        asperity.predict(50.0, 2.0, c0=-1.0, k1=1.0, k2=1.5)
+
+
+@pytest.fixture(scope="module")
+def fit(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fit")
+    return tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=out, k1=3.0, k2=1.2)
+
+
+def test_fit_scaling_from_python_is_the_tools_output(fit):
+    assert fit.summary is not None and "c0" in json.dumps(fit.summary)
+    assert "predictions" in fit.tables
+    assert any(p.name == "collapse.png" for p in fit.figures)
+
+
+def test_fit_regime_two_in_process_equals_fit_scaling(fit):
+    # The same points, window rule, bootstrap and seed as fit_scaling: the same c0, bit for bit.
+    table = tools.read_table(DATA / "reference" / "sweep_R535.csv")
+    keep = (table["failed"] == 0) & (table["mu_is_lower_bound"] == 0)
+    ours = asperity.fit_regime_two(table["a_over_bcore0"][keep], table["mu_over_alpha"][keep],
+                                   a=table["a"][keep], R=table["R"][keep])
+    c0 = fit.summary["regime_two"]["c0"]
+    assert ours["valid"]
+    assert ours["c0"] == c0
+    assert ours["c0_error"] == fit.summary["regime_two"]["c0_error"]
+
+
+def test_tool_errors_raise_with_the_tools_message(tmp_path):
+    with pytest.raises(RuntimeError, match="fit_scaling failed"):
+        tools.fit_scaling([tmp_path / "missing.csv"], out=tmp_path / "o")
+
+
+def test_peierls_scan_from_python(tmp_path):
+    scan = tools.peierls_scan(b_core=[2, 3], theta=[0], L=64, out=tmp_path / "ps")
+    rows = scan.tables["peierls"]
+    assert len(rows) == 2 and set(rows["b_core"]) == {2.0, 3.0}
+    assert np.all(rows["tau_P_over_tau_max_pos"] > 0)

@@ -1,0 +1,105 @@
+"""Snapshots as xarray Datasets (issue 25): slide() keeps the states and relaxation paths the
+tools write, with the same values, layout, units and attributes as the tools' NetCDF files
+(contact_slide on the same scene, read with xarray); find_lines() finds the lines track_loops
+finds in the same frame."""
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import asperity
+
+BIN = pathlib.Path(os.environ["ASPERITY_BIN"])
+# Two slip events with their paths (a = 20 d, R = 535 d: 0.1 s), fields in double precision so
+# the files hold the slide's own numbers.
+SCENE = {"contact": {"a": 20, "R": 535}, "slide": {"path_frame_every": 5},
+         "output": {"precision": "double", "path_frames": 1}}
+TOML = """[contact]\na = 20.0\nR = 535.0\n[slide]\npath_frame_every = 5\n
+[output]\nprecision = "double"\npath_frames = 1\n"""
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("snapshots")
+    (tmp / "scene.toml").write_text(TOML)
+    subprocess.run([BIN / "contact_slide", tmp / "scene.toml", "--out", tmp / "tool"],
+                   check=True, capture_output=True)
+    return asperity.slide(SCENE), tmp / "tool" / "snapshots"
+
+
+def test_states_and_paths_are_kept(runs):
+    result, _ = runs
+    labels = set(result.snapshots)
+    assert {"peak", "slip_001_before", "slip_001_after", "slip_002_before",
+            "slip_002_after", "slip_001_path"} <= labels, labels
+    path = result.snapshots["slip_001_path"]
+    assert path.sizes["frame"] > 1
+    assert np.all(np.diff(path["iteration"].values) > 0)
+
+
+def compare(ours, theirs, coordinates=True):
+    assert ours["ux"].dims == theirs["ux"].dims == ("frame", "y", "x")
+    if coordinates:  # paths.nc's are the first path's block (the frames carry their origins)
+        np.testing.assert_array_equal(ours["x"].values, theirs["x"].values)
+        np.testing.assert_array_equal(ours["y"].values, theirs["y"].values)
+    for name, var in theirs.data_vars.items():
+        assert name in ours, name
+        if name == "label":
+            assert list(ours[name].values) == [str(v) for v in var.values.astype(str)]
+            continue
+        # The same code, the same numbers: to the last bit.
+        np.testing.assert_array_equal(ours[name].values, var.values, err_msg=name)
+        assert ours[name].attrs["units"] == var.attrs["units"], name
+        assert ours[name].attrs["long_name"] == var.attrs["long_name"], name
+    for key in ("model", "a", "R", "alpha", "G", "nu", "a_over_bcore0", "tolerance"):
+        assert ours.attrs[key] == theirs.attrs[key], key
+
+
+@pytest.mark.parametrize("label", ["peak", "slip_001_before", "slip_002_after"])
+def test_states_equal_the_tools_files(runs, label):
+    result, files = runs
+    with xr.open_dataset(files / f"{label}.nc") as theirs:
+        compare(result.snapshots[label], theirs)
+
+
+def test_paths_equal_the_tools_paths_file(runs):
+    result, files = runs
+    with xr.open_dataset(files / "paths.nc") as paths:
+        labels = paths["label"].values.astype(str)
+        for label in sorted(set(labels)):
+            theirs = paths.isel(frame=np.flatnonzero(labels == label))
+            theirs = theirs.assign_coords(frame=np.arange(theirs.sizes["frame"], dtype=np.int32))
+            compare(result.snapshots[label], theirs, coordinates=False)
+
+
+def test_without_snapshots_none_are_kept():
+    result = asperity.slide(SCENE, snapshots=False)
+    assert result.snapshots == {}
+    assert result.summary["slip_events"] == 2
+
+
+def test_find_lines_finds_what_track_loops_finds(runs, tmp_path):
+    result, files = runs
+    label = "slip_001_before"
+    ours = asperity.find_lines(result.snapshots[label])
+    subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--plot-every", "0", "--out",
+                    tmp_path], check=True, capture_output=True)
+    frame = json.loads((tmp_path / "lines.json").read_text())["frames"][0]
+    theirs = frame["lines"]
+    assert len(ours["lines"]) == len(theirs) > 0
+    key = lambda line: (line["kind"], round(line["length"], 9))  # ids are the tracker's
+    for a, b in zip(sorted(ours["lines"], key=key), sorted(theirs, key=key)):
+        for field in ("kind", "burgers_x", "length", "area", "screw_fraction", "location",
+                      "points", "angle_deg", "slipped_area"):
+            assert a[field] == b[field], field
+
+
+def test_find_lines_reads_a_tools_file_opened_with_xarray(runs):
+    result, files = runs
+    with xr.open_dataset(files / "slip_001_after.nc") as ds:
+        from_file = asperity.find_lines(ds)
+    assert from_file == asperity.find_lines(result.snapshots["slip_001_after"])
