@@ -14,6 +14,7 @@ packages=(
   libnetcdf-dev netcdf-bin libspectra-dev gnuplot-nox
   python3-xarray python3-netcdf4 python3-ase python3-vtk9 python3-pytest python3-matplotlib
   pybind11-dev python3-pybind11
+  libopenmpi-dev openmpi-bin libfftw3-mpi-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -396,14 +396,21 @@ void FFTOptions::validate() const {
   settings::validate(*this, settings());
 }
 
+// The part of the grids this process holds (layout()): every row and column for the serial
+// engine, a slab for a distributed one.
 std::span<double> Engine::input(int field) {
-  return {input_.at(field), shape_.count()};
+  const Layout l = layout();
+  return {input_.at(field), static_cast<std::size_t>(l.rows) * static_cast<std::size_t>(shape_.n1)};
 }
 std::span<std::complex<double>> Engine::fourier(int field) {
-  return {fourier_.at(field), fourier_shape().count()};
+  const Layout l = layout();
+  return {fourier_.at(field),
+          static_cast<std::size_t>(shape_.n0) * static_cast<std::size_t>(l.k1_count)};
 }
 std::span<double> Engine::output(int field) {
-  return {output_.at(field), shape_.count()};
+  const Layout l = layout();
+  return {output_.at(field),
+          static_cast<std::size_t>(l.rows) * static_cast<std::size_t>(shape_.n1)};
 }
 
 std::unique_ptr<Engine> make_engine(Shape2 shape, int fields, const FFTOptions& options,
