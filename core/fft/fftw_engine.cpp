@@ -26,6 +26,7 @@
 #include <thread>
 
 #include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/fft/fftw_common.hpp"
 
 namespace asperity::fft {
 
@@ -34,18 +35,6 @@ namespace {
 std::mutex& planner_mutex() {
   static std::mutex m;
   return m;
-}
-
-unsigned planner_flag(Planner p) {
-  switch (p) {
-    case Planner::estimate:
-      return FFTW_ESTIMATE;
-    case Planner::measure:
-      return FFTW_MEASURE;
-    case Planner::patient:
-      return FFTW_PATIENT;
-  }
-  return FFTW_ESTIMATE;
 }
 
 fftw_complex* as_fftw(std::complex<double>* p) {
@@ -194,7 +183,7 @@ class FFTWEngine final : public Engine {
     if (!threads_ok && options.threads > 1) {
       throw std::runtime_error("fft: FFTW thread support could not be initialised");
     }
-    const unsigned flags = planner_flag(options.planner);
+    const unsigned flags = detail::planner_flag(options.planner);
     const Shape2 s = real_shape(), fs = fourier_shape();
     const int n[2] = {s.n0, s.n1};
     fftw_plan_with_nthreads(options.threads);
@@ -415,18 +404,7 @@ std::span<double> Engine::output(int field) {
 
 std::unique_ptr<Engine> make_engine(Shape2 shape, int fields, const FFTOptions& options,
                                     int support_rows) {
-  options.validate();
-  if (shape.n0 < 1 || shape.n1 < 2 || fields < 1 || fields > FourierBlock::max_fields) {
-    throw std::invalid_argument("fft::make_engine: need n0 >= 1, n1 >= 2, 1 to " +
-                                std::to_string(FourierBlock::max_fields) + " fields; got " +
-                                std::to_string(shape.n0) + " x " + std::to_string(shape.n1) +
-                                ", fields " + std::to_string(fields));
-  }
-  if (support_rows < 0 || support_rows > shape.n0) {
-    throw std::invalid_argument("fft::make_engine: support_rows: got " +
-                                std::to_string(support_rows) + ", allowed: 0 to " +
-                                std::to_string(shape.n0));
-  }
+  detail::check_engine_arguments("fft::make_engine", shape, fields, options, support_rows);
   return std::make_unique<FFTWEngine>(shape, fields, support_rows == 0 ? shape.n0 : support_rows,
                                       options);
 }

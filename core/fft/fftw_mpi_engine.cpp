@@ -4,6 +4,7 @@
 // out of padded buffers around the transforms, a pass over the local rows that costs a small
 // fraction of the transforms and their all-to-all transposes.
 #include "asperity/core/fft/fftw_mpi_engine.hpp"
+#include "asperity/core/fft/fftw_common.hpp"
 
 #include <fftw3-mpi.h>
 
@@ -16,18 +17,6 @@
 namespace asperity::fft {
 
 namespace {
-
-unsigned planner_flag(Planner p) {
-  switch (p) {
-    case Planner::estimate:
-      return FFTW_ESTIMATE;
-    case Planner::measure:
-      return FFTW_MEASURE;
-    case Planner::patient:
-      return FFTW_PATIENT;
-  }
-  return FFTW_ESTIMATE;
-}
 
 // fftw_init_threads before fftw_mpi_init, once per process (FFTW's order).
 void init_fftw_mpi() {
@@ -75,7 +64,7 @@ class FFTWMpiEngine final : public Engine {
       // Plans for the first field's buffers, executed on every field's (new-array execute:
       // the buffers come from one allocator and have its alignment).
       fftw_plan_with_nthreads(options.threads);
-      const unsigned flags = planner_flag(options.planner);
+      const unsigned flags = detail::planner_flag(options.planner);
       r2c_ = fftw_mpi_plan_dft_r2c_2d(n0, n1, padded_[0], as_fftw(fourier_[0]), comm_,
                                       flags | FFTW_MPI_TRANSPOSED_OUT);
       c2r_ = fftw_mpi_plan_dft_c2r_2d(n0, n1, as_fftw(fourier_[0]), padded_[0], comm_,
@@ -194,21 +183,10 @@ class FFTWMpiEngine final : public Engine {
 
 std::unique_ptr<Engine> make_mpi_engine(MPI_Comm comm, Shape2 shape, int fields,
                                         const FFTOptions& options, int support_rows) {
-  options.validate();
+  detail::check_engine_arguments("fft::make_mpi_engine", shape, fields, options, support_rows);
   int initialised = 0;
   MPI_Initialized(&initialised);
   if (!initialised) throw std::invalid_argument("fft::make_mpi_engine: MPI is not initialised");
-  if (shape.n0 < 1 || shape.n1 < 2 || fields < 1 || fields > FourierBlock::max_fields) {
-    throw std::invalid_argument("fft::make_mpi_engine: need n0 >= 1, n1 >= 2, 1 to " +
-                                std::to_string(FourierBlock::max_fields) + " fields; got " +
-                                std::to_string(shape.n0) + " x " + std::to_string(shape.n1) +
-                                ", fields " + std::to_string(fields));
-  }
-  if (support_rows < 0 || support_rows > shape.n0) {
-    throw std::invalid_argument("fft::make_mpi_engine: support_rows: got " +
-                                std::to_string(support_rows) + ", allowed: 0 to " +
-                                std::to_string(shape.n0));
-  }
   return std::make_unique<FFTWMpiEngine>(comm, shape, fields, shape.n0, options);
 }
 

@@ -20,6 +20,7 @@
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "errors.hpp"
 
 namespace asperity::python {
 
@@ -29,16 +30,6 @@ namespace {
 
 template <class T>
 using Array = py::array_t<T, py::array::c_style | py::array::forcecast>;
-
-// A library's std::invalid_argument as Python's ValueError.
-template <class F>
-auto checked(F f) {
-  try {
-    return f();
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
-}
 
 py::object json_to_python(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
@@ -66,7 +57,7 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
   o.slip_sign = slip_sign;
   o.tangent_half_window = tangent_half_window;
   o.screw_angle_deg = screw_angle_deg;
-  const tracking::FrameLines f = checked([&] {
+  const tracking::FrameLines f = value_errors([&] {
     py::gil_scoped_release release;
     return tracking::find_lines(view, o);
   });
@@ -92,7 +83,7 @@ nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k
   m.law.k2_error = k2_error;
   m.law.correlation = correlation;
   m.f_P = f_P;
-  checked([&] {
+  value_errors([&] {
     m.validate();
     return 0;
   });
@@ -121,7 +112,7 @@ py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const p
   if (!window.is_none()) o.window = window.cast<std::pair<double, double>>();
   o.bootstrap_samples = bootstrap;
   o.seed = static_cast<std::uint64_t>(seed);
-  const nucleation::RegimeTwoFit fit = checked([&] {
+  const nucleation::RegimeTwoFit fit = value_errors([&] {
     o.validate();
     return nucleation::fit_regime_two(points, o);
   });
@@ -151,18 +142,19 @@ void bind_analysis(py::module_& m) {
         "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; returns "
         "the lines as lines.json records and the frame's counts");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
-          return checked([&] { return nucleation::regime_two_law(x, c0); });
+          return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),
         py::arg("a_over_bcore0"), py::arg("c0"),
         "mu/alpha = 3 (2 c0)^(2/3) (a/b_core^0)^(-2/3), the Regime II law (MODEL.md 8)");
-  m.def("nucleation_condition", py::vectorize([](double x, double c0) {
-          return checked([&] { return nucleation::nucleation_condition(x, c0).mu_over_alpha; });
-        }),
-        py::arg("a_over_bcore0"), py::arg("c0"),
-        "mu/alpha = min(1, 3 (1 - x*^2)), the nucleation condition without the small-b_core "
-        "expansion (Regimes I and II)");
+  m.def(
+      "nucleation_condition", py::vectorize([](double x, double c0) {
+        return value_errors([&] { return nucleation::nucleation_condition(x, c0).mu_over_alpha; });
+      }),
+      py::arg("a_over_bcore0"), py::arg("c0"),
+      "mu/alpha = min(1, 3 (1 - x*^2)), the nucleation condition without the small-b_core "
+      "expansion (Regimes I and II)");
   m.def("control_parameter", py::vectorize([](double a, double R, double alpha, double nu) {
-          return checked([&] { return nucleation::control_parameter(a, R, alpha, nu); });
+          return value_errors([&] { return nucleation::control_parameter(a, R, alpha, nu); });
         }),
         py::arg("a"), py::arg("R"), py::arg("alpha") = 0.7, py::arg("nu") = 0.5,
         "a/b_core^0 = c alpha a^2/(R d), c = 4/(pi (1 - nu)) (MODEL.md 3), lengths in d");
@@ -172,7 +164,7 @@ void bind_analysis(py::module_& m) {
          double k2_error, double correlation) {
         const nucleation::Model model = model_of(c0, k1, k2, f_P, k1_error, k2_error, correlation);
         const nucleation::Prediction p =
-            checked([&] { return nucleation::predict(x, beta, model); });
+            value_errors([&] { return nucleation::predict(x, beta, model); });
         return py::dict(py::arg("nucleation") = p.nucleation, py::arg("law_two") = p.law_two,
                         py::arg("central") = p.central, py::arg("integrated") = p.integrated,
                         py::arg("integrated_log_error") = p.integrated_log_error,

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "asperity/core/elastic/surface_gf.hpp"
+#include "errors.hpp"
 
 namespace asperity::python {
 
@@ -106,31 +107,20 @@ Out run(Shared<GF>& s, const Forces& f, const py::object& out, Shape2 shape, con
 fft::FFTOptions fft_options(int threads) {
   fft::FFTOptions o;
   o.threads = threads;
-  try {
+  value_errors([&] {
     o.validate();
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+    return 0;
+  });
   return o;
 }
 
 elastic::Material material(double G, double nu) {
-  elastic::Material m{G, nu};
-  try {
+  const elastic::Material m{G, nu};
+  value_errors([&] {
     m.validate();
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+    return 0;
+  });
   return m;
-}
-
-template <class Make>
-auto construct(Make make) {
-  try {
-    return make();
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
 }
 
 }  // namespace
@@ -145,7 +135,7 @@ void bind_gf(py::module_& m) {
       .def(py::init([](std::pair<int, int> shape, const std::string& components, double G,
                        double nu, double d, int threads) {
              auto s = std::make_shared<Free>();
-             s->gf = construct([&] {
+             s->gf = value_errors([&] {
                return std::make_unique<elastic::FreeSurfaceGF>(
                    material(G, nu), components_of(components), Shape2{shape.first, shape.second}, d,
                    fft_options(threads));
@@ -197,7 +187,7 @@ void bind_gf(py::module_& m) {
       .def(py::init([](std::pair<int, int> cell, const std::string& components, double G, double nu,
                        double d, int threads, int alias_images) {
              auto s = std::make_shared<Periodic>();
-             s->gf = construct([&] {
+             s->gf = value_errors([&] {
                return std::make_unique<elastic::PeriodicSurfaceGF>(
                    material(G, nu), components_of(components), Shape2{cell.first, cell.second}, d,
                    fft_options(threads), alias_images);

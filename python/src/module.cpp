@@ -20,6 +20,7 @@
 #include "asperity/apps/common/slide_io.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "errors.hpp"
 #include "frames.hpp"
 #include "gf.hpp"
 
@@ -109,11 +110,7 @@ void put(toml::table& into, const std::string& key, const py::handle& value) {
 
 // The scene from TOML text, through the tools' reader: same keys, defaults and messages.
 app::SlideScene scene_from_toml(const std::string& text, const std::string& source) {
-  try {
-    return app::read_slide_scene_text(text, source);
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+  return python::value_errors([&] { return app::read_slide_scene_text(text, source); });
 }
 
 app::SlideScene scene_from_dict(const py::dict& d) {
