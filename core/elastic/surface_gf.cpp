@@ -66,34 +66,42 @@ inline void symmetric_product(const fft::FourierBlock& blk, std::size_t at, doub
 
 // ---------------------------------------------------------------------------------------------
 FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Shape2 region,
-                             double d, const fft::FFTOptions& fft)
+                             double d, const fft::FFTOptions& fft, const fft::EngineFactory& engine)
     : material_(material),
       components_(components),
       region_(region),
+      local_(region),
       d_(d),
       ncomp_(static_cast<std::size_t>(component_count(components))) {
   check_common(material, region, d, "FreeSurfaceGF");
   const Shape2 padded{next_fft_size(2 * region.n0 - 1),
                       next_fft_size(std::max(2, 2 * region.n1 - 1))};
-  engine_ = fft::make_engine(padded, ncomp(), fft, region.n0);
+  engine_ = engine ? engine(padded, ncomp(), fft, region.n0)
+                   : fft::make_engine(padded, ncomp(), fft, region.n0);
   threads_ = std::max(1, fft.threads);
+  // The region rows of this process's slab of the padded grid (the region starts at its row 0,
+  // so the slab's first row is its first region row).
+  const fft::Layout layout = engine_->layout();
+  local_begin_ = std::min(layout.row_begin, region.n0);
+  local_.n0 = std::min(layout.row_begin + layout.rows, region.n0) - local_begin_;
 
   // Each kernel entry is the FFT of the wrapped real-space coefficients; even kernels are real,
   // the odd normal-lateral coupling is imaginary. One engine field at a time is enough here.
-  const Shape2 fs = engine_->fourier_shape();
+  // Each process fills its rows and keeps the wave vectors it holds.
   const auto build = [&](int k, int l, bool imaginary) {
     auto in = engine_->input(0);
-    for (int k0 = 0; k0 < padded.n0; ++k0) {
+    for (int r = 0; r < layout.rows; ++r) {
+      const int k0 = layout.row_begin + r;
       for (int k1 = 0; k1 < padded.n1; ++k1) {
         int o0 = 0, o1 = 0;
         const bool used = wrapped_offset(k0, padded.n0, region.n0, o0) &&
                           wrapped_offset(k1, padded.n1, region.n1, o1);
-        in[padded.index(k0, k1)] = used ? coefficient(k, l, o0, o1) : 0.0;
+        in[padded.index(r, k1)] = used ? coefficient(k, l, o0, o1) : 0.0;
       }
     }
     engine_->forward();
-    std::vector<double> out(fs.count());
     const auto spectrum = engine_->fourier(0);
+    std::vector<double> out(spectrum.size());
     for (std::size_t i = 0; i < out.size(); ++i) {
       out[i] = (imaginary ? spectrum[i].imag() : spectrum[i].real()) * engine_->normalisation();
     }
@@ -111,10 +119,13 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
     sy_ = build(1, 2, true);
   }
   // Into the order in which convolve() visits the wave vectors (fft_engine.hpp): the products
-  // then read every kernel contiguously.
-  const std::vector<std::size_t> order = engine_->block_order();
-  for (auto* kernel : {&kxx_, &kxy_, &kyy_, &kzz_, &sx_, &sy_}) {
-    if (!kernel->empty()) *kernel = fft::to_block_order(order, *kernel);
+  // then read every kernel contiguously. A distributed engine's columns (transposed out) are
+  // in that order already.
+  if (!layout.fourier_transposed) {
+    const std::vector<std::size_t> order = engine_->block_order();
+    for (auto* kernel : {&kxx_, &kxy_, &kyy_, &kzz_, &sx_, &sy_}) {
+      if (!kernel->empty()) *kernel = fft::to_block_order(order, *kernel);
+    }
   }
   // The input padding must be zero from here on: apply() writes only the region.
   for (int c = 0; c < ncomp(); ++c)
@@ -130,14 +141,15 @@ double FreeSurfaceGF::coefficient(int k, int l, int o0, int o1) const {
 // no division for increasing indices (a contact's site list); any order is accepted.
 void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
   const Shape2 padded = engine_->real_shape();
-  const std::size_t n1 = static_cast<std::size_t>(region_.n1), n = region_.count();
+  const std::size_t n1 = static_cast<std::size_t>(local_.n1), n = local_.count();
   positions_.resize(sites.size());
   std::size_t row = 0, row_begin = 0;
   for (std::size_t j = 0; j < sites.size(); ++j) {
     const std::size_t s = sites[j];
     if (s >= n) {
       throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string(s) +
-                                  " outside the region of " + std::to_string(n) + " sites");
+                                  " outside the region rows held here, " + std::to_string(n) +
+                                  " sites");
     }
     if (s < row_begin) {  // not increasing: jump to the row
       row = s / n1;
@@ -159,13 +171,13 @@ template <class PerQ>
 void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
                              std::span<double> out, PerQ per_q) {
   const Shape2 padded = engine_->real_shape();
-  const std::size_t n = sites ? sites->size() : region_.count();
+  const std::size_t n = sites ? sites->size() : local_.count();
   if (sites) {
     if (region_dirty_) {
       for (std::size_t c = 0; c < ncomp_; ++c) {
         auto grid = engine_->input(static_cast<int>(c));
-        for (int i0 = 0; i0 < region_.n0; ++i0)
-          std::fill_n(grid.data() + padded.index(i0, 0), region_.n1, 0.0);
+        for (int i0 = 0; i0 < local_.n0; ++i0)
+          std::fill_n(grid.data() + padded.index(i0, 0), local_.n1, 0.0);
       }
       region_dirty_ = false;
     }
@@ -180,8 +192,8 @@ void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::spa
   } else {
     for (std::size_t c = 0; c < ncomp_; ++c) {
       auto grid = engine_->input(static_cast<int>(c));
-      for (int i0 = 0; i0 < region_.n0; ++i0) {
-        std::copy_n(in.data() + c * n + region_.index(i0, 0), region_.n1,
+      for (int i0 = 0; i0 < local_.n0; ++i0) {
+        std::copy_n(in.data() + c * n + local_.index(i0, 0), local_.n1,
                     grid.data() + padded.index(i0, 0));
       }
     }
@@ -204,8 +216,8 @@ void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::spa
         input[positions_[j]] = 0.0;
       }
     } else {
-      for (int i0 = 0; i0 < region_.n0; ++i0)
-        std::copy_n(grid + padded.index(i0, 0), region_.n1, dst + region_.index(i0, 0));
+      for (int i0 = 0; i0 < local_.n0; ++i0)
+        std::copy_n(grid + padded.index(i0, 0), local_.n1, dst + local_.index(i0, 0));
     }
   }
   if (sites) region_dirty_ = false;  // every written site is zero again

@@ -34,8 +34,13 @@ class FreeSurfaceGF {
  public:
   // region: the block of sites that may carry force and whose displacements are returned.
   // d: lattice spacing (length). Throws std::invalid_argument on bad input.
+  // engine: the FFT backend (empty: fft::make_engine, one process). With a distributed one
+  // (fft::mpi_engine_factory) each rank holds the region rows its slab of the padded grid
+  // covers (local_rows() from local_row_begin(); none on the ranks of padding rows only), and
+  // apply() and apply_filter() take and return those rows: size() = ncomp x local rows x n1,
+  // site lists index the local rows. Every rank calls them together (collective).
   FreeSurfaceGF(const Material& material, Components components, Shape2 region, double d = 1.0,
-                const fft::FFTOptions& fft = {});
+                const fft::FFTOptions& fft = {}, const fft::EngineFactory& engine = {});
 
   // u = G * f over the region; f and u have size() elements and may not alias.
   void apply(std::span<const double> f, std::span<double> u);
@@ -63,7 +68,11 @@ class FreeSurfaceGF {
   // slot l; what apply() convolves with.
   [[nodiscard]] double coefficient(int k, int l, int o0, int o1) const;
 
-  [[nodiscard]] std::size_t size() const { return ncomp_ * region_.count(); }
+  [[nodiscard]] std::size_t size() const { return ncomp_ * local_.count(); }
+  // The region rows this process holds: [local_row_begin(), + local_rows()); all of them
+  // without a distributed engine.
+  [[nodiscard]] int local_row_begin() const { return local_begin_; }
+  [[nodiscard]] int local_rows() const { return local_.n0; }
   [[nodiscard]] int ncomp() const { return static_cast<int>(ncomp_); }
   [[nodiscard]] Components components() const { return components_; }
   [[nodiscard]] Shape2 region() const { return region_; }
@@ -90,6 +99,8 @@ class FreeSurfaceGF {
   Material material_;
   Components components_;
   Shape2 region_;
+  Shape2 local_;         // the region rows held here (all of them for one process)
+  int local_begin_ = 0;  // the first of them
   double d_;
   std::size_t ncomp_;
   std::unique_ptr<fft::Engine> engine_;

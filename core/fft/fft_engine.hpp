@@ -155,6 +155,12 @@ std::vector<T> to_block_order(const std::vector<std::size_t>& order, const std::
   return out;
 }
 
+// Makes the engine of a Green's function: the plug-in point of the FFT backends. Empty (the
+// default wherever one is taken): make_engine, one process. fftw_mpi_engine.hpp's
+// mpi_engine_factory(comm) distributes the grid over the ranks of a communicator.
+using EngineFactory = std::function<std::unique_ptr<Engine>(
+    Shape2 shape, int fields, const FFTOptions& options, int support_rows)>;
+
 // FFTW3 backend (threads as requested). support_rows: rows of the input that may be non-zero
 // in convolve() (0: all). At most FourierBlock::max_fields fields. Throws
 // std::invalid_argument on a bad shape or options, std::runtime_error if FFTW cannot plan.

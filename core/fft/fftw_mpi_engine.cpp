@@ -190,4 +190,10 @@ std::unique_ptr<Engine> make_mpi_engine(MPI_Comm comm, Shape2 shape, int fields,
   return std::make_unique<FFTWMpiEngine>(comm, shape, fields, shape.n0, options);
 }
 
+EngineFactory mpi_engine_factory(MPI_Comm comm) {
+  return [comm](Shape2 shape, int fields, const FFTOptions& options, int support_rows) {
+    return make_mpi_engine(comm, shape, fields, options, support_rows);
+  };
+}
+
 }  // namespace asperity::fft

@@ -29,5 +29,7 @@ namespace asperity::fft {
 // used yet: every row is transformed (the serial engine skips the zero rows of a padded grid).
 std::unique_ptr<Engine> make_mpi_engine(MPI_Comm comm, Shape2 shape, int fields,
                                         const FFTOptions& options = {}, int support_rows = 0);
+// make_mpi_engine on `comm`, as the factory a Green's function takes (elastic/surface_gf.hpp).
+EngineFactory mpi_engine_factory(MPI_Comm comm);
 
 }  // namespace asperity::fft
