@@ -13,7 +13,8 @@
 //
 // FFTW threads run inside each rank (FFTOptions::threads). The caller initialises MPI
 // (MPI_Init_thread with MPI_THREAD_FUNNELED or more when threads > 1); every rank of the
-// communicator constructs the engine and calls forward/inverse/convolve together (collective).
+// communicator constructs the engine and calls forward/inverse/convolve together (collective),
+// and destroys it before MPI_Finalize (its plans hold a duplicate of the communicator).
 #pragma once
 
 #include <mpi.h>
