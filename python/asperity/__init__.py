@@ -7,6 +7,7 @@ module turns its results into Python objects.
     scene = asperity.Scene({"contact": {"a": 30, "R": 535}})    # or Scene.from_toml(path)
     result = asperity.slide(scene, progress=print)
     result.mu_over_alpha, result.trace["Fx"], result.summary["cost"]
+    asperity.slide({"contact": {"a": 10, "envelope": "adhesive", "tau0": 0.05}}).tau_fric
 
 Scenes take the keys of a scene file (data/scenes/default.toml, docs/settings.md), as nested
 dicts or dotted keys; a bad key or value raises ValueError naming the key, value and allowed
@@ -62,15 +63,26 @@ class SlideResult:
 
     @property
     def mu(self):
-        """Static friction coefficient max Fx/Fz."""
+        """Static friction coefficient max Fx/Fz; None for the adhesive envelope (no load)."""
         return self.summary["mu"]
 
     @property
     def mu_over_alpha(self):
         return self.summary["mu_over_alpha"]
 
+    @property
+    def tau_fric(self):
+        """Friction stress Fx/A at the peak (G), A the contact-site area (summary "contact_area")."""
+        return self.summary["tau_fric"]
+
     def __repr__(self):
-        return (f"SlideResult(mu/alpha={self.mu_over_alpha:.6g}, "
+        if self.mu_over_alpha is not None:
+            friction = f"mu/alpha={self.mu_over_alpha:.6g}"
+        elif self.summary.get("tau_fric_over_tau0") is not None:
+            friction = f"tau_fric/tau0={self.summary['tau_fric_over_tau0']:.6g}"
+        else:
+            friction = "no friction (failed)"
+        return (f"SlideResult({friction}, "
                 f"{len(self.trace)} rows, {self.summary.get('slip_events')} slip events)")
 
 
