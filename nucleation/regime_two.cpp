@@ -313,6 +313,34 @@ NucleationSolution nucleation_condition(const RegimeTwoLaw& law, double a_over_b
   return s;
 }
 
+NucleationSolution mixed_nucleation_condition(double x_adhesive, double x_hertz, double c0) {
+  if (!(x_adhesive >= 0.0) || !(x_hertz >= 0.0) || !(x_adhesive + x_hertz > 0.0) ||
+      !std::isfinite(x_adhesive + x_hertz)) {
+    reject("mixed_nucleation_condition.x_adhesive + x_hertz",
+           std::to_string(x_adhesive) + " + " + std::to_string(x_hertz), "each >= 0, sum > 0");
+  }
+  require_positive("mixed_nucleation_condition.c0", c0);
+  const double xa = x_adhesive, xh = x_hertz;
+  const auto friction = [&](double w) { return 2.0 * w * (xa + xh * w) / (xa + 2.0 * xh / 3.0); };
+  NucleationSolution s;
+  if (c0 >= xa + xh) {
+    s.bonded_mu_over_alpha = friction(1.0);
+    return s;
+  }
+  // g(x) = (1 - x)(x_A + x_H sqrt(1 - x^2)) falls monotonically from x_A + x_H to 0 on [0, 1].
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
+    const double x = 0.5 * (lo + hi);
+    const double g = (1.0 - x) * (xa + xh * std::sqrt((1.0 - x) * (1.0 + x)));
+    (g > c0 ? lo : hi) = x;
+  }
+  s.x = 0.5 * (lo + hi);
+  s.bonded_mu_over_alpha = friction(std::sqrt((1.0 - s.x) * (1.0 + s.x)));
+  s.rigid = s.bonded_mu_over_alpha >= 1.0;
+  s.mu_over_alpha = std::min(1.0, s.bonded_mu_over_alpha);
+  return s;
+}
+
 double regime_one_crossover(const RegimeTwoLaw& law, double c0) {
   if (law.kind == RegimeTwoLaw::Kind::hertz) return regime_one_crossover(c0);
   require_positive("regime_one_crossover.c0", c0);

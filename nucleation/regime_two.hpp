@@ -163,6 +163,17 @@ NucleationSolution nucleation_condition(double a_over_bcore0, double c0);
 // y = min(1, 2 sqrt(q (2 - q))) (bonded_mu_over_alpha 2 at the centre, q >= 1).
 NucleationSolution nucleation_condition(const RegimeTwoLaw& law, double a_over_bcore0, double c0);
 
+// The condition of the mixed envelope tau_max = tau0 + alpha p (issue 27), of which the two above
+// are the limits: the bonded traction reaches tau_max(r*) where a (1 - x) = c0 b_core(r*),
+// b_core(r) = d G / tau_max(r), i.e.
+//   (1 - x) (x_A + x_H w) = c0,  w = sqrt(1 - x^2),
+// x_A = a tau0 / (d G) and x_H = a alpha p0 / (d G) the two parts of a / b_core^0 (x_H the Hertz
+// control parameter c alpha a^2 / (R d)); then Fx / F_I = 2 w (x_A + x_H w) / (x_A + 2 x_H / 3),
+// F_I = tau0 pi a^2 + alpha Fz the Regime I force, capped at 1. x_A = 0 gives the Hertz
+// condition, x_H = 0 the adhesive one (bonded_mu_over_alpha at the centre: 2 x_A + 2 x_H over
+// x_A + 2 x_H / 3, when c0 >= x_A + x_H).
+NucleationSolution mixed_nucleation_condition(double x_adhesive, double x_hertz, double c0);
+
 // a / b_core^0 where the nucleation condition reaches mu / alpha = 1: below it, Regime I.
 double regime_one_crossover(double c0);
 double regime_one_crossover(const RegimeTwoLaw& law, double c0);  // adhesive: c0 / (1 - sqrt3/2)

@@ -599,3 +599,25 @@ TEST(AdhesiveLaw, LimitsOfTheCondition) {
   // The leading-order law reaches 1 at a/b_core = 8 c0.
   EXPECT_NEAR(regime_two_law(law, 8.0 * c0, c0), 1.0, 1e-15);
 }
+
+// The mixed envelope's condition reduces to the Hertz one without tau0 and to the adhesive one
+// without pressure (to the bisections' resolution), and lies between where both enter.
+TEST(MixedCondition, ItsLimitsAreTheHertzAndAdhesiveConditions) {
+  const double c0 = 0.2;
+  for (double x : {2.0, 10.0, 60.0}) {
+    EXPECT_NEAR(mixed_nucleation_condition(0.0, x, c0).mu_over_alpha,
+                nucleation_condition(x, c0).mu_over_alpha, 1e-12);
+    EXPECT_NEAR(mixed_nucleation_condition(x, 0.0, c0).mu_over_alpha,
+                nucleation_condition(adhesive_law(), x, c0).mu_over_alpha, 1e-12);
+    EXPECT_NEAR(mixed_nucleation_condition(0.0, x, c0).x, nucleation_condition(x, c0).x, 1e-12);
+  }
+  // Equal parts of the control parameter: the friction lies between the two limits taken at the
+  // whole a / b_core^0.
+  const double both = mixed_nucleation_condition(10.0, 10.0, c0).mu_over_alpha;
+  const double hertz = nucleation_condition(20.0, c0).mu_over_alpha;
+  const double adhesive = nucleation_condition(adhesive_law(), 20.0, c0).mu_over_alpha;
+  EXPECT_GT(both, std::min(hertz, adhesive));
+  EXPECT_LT(both, std::max(hertz, adhesive));
+  EXPECT_TRUE(mixed_nucleation_condition(0.05, 0.05, c0).rigid);
+  EXPECT_THROW(mixed_nucleation_condition(0.0, 0.0, c0), std::invalid_argument);
+}
