@@ -85,11 +85,19 @@ Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const 
 
 AdhesiveAnalysis analyse_adhesive(const std::vector<DataPoint>& pts, const Options& o) {
   AdhesiveAnalysis an;
-  // One series: the branches of the automatic window are per R, which the adhesive envelope
-  // does not have (its rows carry contact.R's default); tables of several tau0 collapse in
-  // a/b_core and are fitted as one branch per R they carry.
+  // The automatic window follows each branch (series and R) from the crossover to an upturn.
+  // The adhesive rows have no sphere (they carry contact.R's default), so a branch is one tau0:
+  // the rows of two strengths interleave in a/b_core, and one falling branch made of both would
+  // see an "upturn" wherever the stronger one's point lies a little above the weaker one's.
+  std::map<double, int> series_of;
   for (const auto& p : pts)
-    an.points.push_back({.a_over_bcore0 = p.x, .mu_over_alpha = p.mu, .a = p.a, .R = p.R});
+    series_of.emplace(p.tau0, static_cast<int>(series_of.size()));
+  for (const auto& p : pts)
+    an.points.push_back({.a_over_bcore0 = p.x,
+                         .mu_over_alpha = p.mu,
+                         .a = p.a,
+                         .R = p.R,
+                         .series = series_of.at(p.tau0)});
   an.fit_options = {
       .law = an.law, .bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
   an.fit_options.automatic.rise_tolerance = o.rise_tolerance;

@@ -37,7 +37,7 @@ namespace {
 
 // Window of the Regime II slope fit (MODEL.md 8), and where the slope guide starts: Hertz
 // a/b_core^0 in [10, 60] (issue 3); adhesive [4, 60]: the adhesive condition reaches tau_fric =
-// tau0 at a/b_core = 7.46 c0 = 1.4 and follows the law within 1% from 4 on (c0 = 0.19;
+// tau0 at a/b_core = 7.46 c0 = 1.4 and follows the law within 1.2% from 4 on (c0 = 0.19;
 // data/reference/adhesive_tau0p2.csv lies within 3% of the law there, 8% at 2.4). The mixed
 // envelope has no law of its own; its slope is fitted over the Hertz window.
 struct FitWindow {
