@@ -14,9 +14,11 @@ namespace asperity::nucleation {
 
 namespace {
 
-// ln(mu/alpha) + (2/3) ln(a/b_core^0) - ln 3 = (2/3) ln(2 c0) for a point on the law.
-double log_term(const ScalingPoint& p) {
-  return std::log(p.mu_over_alpha) + (2.0 / 3.0) * std::log(p.a_over_bcore0) - std::log(3.0);
+// ln(mu/alpha) + (2/3) ln(a/b_core^0) - ln 3 = (2/3) ln(2 c0) for a point on the law (Hertz;
+// ln y + e ln(a/b_core^0) - ln P = e ln(2 c0) for the law's e and P).
+double log_term(const ScalingPoint& p, const RegimeTwoLaw& law) {
+  return std::log(p.mu_over_alpha) + law.exponent * std::log(p.a_over_bcore0) -
+         std::log(law.prefactor);
 }
 
 struct Estimate {
@@ -25,14 +27,15 @@ struct Estimate {
   double rms_log_residual = 0.0;
 };
 
-Estimate estimate(std::span<const ScalingPoint> points, const std::vector<std::size_t>& used) {
+Estimate estimate(std::span<const ScalingPoint> points, const std::vector<std::size_t>& used,
+                  const RegimeTwoLaw& law) {
   Estimate e;
   for (std::size_t i : used)
-    e.mean += log_term(points[i]);
+    e.mean += log_term(points[i], law);
   e.mean /= static_cast<double>(used.size());
   double ss = 0.0;
   for (std::size_t i : used) {
-    const double r = log_term(points[i]) - e.mean;
+    const double r = log_term(points[i], law) - e.mean;
     ss += r * r;
     e.max_relative_deviation = std::max(e.max_relative_deviation, std::abs(std::expm1(r)));
   }
@@ -75,16 +78,42 @@ void RegimeTwoFitOptions::validate() const {
   require_at_least("RegimeTwoFitOptions.bootstrap_samples", bootstrap_samples, 100);
 }
 
+RegimeTwoLaw hertz_law() {
+  return {};
+}
+
+RegimeTwoLaw adhesive_law() {
+  return {.kind = RegimeTwoLaw::Kind::adhesive,
+          .prefactor = 2.0,
+          .exponent = 0.5,
+          .inverse_exponent = 2.0,
+          .quantity = "tau_fric/tau0",
+          .formula =
+              "tau_fric/tau0 = 2 (a/(2 c0 b_core))^(-1/2) = 2 (2 c0)^(1/2) "
+              "(a/b_core^0)^(-1/2)"};
+}
+
 double regime_two_law(double a_over_bcore0, double c0) {
   return 3.0 * std::pow(2.0 * c0, 2.0 / 3.0) * std::pow(a_over_bcore0, -2.0 / 3.0);
+}
+
+double regime_two_law(const RegimeTwoLaw& law, double a_over_bcore0, double c0) {
+  if (law.kind == RegimeTwoLaw::Kind::hertz) return regime_two_law(a_over_bcore0, c0);
+  return law.prefactor * std::pow(2.0 * c0, law.exponent) * std::pow(a_over_bcore0, -law.exponent);
 }
 
 double c0_of_point(double a_over_bcore0, double mu_over_alpha) {
   return 0.5 * std::pow(mu_over_alpha / 3.0, 1.5) * a_over_bcore0;
 }
 
+double c0_of_point(const RegimeTwoLaw& law, double a_over_bcore0, double y) {
+  if (law.kind == RegimeTwoLaw::Kind::hertz) return c0_of_point(a_over_bcore0, y);
+  return 0.5 * std::pow(y / law.prefactor, law.inverse_exponent) * a_over_bcore0;
+}
+
 std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
-                                          const WindowOptions& options, std::size_t* trimmed) {
+                                          const WindowOptions& options, std::size_t* trimmed,
+                                          const RegimeTwoLaw& law) {
   options.validate();
   check_points(points);
   // Per series and R: the descending branch between the crossover and the upturn.
@@ -122,7 +151,7 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
   const std::size_t candidates = used.size();
   // Trim the branch ends while the fixed-slope law misses a point by more than max_deviation.
   while (used.size() > options.min_points) {
-    const Estimate e = estimate(points, used);
+    const Estimate e = estimate(points, used, law);
     if (e.max_relative_deviation <= options.max_deviation) break;
     double worst = -1.0;
     std::size_t worst_branch = 0;
@@ -131,7 +160,7 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
       if (branches[b].empty()) continue;
       for (bool front : {true, false}) {
         const std::size_t i = front ? branches[b].front() : branches[b].back();
-        const double dev = std::abs(std::expm1(log_term(points[i]) - e.mean));
+        const double dev = std::abs(std::expm1(log_term(points[i], law) - e.mean));
         if (dev > worst) {
           worst = dev;
           worst_branch = b;
@@ -164,7 +193,7 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
       if (x >= options.window->first && x <= options.window->second) fit.used.push_back(i);
     }
   } else {
-    fit.used = automatic_window(points, options.automatic, &fit.trimmed);
+    fit.used = automatic_window(points, options.automatic, &fit.trimmed, options.law);
   }
   fit.points = fit.used.size();
   if (fit.used.size() < 2) {
@@ -174,12 +203,13 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
                      : "fewer than 2 points in the given window";
     return fit;
   }
-  const Estimate e = estimate(points, fit.used);
+  const RegimeTwoLaw& law = options.law;
+  const Estimate e = estimate(points, fit.used, law);
   std::vector<double> terms;
   fit.window_lo = points[fit.used.front()].a_over_bcore0;
   fit.window_hi = fit.window_lo;
   for (std::size_t i : fit.used) {
-    terms.push_back(log_term(points[i]));
+    terms.push_back(log_term(points[i], law));
     fit.window_lo = std::min(fit.window_lo, points[i].a_over_bcore0);
     fit.window_hi = std::max(fit.window_hi, points[i].a_over_bcore0);
   }
@@ -188,12 +218,13 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
   fit.dof = n - 1.0;
   fit.t_factor = t_factor(fit.dof);
   const double err_mean = se_boot * std::sqrt(n / (n - 1.0)) * fit.t_factor;
-  fit.c0 = 0.5 * std::exp(1.5 * e.mean);
-  fit.c0_se_bootstrap = 1.5 * fit.c0 * se_boot;
-  fit.c0_error = 1.5 * fit.c0 * err_mean;
-  fit.c0_lo = 0.5 * std::exp(1.5 * (e.mean - 2.0 * err_mean));
-  fit.c0_hi = 0.5 * std::exp(1.5 * (e.mean + 2.0 * err_mean));
-  fit.prefactor = 3.0 * std::exp(e.mean);
+  const double k = law.inverse_exponent;  // c0 = exp(k ln-term mean) / 2
+  fit.c0 = 0.5 * std::exp(k * e.mean);
+  fit.c0_se_bootstrap = k * fit.c0 * se_boot;
+  fit.c0_error = k * fit.c0 * err_mean;
+  fit.c0_lo = 0.5 * std::exp(k * (e.mean - 2.0 * err_mean));
+  fit.c0_hi = 0.5 * std::exp(k * (e.mean + 2.0 * err_mean));
+  fit.prefactor = law.prefactor * std::exp(e.mean);
   fit.prefactor_error = fit.prefactor * err_mean;
   fit.max_relative_deviation = e.max_relative_deviation;
   fit.within_max_deviation = e.max_relative_deviation <= options.automatic.max_deviation;
@@ -228,8 +259,8 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
     const std::size_t half = (sorted.size() + 1) / 2;
     const std::vector<std::size_t> lower(sorted.begin(), sorted.begin() + half),
         upper(sorted.end() - half, sorted.end());
-    fit.c0_lower_half = 0.5 * std::exp(1.5 * estimate(points, lower).mean);
-    fit.c0_upper_half = 0.5 * std::exp(1.5 * estimate(points, upper).mean);
+    fit.c0_lower_half = 0.5 * std::exp(k * estimate(points, lower, law).mean);
+    fit.c0_upper_half = 0.5 * std::exp(k * estimate(points, upper, law).mean);
     fit.c0_window_spread = 0.5 * std::abs(fit.c0_upper_half - fit.c0_lower_half);
   }
   fit.valid = true;
@@ -262,6 +293,59 @@ NucleationSolution nucleation_condition(double a_over_bcore0, double c0) {
   s.rigid = s.bonded_mu_over_alpha >= 1.0;
   s.mu_over_alpha = std::min(1.0, s.bonded_mu_over_alpha);
   return s;
+}
+
+NucleationSolution nucleation_condition(const RegimeTwoLaw& law, double a_over_bcore0, double c0) {
+  if (law.kind == RegimeTwoLaw::Kind::hertz) return nucleation_condition(a_over_bcore0, c0);
+  require_positive("nucleation_condition.a_over_bcore0", a_over_bcore0);
+  require_positive("nucleation_condition.c0", c0);
+  NucleationSolution s;
+  // The site at the distance c0 b_core from the edge, the same core width everywhere.
+  const double q = c0 / a_over_bcore0;
+  if (q >= 1.0) {
+    s.bonded_mu_over_alpha = 2.0;
+    return s;
+  }
+  s.x = 1.0 - q;
+  s.bonded_mu_over_alpha = 2.0 * std::sqrt(q * (2.0 - q));
+  s.rigid = s.bonded_mu_over_alpha >= 1.0;
+  s.mu_over_alpha = std::min(1.0, s.bonded_mu_over_alpha);
+  return s;
+}
+
+NucleationSolution mixed_nucleation_condition(double x_adhesive, double x_hertz, double c0) {
+  if (!(x_adhesive >= 0.0) || !(x_hertz >= 0.0) || !(x_adhesive + x_hertz > 0.0) ||
+      !std::isfinite(x_adhesive + x_hertz)) {
+    reject("mixed_nucleation_condition.x_adhesive + x_hertz",
+           std::to_string(x_adhesive) + " + " + std::to_string(x_hertz), "each >= 0, sum > 0");
+  }
+  require_positive("mixed_nucleation_condition.c0", c0);
+  const double xa = x_adhesive, xh = x_hertz;
+  const auto friction = [&](double w) { return 2.0 * w * (xa + xh * w) / (xa + 2.0 * xh / 3.0); };
+  NucleationSolution s;
+  if (c0 >= xa + xh) {
+    s.bonded_mu_over_alpha = friction(1.0);
+    return s;
+  }
+  // g(x) = (1 - x)(x_A + x_H sqrt(1 - x^2)) falls monotonically from x_A + x_H to 0 on [0, 1].
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
+    const double x = 0.5 * (lo + hi);
+    const double g = (1.0 - x) * (xa + xh * std::sqrt((1.0 - x) * (1.0 + x)));
+    (g > c0 ? lo : hi) = x;
+  }
+  s.x = 0.5 * (lo + hi);
+  s.bonded_mu_over_alpha = friction(std::sqrt((1.0 - s.x) * (1.0 + s.x)));
+  s.rigid = s.bonded_mu_over_alpha >= 1.0;
+  s.mu_over_alpha = std::min(1.0, s.bonded_mu_over_alpha);
+  return s;
+}
+
+double regime_one_crossover(const RegimeTwoLaw& law, double c0) {
+  if (law.kind == RegimeTwoLaw::Kind::hertz) return regime_one_crossover(c0);
+  require_positive("regime_one_crossover.c0", c0);
+  // 2 sqrt(q (2 - q)) = 1 at q = 1 - sqrt(3)/2.
+  return c0 / (1.0 - 0.5 * std::sqrt(3.0));
 }
 
 double regime_one_crossover(double c0) {

@@ -21,7 +21,9 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kFormat = "asperity contact_slide checkpoint";
-constexpr int kVersion = 3;  // 2: h, dFz_dh and u_z of the explicit model; 3: cycle replay
+// 2: h, dFz_dh and u_z of the explicit model; 3: cycle replay; 4: contact-site areas and the
+// friction measure (issue 27: envelopes without load).
+constexpr int kVersion = 4;
 const char* const kByteOrder = std::endian::native == std::endian::little ? "little" : "big";
 // Sites of a block: far above any scene (a <= 4096 d gives 8200^2), far below overflow.
 constexpr long long kMaxSites = 1LL << 28;
@@ -112,9 +114,9 @@ json bytes_of(const std::vector<double>& v) {
 }
 
 json fields_json(const slide::SlideFields& s) {
-  return {{"Dx", s.Dx},         {"shift", s.shift}, {"f", bytes_of(s.f)},
-          {"u", bytes_of(s.u)}, {"Fx", s.Fx},       {"Fz", s.Fz},
-          {"energy", s.energy}, {"h", s.h},         {"dFz_dh", s.dFz_dh}};
+  return {{"Dx", s.Dx},         {"shift", s.shift}, {"f", bytes_of(s.f)}, {"u", bytes_of(s.u)},
+          {"Fx", s.Fx},         {"Fz", s.Fz},       {"energy", s.energy}, {"h", s.h},
+          {"dFz_dh", s.dFz_dh}, {"area", s.area}};
 }
 
 json optional_fields(const std::optional<slide::SlideFields>& s) {
@@ -193,13 +195,16 @@ json result_json(const slide::SlideResult& r) {
   json trace = json::array();
   for (const auto& t : r.trace) {
     trace.push_back({t.Dx, t.Fx, t.Fz, t.energy, t.iterations, t.gf_applications, t.max_force,
-                     t.slip, t.slipped_sites, t.replayed});
+                     t.slip, t.slipped_sites, t.replayed, t.area});
   }
   json snapshots = json::array();
   for (const auto& s : r.snapshots)
     snapshots.push_back(snapshot_json(s));
   return {{"trace", trace},
+          {"measure", static_cast<int>(r.measure)},
           {"mu", r.mu},
+          {"tau_fric", r.tau_fric},
+          {"area", r.area},
           {"mu_over_alpha", r.mu_over_alpha},
           {"peak_Dx", r.peak_Dx},
           {"peak_precision", r.peak_precision},
@@ -332,6 +337,7 @@ slide::SlideFields fields_from(const json& j) {
   s.energy = number(j, "energy");
   s.h = number(j, "h");
   s.dFz_dh = number(j, "dFz_dh");
+  s.area = number(j, "area");
   return s;
 }
 
@@ -430,7 +436,7 @@ slide::Snapshot snapshot_from(const json& j) {
 slide::SlideResult result_from(const json& j) {
   slide::SlideResult r;
   for (const json& row : array(j, "trace")) {
-    if (!row.is_array() || row.size() != 10) throw Bad("trace: rows of 10 values expected");
+    if (!row.is_array() || row.size() != 11) throw Bad("trace: rows of 11 values expected");
     r.trace.push_back(
         {.Dx = number(row[0]),
          .Fx = number(row[1]),
@@ -442,9 +448,14 @@ slide::SlideResult result_from(const json& j) {
          .max_force = number(row[6]),
          .slip = row[7].is_boolean() ? row[7].get<bool>() : throw Bad("trace: slip"),
          .slipped_sites = static_cast<int>(integer(row[8], 0, std::numeric_limits<int>::max())),
-         .replayed = row[9].is_boolean() ? row[9].get<bool>() : throw Bad("trace: replayed")});
+         .replayed = row[9].is_boolean() ? row[9].get<bool>() : throw Bad("trace: replayed"),
+         .area = number(row[10])});
   }
+  r.measure = static_cast<slide::FrictionMeasure>(
+      integer(j, "measure", 0, static_cast<long long>(slide::FrictionMeasure::area)));
   r.mu = number(j, "mu");
+  r.tau_fric = number(j, "tau_fric");
+  r.area = number(j, "area");
   r.mu_over_alpha = number(j, "mu_over_alpha");
   r.peak_Dx = number(j, "peak_Dx");
   r.peak_precision = number(j, "peak_precision");

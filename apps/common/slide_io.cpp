@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "asperity/apps/common/cli.hpp"
@@ -142,7 +143,9 @@ SlideScene read_slide_scene(SceneReader& reader) {
 nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& r) {
   const auto& c = scene.contact;
   const auto& o = scene.options;
-  return {
+  // Undefined values are null, each with its reason nearby (mu_note), never NaN.
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json out = {
       {"model", "lfm"},
       // Every setting as its scene key has it (SlideScene::settings()); the flat entries below
       // repeat a few of them where readers of earlier summaries look for them.
@@ -154,10 +157,25 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"nu", c.material.nu},
       {"a_over_bcore0", c.a_over_bcore0()},
       {"lambda", c.lambda()},
+      // The interface envelope (issue 27): its tau0, tau_max and core width at the centre.
+      {"envelope", c.envelope},
+      {"tau0", c.tau0},
+      {"tau_max0", c.tau_max0()},
+      {"bcore0", c.bcore0()},
       {"Fz", r.Fz},
       {"Fz_continuum", r.Fz_continuum},
-      {"mu", r.mu},
-      {"mu_over_alpha", r.mu_over_alpha},
+      // What the slide maximised: mu = Fx/Fz, or tau_fric = Fx/A where there is no load.
+      {"friction_measure",
+       r.measure == slide::FrictionMeasure::load ? "mu = Fx/Fz" : "tau_fric = Fx/A"},
+      {"mu", num(r.mu)},
+      {"mu_over_alpha", num(r.mu_over_alpha)},
+      // Fx at the peak over the contact-site area there (A = N_c d^2, the sites with tau_max >
+      // 0), and A beside the continuum pi a^2.
+      {"tau_fric", num(r.tau_fric)},
+      {"contact_area", r.area},
+      {"contact_area_continuum", std::numbers::pi * c.a * c.a},
+      // Fx at the peak over its Regime I value alpha Fz + tau0 A: 1 while the contact is rigid.
+      {"friction_over_regime_one", num(slide::friction_over_regime_one(c, r))},
       {"mu_is_lower_bound", r.mu_is_lower_bound},
       {"peak_Dx", r.peak_Dx},
       {"peak_precision", r.peak_precision},
@@ -208,6 +226,13 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
         {"peak_memory_bytes", peak_memory_bytes()},
         {"provenance", provenance_json()}}},
   };
+  if (c.uses_tau0() && c.tau0 > 0.0) out["tau_fric_over_tau0"] = num(r.tau_fric / c.tau0);
+  if (!c.carries_load()) {
+    out["mu_note"] =
+        "mu and mu_over_alpha undefined: the adhesive envelope carries no load (Fz = 0); its "
+        "friction is tau_fric (tau_fric_over_tau0), and kinetic is a mean of Fx/A";
+  }
+  return out;
 }
 
 namespace {
@@ -216,43 +241,75 @@ namespace {
 void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
                    const slide::SlideResult& r, std::vector<std::filesystem::path>& written) {
   const auto& c = scene.contact;
-  const double alpha = c.alpha;
-  Series fx{.title = "Fx / (alpha Fz)", .style = "lines lw 2"};
+  // Fx over its Regime I value, alpha Fz + tau0 A per row (ContactScene::regime_one_force): the
+  // Hertz envelope's Fx / (alpha Fz) as it always was.
+  const char* y_label = !c.uses_tau0()     ? "Fx / (alpha Fz)"
+                        : c.carries_load() ? "Fx / (alpha Fz + tau0 A)"
+                                           : "Fx / (tau0 A)";
+  const auto y_of = [&](const slide::TraceRow& row) {
+    return row.Fx / c.regime_one_force(row.Fz, row.area);
+  };
+  Series fx{.title = y_label, .style = "lines lw 2"};
   Series slips{.title = "slip events", .style = "points pt 7 ps 1.2"};
   // Rows replayed from the repeating cycle (slider.hpp, replay_cycle) are marked as such.
   Series replayed{.title = "replayed from the cycle a period back", .style = "points pt 6 ps 1.0"};
   for (const auto& row : r.trace) {
     fx.x.push_back(row.Dx / c.d);
-    fx.y.push_back(row.Fx / (alpha * row.Fz));
+    fx.y.push_back(y_of(row));
     if (row.replayed) {
       replayed.x.push_back(row.Dx / c.d);
-      replayed.y.push_back(row.Fx / (alpha * row.Fz));
+      replayed.y.push_back(y_of(row));
     }
     if (row.slip) {
       slips.x.push_back(row.Dx / c.d);
-      slips.y.push_back(row.Fx / (alpha * row.Fz));
+      slips.y.push_back(y_of(row));
     }
   }
   char title[200];
-  std::snprintf(title, sizeof title,
-                "a = %.0f d, R = %.0f d, alpha = %.2f: a/b_core^0 = %.2f, mu/alpha = %.4f%s", c.a,
-                c.R, alpha, c.a_over_bcore0(), r.mu_over_alpha,
-                r.mu_is_lower_bound ? " (lower bound)" : "");
+  const char* bound = r.mu_is_lower_bound ? " (lower bound)" : "";
+  if (!c.uses_tau0()) {
+    std::snprintf(title, sizeof title,
+                  "a = %.0f d, R = %.0f d, alpha = %.2f: a/b_core^0 = %.2f, mu/alpha = %.4f%s", c.a,
+                  c.R, c.alpha, c.a_over_bcore0(), r.mu_over_alpha, bound);
+  } else if (!c.carries_load()) {
+    std::snprintf(title, sizeof title,
+                  "adhesive, a = %.0f d, tau0 = %.3g G: a/b_core^0 = %.2f, tau_fric/tau0 = %.4f%s",
+                  c.a, c.tau0, c.a_over_bcore0(), r.tau_fric / c.tau0, bound);
+  } else {
+    std::snprintf(title, sizeof title,
+                  "mixed, a = %.0f d, R = %.0f d, alpha = %.2f, tau0 = %.3g G: a/b_core^0 = %.2f, "
+                  "mu/alpha = %.4f, tau_fric/tau0 = %.4f%s",
+                  c.a, c.R, c.alpha, c.tau0, c.a_over_bcore0(), r.mu_over_alpha,
+                  r.tau_fric / c.tau0, bound);
+  }
   std::vector<Series> trace_series{fx};
   if (!slips.x.empty()) trace_series.push_back(slips);
   if (!replayed.x.empty()) trace_series.push_back(replayed);
   plot_png(dir / "trace.png", trace_series,
-           {.title = title, .xlabel = "Dx / d", .ylabel = "Fx / (alpha Fz)"});
+           {.title = title, .xlabel = "Dx / d", .ylabel = y_label});
   written.push_back(dir / "trace.png");
 
   // Peak snapshot: stress profiles along the axes through the tip centre, and the map.
   const auto& peak = r.peak_snapshot;
   const auto& blk = peak.block;
-  const double p0 = c.hertz().p0;
+  // Stresses over tau_max at the centre: alpha p0 (Hertz), tau0 (adhesive) or both (mixed).
+  const double p0 = c.carries_load() ? c.hertz().p0 : 0.0;
+  const double tau_unit = c.uses_tau0() ? c.tau_max0() : c.alpha * p0;
+  const std::string unit_name = !c.uses_tau0()     ? "alpha p0"
+                                : c.carries_load() ? "(tau0 + alpha p0)"
+                                                   : "tau0";
   Series along_x{.title = "tau_x, y = 0", .style = "points pt 7 ps 0.6"};
   Series along_y{.title = "tau_x, x = Dx", .style = "points pt 6 ps 0.6"};
-  Series envelope{.title = "tau_max = alpha p(r)", .style = "lines dt 2"};
-  Series mindlin{.title = "Cattaneo-Mindlin", .style = "lines lw 2"};
+  Series envelope{.title = !c.uses_tau0()     ? "tau_max = alpha p(r)"
+                           : c.carries_load() ? "tau_max = tau0 + alpha p(r)"
+                                              : "tau_max = tau0",
+                  .style = "lines dt 2"};
+  // The stick solution at the peak's force: Cattaneo-Mindlin under the Hertz strength, the
+  // bonded rigid disk Fx / (2 pi a^2) (1 - r^2/a^2)^(-1/2) capped at tau0 under the adhesive one
+  // (MODEL.md 2; the edge singularity where Regime II nucleates). None for the mixed envelope.
+  Series mindlin{
+      .title = c.carries_load() ? "Cattaneo-Mindlin" : "bonded rigid disk (capped at tau0)",
+      .style = "lines lw 2"};
   // Explicit model (snapshots with u_z): the local pressure per atom on the same axes, against
   // Hertz (the envelope curve is p/p0 of Hertz as well).
   const bool explicit_model = !peak.uz.empty();
@@ -269,7 +326,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
       const std::size_t i = blk.shape.index(i0, i1);
       if (!peak.in_contact[i]) continue;
       map[i] = peak.tau_x[i] / peak.tau_max[i];
-      const double t = peak.tau_x[i] / (alpha * p0);
+      const double t = peak.tau_x[i] / tau_unit;
       if (blk.y(i1, c.d) == 0.0) {
         along_x.x.push_back((blk.x(i0, c.d) - peak.Dx) / c.a);
         along_x.y.push_back(t);
@@ -284,14 +341,25 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
   }
   // In the explicit model the envelope is the Hertz pressure the atoms are compared with.
   if (explicit_model) envelope.title = "tau_max = alpha p_H(r); Hertz p_H / p0";
+  const auto shape = interface::make_envelope(c);
   for (int k = -200; k <= 200; ++k) {
     const double rho = k / 200.0;
+    const double w = std::sqrt(std::max(0.0, 1.0 - rho * rho));
     envelope.x.push_back(rho);
-    envelope.y.push_back(std::sqrt(std::max(0.0, 1.0 - rho * rho)));
-    mindlin.x.push_back(rho);
-    mindlin.y.push_back(contact::cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
+    // The Hertz curve as it always was; the others from the envelope itself (inside the edge).
+    envelope.y.push_back(
+        !c.uses_tau0() ? w : shape->tau_max(std::min(std::abs(rho), 0.9999) * c.a) / tau_unit);
+    if (!c.uses_tau0()) {
+      mindlin.x.push_back(rho);
+      mindlin.y.push_back(contact::cattaneo_mindlin(std::abs(rho), r.mu_over_alpha));
+    } else if (!c.carries_load() && std::abs(rho) < 1.0) {
+      mindlin.x.push_back(rho);
+      mindlin.y.push_back(
+          std::min(1.0, r.tau_fric * r.area / (2.0 * std::numbers::pi * c.a * c.a * c.tau0 * w)));
+    }
   }
-  std::vector<Series> profiles{along_x, along_y, envelope, mindlin};
+  std::vector<Series> profiles{along_x, along_y, envelope};
+  if (!mindlin.x.empty()) profiles.push_back(mindlin);
   if (explicit_model) profiles.push_back(pressure_x);
   plot_png(dir / "stress_profiles.png", profiles,
            {.title = std::string(explicit_model ? "Shear stress and pressure" : "Shear stress")
@@ -299,7 +367,7 @@ void write_figures(const std::filesystem::path& dir, const SlideScene& scene,
                          .append(std::to_string(peak.Dx))
                          .append(" d)"),
             .xlabel = "r / a (along x: (x - Dx)/a; along y: y/a)",
-            .ylabel = explicit_model ? "tau / (alpha p0), p / p0" : "tau / (alpha p0)"});
+            .ylabel = explicit_model ? "tau / (alpha p0), p / p0" : "tau / " + unit_name});
   written.push_back(dir / "stress_profiles.png");
   heatmap_png(
       dir / "stress_map.png", mx, my, map,
@@ -339,6 +407,8 @@ nlohmann::json snapshot_attributes(const SlideScene& scene, const nlohmann::json
                                {"G", c.material.G},
                                {"nu", c.material.nu},
                                {"a_over_bcore0", c.a_over_bcore0()},
+                               {"envelope", c.envelope},
+                               {"tau0", c.tau0},
                                {"tolerance", scene.options.minimizer.force_tolerance}};
   if (extra.is_object()) {
     for (const auto& [key, value] : extra.items()) {
@@ -410,14 +480,17 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
                                                        const SlideOutputOptions& options) {
   ensure_directory(dir);
   std::vector<std::filesystem::path> written;
+  // Fx_over_Fz is nan where there is no load (the adhesive envelope); area is the contact-site
+  // area N_c d^2 and Fx_over_A the friction stress (issue 27).
   CsvTable trace({"Dx", "Fx", "Fz", "Fx_over_Fz", "energy", "iterations", "gf_applications",
-                  "max_force", "slip", "slipped_sites", "replayed"});
+                  "max_force", "slip", "slipped_sites", "replayed", "area", "Fx_over_A"});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& row : r.trace) {
-    trace.add_row({row.Dx, row.Fx, row.Fz, row.Fx / row.Fz, row.energy,
-                   static_cast<long long>(row.iterations),
-                   static_cast<long long>(row.gf_applications), row.max_force,
-                   static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites),
-                   static_cast<long long>(row.replayed)});
+    trace.add_row(
+        {row.Dx, row.Fx, row.Fz, row.Fz > 0.0 ? row.Fx / row.Fz : nan, row.energy,
+         static_cast<long long>(row.iterations), static_cast<long long>(row.gf_applications),
+         row.max_force, static_cast<long long>(row.slip), static_cast<long long>(row.slipped_sites),
+         static_cast<long long>(row.replayed), row.area, row.area > 0.0 ? row.Fx / row.area : nan});
   }
   if (options.figures) write_figures(dir, scene, r, written);
   if (options.snapshots && !r.snapshots.empty()) {
@@ -432,6 +505,14 @@ std::vector<std::filesystem::path> write_slide_outputs(const std::filesystem::pa
   return written;
 }
 
+void check_explicit_envelope(const interface::ContactScene& c, const std::string& source) {
+  if (c.envelope != "hertz") {
+    throw std::invalid_argument(source + ": contact.envelope = \"" + c.envelope +
+                                "\": allowed: \"hertz\" with the explicit model, whose interface "
+                                "is its Lennard-Jones tip (MODEL.md 4), not an envelope");
+  }
+}
+
 ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips) {
   auto reader = SceneReader::from_file(path);
   ExplicitSlideScene s;
@@ -440,6 +521,7 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
   reader.read(explicit_model::ExplicitScene::settings(), m);
   reader.reject_unknown();
   check_relations(s.slide, path, check_slips);
+  check_explicit_envelope(s.slide.contact, path);
   m.R = s.slide.contact.R;
   m.material = s.slide.contact.material;
   m.d = s.slide.contact.d;

@@ -141,6 +141,9 @@ struct ExplicitSlideScene {
   explicit_model::ExplicitScene model;
 };
 ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips = true);
+// The explicit model has its own interface (the tip's potential): throws std::invalid_argument,
+// naming `source`, unless contact.envelope is "hertz" (whose load sets the explicit target).
+void check_explicit_envelope(const interface::ContactScene& contact, const std::string& source);
 
 // alpha of the potential at the central atom's Hertz load p0 d^2 of contact.a (alpha_path; nearly
 // load independent): the alpha that mu/alpha and a/b_core^0 of the explicit model refer to.

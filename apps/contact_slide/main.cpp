@@ -187,6 +187,7 @@ app::ExplicitSlideScene explicit_scene(Run& run) {
   if (!run.scene_given) run.scene_path = ASPERITY_DATA_DIR "/scenes/explicit_default.toml";
   app::ExplicitSlideScene e = app::read_explicit_scene(run.scene_path, false);
   apply_explicit_flags(run, e);
+  app::check_explicit_envelope(e.slide.contact, "--model explicit");
   return e;
 }
 
@@ -333,10 +334,11 @@ int lfm_sliding(const Run& run) {
   const std::string output_line = app::check_output_fits(s, run.out);
 
   std::fprintf(stderr,
-               "contact_slide: a = %g d, R = %g d, alpha = %g, nu = %g: a/b_core^0 = %.3g, "
-               "lambda = %.3g; %s protocol, %s (preconditioner %s), tolerance %g\n",
-               s.contact.a, s.contact.R, s.contact.alpha, s.contact.material.nu,
-               s.contact.a_over_bcore0(), s.contact.lambda(),
+               "contact_slide: %s envelope, a = %g d, R = %g d, alpha = %g, tau0 = %g G, nu = %g: "
+               "a/b_core^0 = %.3g, lambda = %.3g; %s protocol, %s (preconditioner %s), "
+               "tolerance %g\n",
+               s.contact.envelope.c_str(), s.contact.a, s.contact.R, s.contact.alpha,
+               s.contact.tau0, s.contact.material.nu, s.contact.a_over_bcore0(), s.contact.lambda(),
                slide::to_string(s.options.protocol).c_str(),
                minimize::to_string(s.options.minimizer.method).c_str(),
                minimize::to_string(s.options.minimizer.preconditioner).c_str(),
@@ -356,11 +358,24 @@ int lfm_sliding(const Run& run) {
   const auto files = app::write_slide_outputs(run.out, s, r);
   finish_checkpoints(slid);
 
-  std::printf(
-      "mu = %.6f, mu/alpha = %.5f%s (peak at Dx = %.4f d, precision %.1e), "
-      "kinetic/static = %.3f, slip events %d\n",
-      r.mu, r.mu_over_alpha, r.mu_is_lower_bound ? " (lower bound)" : "", r.peak_Dx,
-      r.peak_precision, r.kinetic_over_static, r.slip_events);
+  // Friction as the envelope defines it: mu where there is a load, the friction stress where
+  // there is none (adhesive: mu undefined), and tau_fric/tau0 where tau0 enters.
+  char friction[160];
+  if (s.contact.carries_load()) {
+    std::snprintf(friction, sizeof friction, "mu = %.6f, mu/alpha = %.5f", r.mu, r.mu_over_alpha);
+  } else {
+    std::snprintf(friction, sizeof friction, "tau_fric = Fx/A = %.6g G (mu undefined: no load)",
+                  r.tau_fric);
+  }
+  std::string friction_line = friction;
+  if (s.contact.uses_tau0() && s.contact.tau0 > 0.0) {
+    std::snprintf(friction, sizeof friction, ", tau_fric/tau0 = %.5f (A = %.6g d^2)",
+                  r.tau_fric / s.contact.tau0, r.area);
+    friction_line += friction;
+  }
+  std::printf("%s%s (peak at Dx = %.4f d, precision %.1e), kinetic/static = %.3f, slip events %d\n",
+              friction_line.c_str(), r.mu_is_lower_bound ? " (lower bound)" : "", r.peak_Dx,
+              r.peak_precision, r.kinetic_over_static, r.slip_events);
   std::printf(
       "stopped: %s at Dx = %.4f d; %d steps, %d minimisations, %zu GF applications + %zu "
       "interface filter passes, %.2f s\n",

@@ -1,7 +1,9 @@
 // fit_scaling's analysis: the data handed to nucleation/ (fit, model, comparison, crossovers,
 // upturns) in the order the tool reports them.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -9,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "asperity/nucleation/regime_three.hpp"
 #include "fit_io.hpp"
 
 namespace asperity::app::fit_scaling {
@@ -77,6 +80,68 @@ Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const 
     return std::tie(name_u, u.R) < std::tie(name_v, v.R);
   });
   an.fit_three = nuc::fit_regime_three_to_upturns(an.points, an.comparisons, an.upturns, o.f_P);
+  return an;
+}
+
+AdhesiveAnalysis analyse_adhesive(const std::vector<DataPoint>& pts, const Options& o) {
+  AdhesiveAnalysis an;
+  // The automatic window follows each branch (series and R) from the crossover to an upturn.
+  // The adhesive rows have no sphere (they carry contact.R's default), so a branch is one tau0:
+  // the rows of two strengths interleave in a/b_core, and one falling branch made of both would
+  // see an "upturn" wherever the stronger one's point lies a little above the weaker one's.
+  std::map<double, int> series_of;
+  for (const auto& p : pts)
+    series_of.emplace(p.tau0, static_cast<int>(series_of.size()));
+  for (const auto& p : pts)
+    an.points.push_back({.a_over_bcore0 = p.x,
+                         .mu_over_alpha = p.mu,
+                         .a = p.a,
+                         .R = p.R,
+                         .series = series_of.at(p.tau0)});
+  an.fit_options = {
+      .law = an.law, .bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
+  an.fit_options.automatic.rise_tolerance = o.rise_tolerance;
+  if (!o.window.empty()) an.fit_options.window = std::pair{o.window[0], o.window[1]};
+  an.fit = nuc::fit_regime_two(an.points, an.fit_options);
+  if (!an.fit.valid)
+    throw std::invalid_argument("no Regime II fit of the adhesive law: " + an.fit.reason +
+                                " (give --window, or add points)");
+  an.x_one = nuc::regime_one_crossover(an.law, an.fit.c0);
+  // The condition's least-squares log-log slope over the window's points.
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (std::size_t i : an.fit.used) {
+    const double x = std::log(an.points[i].a_over_bcore0);
+    const double y = std::log(
+        nuc::nucleation_condition(an.law, an.points[i].a_over_bcore0, an.fit.c0).mu_over_alpha);
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  const double n = static_cast<double>(an.fit.used.size());
+  an.condition_slope = (sxy - sx * sy / n) / (sxx - sx * sx / n);
+  return an;
+}
+
+MixedAnalysis analyse_mixed(const std::vector<DataPoint>& pts, const LimitC0& hertz,
+                            const LimitC0& adhesive) {
+  MixedAnalysis an{.hertz = hertz, .adhesive = adhesive};
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool with_h = std::isfinite(hertz.c0), with_a = std::isfinite(adhesive.c0);
+  for (const auto& p : pts) {
+    MixedPoint m;
+    m.x_hertz = nuc::control_parameter(p.a, p.R, p.alpha, p.nu);
+    m.x_adhesive = p.a * p.tau0 / p.G;  // d = 1: tables are in lattice spacings
+    m.hertz_limit = with_h ? nuc::nucleation_condition(m.x_hertz, hertz.c0).mu_over_alpha : nan;
+    m.adhesive_limit =
+        with_a ? nuc::nucleation_condition(nuc::adhesive_law(), m.x_adhesive, adhesive.c0)
+                     .mu_over_alpha
+               : nan;
+    m.mixed_with_c0_hertz =
+        with_h ? nuc::mixed_nucleation_condition(m.x_adhesive, m.x_hertz, hertz.c0).mu_over_alpha
+               : nan;
+    m.mixed_with_c0_adhesive =
+        with_a ? nuc::mixed_nucleation_condition(m.x_adhesive, m.x_hertz, adhesive.c0).mu_over_alpha
+               : nan;
+    an.points.push_back(m);
+  }
   return an;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -216,6 +217,145 @@ fs::path regime_map_figure(const fs::path& dir, const std::vector<DataPoint>& pt
 }
 
 }  // namespace
+
+fs::path write_adhesive_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
+                               const AdhesiveAnalysis& an) {
+  std::vector<app::Series> s;
+  // One series per tau0 (the collapse: tau_fric/tau0 against a/b_core, whatever tau0).
+  std::map<double, app::Series> by_tau0;
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2"};
+  std::vector<bool> in_window(pts.size(), false);
+  for (std::size_t i : an.fit.used)
+    in_window[i] = true;
+  app::Series used{.title = "in the fit's window", .style = "points pt 6 ps 2.4 lc 'black'"};
+  double xmin = pts.front().x, xmax = xmin, ymin = 1.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    auto& g = by_tau0[p.tau0];
+    if (g.title.empty()) {
+      g.title = "adhesive, tau0 = " + fmt("%g", p.tau0) +
+                " G (b_core = " + fmt("%g", p.G / p.tau0) + " d)";
+      g.style =
+          "points pt 7 ps 1.6 lc rgb '" + std::string(colours[(by_tau0.size() - 1) % 6]) + "'";
+    }
+    g.x.push_back(p.x);
+    g.y.push_back(p.mu);
+    if (in_window[i]) {
+      used.x.push_back(p.x);
+      used.y.push_back(p.mu);
+    }
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.mu);
+  }
+  for (auto& [tau0, g] : by_tau0)
+    s.push_back(std::move(g));
+  s.push_back(used);
+  xmin /= 2.0;
+  xmax *= 2.0;
+  app::Series one{.title = "Regime I: tau_fric = tau0", .style = "lines dt 3 lw 2 lc 'gray40'"};
+  one.x = {xmin, xmax};
+  one.y = {1.0, 1.0};
+  s.push_back(one);
+  const nuc::RegimeTwoFit& fit = an.fit;
+  app::Series law_in{.title = "Regime II: 2 (a/(2 c0 b_core))^(-1/2), c0 = " + fmt("%.3f", fit.c0) +
+                              " +- " + fmt("%.3f", fit.c0_error) + " (window " +
+                              fmt("%g", fit.window_lo) + ".." + fmt("%g", fit.window_hi) + ")",
+                     .style = "lines lw 2.5 lc 'black'"};
+  app::Series law_out{.title = "", .style = "lines dt 2 lw 1 lc 'black'"};
+  app::Series cond{.title = "nucleation condition min(1, 2 sqrt(q (2 - q))), q = c0 b_core/a",
+                   .style = "lines lw 1.5 lc 'dark-orange'"};
+  for (int i = 0; i <= 200; ++i) {
+    const double x = xmin * std::pow(xmax / xmin, i / 200.0);
+    const double y = nuc::regime_two_law(an.law, x, fit.c0);
+    const bool inside = x >= fit.window_lo && x <= fit.window_hi;
+    law_in.x.push_back(x);
+    law_in.y.push_back(inside ? y : NAN);
+    law_out.x.push_back(x);
+    law_out.y.push_back(y <= 1.5 ? y : NAN);
+    cond.x.push_back(x);
+    cond.y.push_back(nuc::nucleation_condition(an.law, x, fit.c0).mu_over_alpha);
+  }
+  s.push_back(law_out);
+  s.push_back(law_in);
+  s.push_back(cond);
+  const fs::path png = dir / "adhesive_collapse.png";
+  app::plot_png(
+      png, s,
+      {.title = "Adhesive contacts (tau_max = tau0, no load): free slope " +
+                fmt("%.3f", fit.free_slope) + " +- " + fmt("%.3f", fit.free_slope_error) +
+                " over the window (law -1/2, condition " + fmt("%.3f", an.condition_slope) + ")",
+       .xlabel = "a / b_core   (b_core = d G / tau0)",
+       .ylabel = "tau_fric / tau0   (tau_fric = Fx / A at the peak)",
+       .logx = true,
+       .logy = true,
+       .width = 1000,
+       .height = 700,
+       .xrange = std::pair{xmin, xmax},
+       .yrange = std::pair{ymin / 1.5, 1.5},
+       .extra_commands = {"set key bottom left font ',10'", "set grid"}});
+  return png;
+}
+
+fs::path write_mixed_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
+                            const MixedAnalysis& an) {
+  // Each mixed point twice: mu/alpha at its Hertz control parameter, against the Hertz law, and
+  // tau_fric/tau0 at its adhesive one, against the adhesive law.
+  app::Series hz{.title = "mixed: mu/alpha at a/b_core^0 of alpha p alone",
+                 .style = "points pt 7 ps 1.6 lc rgb '#1f77b4'"};
+  app::Series ad{.title = "mixed: tau_fric/tau0 at a tau0/(d G)",
+                 .style = "points pt 5 ps 1.6 lc rgb '#d62728'"};
+  double xmin = std::numeric_limits<double>::infinity(), xmax = 0.0, ymin = 1.0, ymax = 1.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const MixedPoint& m = an.points[i];
+    hz.x.push_back(m.x_hertz);
+    hz.y.push_back(pts[i].mu_over_alpha);
+    ad.x.push_back(m.x_adhesive);
+    ad.y.push_back(pts[i].tau_fric_over_tau0);
+    for (double x : {m.x_hertz, m.x_adhesive}) {
+      xmin = std::min(xmin, x);
+      xmax = std::max(xmax, x);
+    }
+    for (double y : {pts[i].mu_over_alpha, pts[i].tau_fric_over_tau0}) {
+      ymin = std::min(ymin, y);
+      ymax = std::max(ymax, y);
+    }
+  }
+  xmin /= 2.0;
+  xmax *= 2.0;
+  std::vector<app::Series> s{hz, ad};
+  app::Series one{.title = "Regime I of either limit", .style = "lines dt 3 lw 2 lc 'gray40'"};
+  one.x = {xmin, xmax};
+  one.y = {1.0, 1.0};
+  s.push_back(one);
+  const auto curve = [&](const LimitC0& l, bool hertz) {
+    app::Series c{.title = std::string(hertz ? "Hertz" : "adhesive") +
+                           " limit (nucleation condition), c0 = " + fmt("%.3f", l.c0),
+                  .style = hertz ? "lines lw 2 lc rgb '#1f77b4'" : "lines lw 2 lc rgb '#d62728'"};
+    for (int i = 0; i <= 200; ++i) {
+      const double x = xmin * std::pow(xmax / xmin, i / 200.0);
+      c.x.push_back(x);
+      c.y.push_back(hertz ? nuc::nucleation_condition(x, l.c0).mu_over_alpha
+                          : nuc::nucleation_condition(nuc::adhesive_law(), x, l.c0).mu_over_alpha);
+    }
+    return c;
+  };
+  if (std::isfinite(an.hertz.c0)) s.push_back(curve(an.hertz, true));
+  if (std::isfinite(an.adhesive.c0)) s.push_back(curve(an.adhesive, false));
+  const fs::path png = dir / "mixed_limits.png";
+  app::plot_png(png, s,
+                {.title = "Mixed envelope tau0 + alpha p against its two limits",
+                 .xlabel = "a / b_core^0 of the limit",
+                 .ylabel = "mu / alpha (Hertz limit), tau_fric / tau0 (adhesive limit)",
+                 .logx = true,
+                 .logy = true,
+                 .width = 1000,
+                 .height = 700,
+                 .xrange = std::pair{xmin, xmax},
+                 .yrange = std::pair{ymin / 1.5, ymax * 1.5},
+                 .extra_commands = {"set key top right font ',10'", "set grid"}});
+  return png;
+}
 
 std::vector<fs::path> write_figures(const fs::path& dir, const std::vector<DataPoint>& pts,
                                     const LawSource& law, const Analysis& an, const Options& o) {

@@ -22,8 +22,12 @@ namespace nuc = asperity::nucleation;
 
 void Options::validate() const {
   if (sweeps.empty()) throw std::invalid_argument("at least one sweep table is required");
-  if (peierls.empty() && !(k1 && k2))
-    throw std::invalid_argument("--peierls or both --k1 and --k2 are required (Regime III law)");
+  // Whether a Peierls law is needed depends on the tables' envelopes: main() asks has_law().
+  for (const auto& [name, c0] :
+       {std::pair{"--c0-hertz", c0_hertz}, std::pair{"--c0-adhesive", c0_adhesive}}) {
+    if (c0 && !(*c0 > 0.0 && std::isfinite(*c0)))
+      throw std::invalid_argument(std::string(name) + ": a finite c0 > 0 expected");
+  }
   if (!window.empty() && (window.size() != 2 || !(window[0] > 0.0) || !(window[1] >= window[0])))
     throw std::invalid_argument("--window: two values 0 < lo <= hi (a/b_core^0) expected");
   if (correlation && !(k1 && k2))
@@ -56,12 +60,17 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
     const fs::path csv = table_path(s);
     if (!fs::exists(csv)) throw std::invalid_argument(csv.string() + ": no such sweep table");
     const app::CsvTable t = app::CsvTable::read(csv);
-    for (const char* c : {"a", "R", "alpha", "nu", "a_over_bcore0", "mu_over_alpha",
-                          "mu_is_lower_bound", "failed"}) {
-      if (std::find(t.columns().begin(), t.columns().end(), c) == t.columns().end())
+    const auto has = [&](const char* c) {
+      return std::find(t.columns().begin(), t.columns().end(), c) != t.columns().end();
+    };
+    for (const char* c :
+         {"a", "R", "alpha", "nu", "a_over_bcore0", "mu_is_lower_bound", "failed"}) {
+      if (!has(c))
         throw std::invalid_argument(csv.string() + ": not a friction_sweep table (no column '" + c +
                                     "')");
     }
+    // The envelope of each row (issue 27); tables before it hold Hertz rows.
+    const bool has_envelope = has("envelope");
     const bool has_model =
         std::find(t.columns().begin(), t.columns().end(), "model") != t.columns().end();
     const bool has_settings =
@@ -93,11 +102,32 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
       p.alpha = t.number(i, "alpha");
       p.nu = t.number(i, "nu");
       p.x = t.number(i, "a_over_bcore0");
-      p.mu = t.number(i, "mu_over_alpha");
+      p.envelope = has_envelope ? t.text(i, "envelope") : "hertz";
+      // The column of the envelope's law: mu/alpha, tau_fric/tau0 or Fx/F_I.
+      const char* y = p.envelope == "hertz"      ? "mu_over_alpha"
+                      : p.envelope == "adhesive" ? "tau_fric_over_tau0"
+                      : p.envelope == "mixed"    ? "friction_over_regime_one"
+                                                 : nullptr;
+      if (y == nullptr || !has(y) || (p.envelope != "hertz" && !(has("tau0") && has("G"))))
+        throw std::invalid_argument(csv.string() + ": row " + std::to_string(i + 1) +
+                                    ": envelope '" + p.envelope +
+                                    "' is not one of hertz, adhesive, mixed with its columns");
+      p.mu = t.number(i, y);
+      if (p.envelope != "hertz") {
+        p.tau0 = t.number(i, "tau0");
+        p.G = t.number(i, "G");
+      }
+      if (p.envelope == "mixed") {
+        p.mu_over_alpha = t.number(i, "mu_over_alpha");
+        p.tau_fric_over_tau0 = t.number(i, "tau_fric_over_tau0");
+      }
       p.slip_events = has_slips ? static_cast<int>(t.integer(i, "slip_events")) : -1;
       if (!(p.a > 0 && p.R > 0 && p.x > 0 && p.mu > 0 && std::isfinite(p.mu)))
         throw std::invalid_argument(csv.string() + ": row " + std::to_string(i + 1) +
-                                    ": a, R, a_over_bcore0 and mu_over_alpha must be > 0");
+                                    ": a, R, a_over_bcore0 and " + y + " must be > 0");
+      if (p.envelope != "hertz" && !(p.tau0 > 0 && p.G > 0))
+        throw std::invalid_argument(csv.string() + ": row " + std::to_string(i + 1) + ": a " +
+                                    p.envelope + " row needs tau0 > 0 and G > 0");
       out.points.push_back(p);
       ++used;
     }
@@ -110,13 +140,24 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
   if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
   // The bootstrap takes the points as independent measurements: a point given twice (a table
   // passed twice, or a sweep and a copy of it) would count double and shrink c0's error.
-  std::map<std::tuple<std::string, double, double>, const DataPoint*> seen;
+  std::map<std::tuple<std::string, std::string, double, double, double>, const DataPoint*> seen;
   for (const auto& p : out.points) {
-    const auto [it, fresh] = seen.emplace(std::tuple{p.model, p.a, p.R}, &p);
+    const auto [it, fresh] = seen.emplace(std::tuple{p.model, p.envelope, p.tau0, p.a, p.R}, &p);
     if (!fresh)
       throw std::invalid_argument("the point a = " + fmt("%g", p.a) + " d, R = " + fmt("%g", p.R) +
                                   " d (" + p.model + ") is in " + it->second->source + " and in " +
                                   p.source + ": give each point once");
+  }
+  return out;
+}
+
+ByEnvelope split_envelopes(const std::vector<DataPoint>& pts) {
+  ByEnvelope out;
+  for (const auto& p : pts) {
+    (p.envelope == "adhesive" ? out.adhesive
+     : p.envelope == "mixed"  ? out.mixed
+                              : out.hertz)
+        .push_back(p);
   }
   return out;
 }

@@ -9,9 +9,13 @@
 //   fitted Regime II law and the nucleation condition, the Regime III predictions per R;
 // - regime_map.png: predicted mu/alpha over (a/d, R/d) with the regime boundaries and the data
 //   points marked by their simulated regime.
+// Tables of the adhesive and mixed envelopes (issue 27; fit_io.hpp) are fitted with their own law
+// (adhesive_predictions.csv, adhesive_collapse.png) or set against both limits
+// (mixed_predictions.csv, mixed_limits.png); the Peierls law is needed for Hertz tables only.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,6 +66,12 @@ int main(int argc, char** argv) {
     cli.add_option("--map-R", o.map_R, "Regime map range of R (d): lo,hi")
         ->delimiter(',')
         ->check(app::positive());
+    cli.add_option("--c0-hertz", o.c0_hertz,
+                   "c0 of the Hertz law for mixed tables, when no Hertz table is given")
+        ->check(app::positive());
+    cli.add_option("--c0-adhesive", o.c0_adhesive,
+                   "c0 of the adhesive law for mixed tables, when no adhesive table is given")
+        ->check(app::positive());
     cli.add_option("--out", o.out, "Output directory")->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     if (k1_error) o.k1_error = *k1_error;
@@ -70,17 +80,57 @@ int main(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const Loaded data = load_sweeps(o.sweeps);
-    const LawSource law = read_law(o);
-    const Analysis an = analyse(data.points, law, o);
+    const ByEnvelope by = split_envelopes(data.points);
+    if (!by.hertz.empty() && !o.has_law())
+      throw std::invalid_argument(
+          "--peierls or both --k1 and --k2 are required (Regime III law of the Hertz tables)");
+    std::optional<LawSource> law;
+    if (o.has_law() || o.k1 || o.k2) law = read_law(o);
+    std::optional<Analysis> hertz;
+    if (!by.hertz.empty()) hertz = analyse(by.hertz, *law, o);
+    std::optional<AdhesiveAnalysis> adhesive;
+    if (!by.adhesive.empty()) adhesive = analyse_adhesive(by.adhesive, o);
+    std::optional<MixedAnalysis> mixed;
+    if (!by.mixed.empty()) {
+      // Each limit's c0: fitted from the tables of its envelope given along, else given.
+      const auto limit = [](const auto& fitted, const std::optional<double>& given,
+                            const char* flag) {
+        LimitC0 l;
+        if (fitted) {
+          l = {fitted->fit.c0, fitted->fit.c0_error, "fitted to this run's tables"};
+        } else if (given) {
+          l = {*given, std::numeric_limits<double>::quiet_NaN(), flag};
+        }
+        return l;
+      };
+      mixed = analyse_mixed(by.mixed, limit(hertz, o.c0_hertz, "--c0-hertz"),
+                            limit(adhesive, o.c0_adhesive, "--c0-adhesive"));
+    }
 
     const fs::path dir = app::ensure_directory(o.out);
     app::remove_stale_temporaries(dir);
-    write_predictions(dir / "predictions.csv", data.points, an);
-    const std::vector<fs::path> figures = write_figures(dir, data.points, law, an, o);
+    std::vector<fs::path> figures;
+    if (hertz) {
+      write_predictions(dir / "predictions.csv", by.hertz, *hertz);
+      figures = write_figures(dir, by.hertz, *law, *hertz, o);
+    }
+    if (adhesive) {
+      write_adhesive_predictions(dir / "adhesive_predictions.csv", by.adhesive, *adhesive);
+      figures.push_back(write_adhesive_figure(dir, by.adhesive, *adhesive));
+    }
+    if (mixed) {
+      write_mixed_predictions(dir / "mixed_predictions.csv", by.mixed, *mixed);
+      figures.push_back(write_mixed_figure(dir, by.mixed, *mixed));
+    }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    write_summary(dir / "summary.json", data, law, an, o, figures, wall);
-    print_report(dir, law, an, o, figures);
+    const Results res{.points = &by,
+                      .law = law ? &*law : nullptr,
+                      .hertz = hertz ? &*hertz : nullptr,
+                      .adhesive = adhesive ? &*adhesive : nullptr,
+                      .mixed = mixed ? &*mixed : nullptr};
+    write_summary(dir / "summary.json", data, res, o, figures, wall);
+    print_report(dir, res, o, figures);
     return 0;
   });
 }

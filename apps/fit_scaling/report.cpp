@@ -1,5 +1,6 @@
 // fit_scaling's results: predictions.csv, summary.json and the report on the terminal, all from
 // the Analysis.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -37,7 +38,136 @@ void write_predictions(const fs::path& csv, const std::vector<DataPoint>& pts, c
   table.write(csv);
 }
 
+void write_adhesive_predictions(const fs::path& csv, const std::vector<DataPoint>& pts,
+                                const AdhesiveAnalysis& an) {
+  app::CsvTable table({"source", "a", "R", "tau0", "a_over_bcore0", "bcore", "tau_fric_over_tau0",
+                       "in_window", "regime_two_law", "nucleation", "data_over_law",
+                       "data_over_nucleation", "c0_of_point"});
+  std::vector<bool> in_window(pts.size(), false);
+  for (std::size_t i : an.fit.used)
+    in_window[i] = true;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    const double law = nuc::regime_two_law(an.law, p.x, an.fit.c0);
+    const double cond = nuc::nucleation_condition(an.law, p.x, an.fit.c0).mu_over_alpha;
+    table.add_row({p.source, p.a, p.R, p.tau0, p.x, p.a / p.x, p.mu,
+                   static_cast<long long>(in_window[i]), law, cond, p.mu / law, p.mu / cond,
+                   nuc::c0_of_point(an.law, p.x, p.mu)});
+  }
+  table.write(csv);
+}
+
+void write_mixed_predictions(const fs::path& csv, const std::vector<DataPoint>& pts,
+                             const MixedAnalysis& an) {
+  app::CsvTable table({"source", "a", "R", "alpha", "tau0", "a_over_bcore0", "a_over_bcore0_hertz",
+                       "a_over_bcore0_adhesive", "friction_over_regime_one", "mu_over_alpha",
+                       "hertz_limit", "mu_over_alpha_over_hertz_limit", "tau_fric_over_tau0",
+                       "adhesive_limit", "tau_fric_over_tau0_over_adhesive_limit",
+                       "mixed_condition_c0_hertz", "mixed_condition_c0_adhesive"});
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    const MixedPoint& m = an.points[i];
+    table.add_row({p.source, p.a, p.R, p.alpha, p.tau0, p.x, m.x_hertz, m.x_adhesive, p.mu,
+                   p.mu_over_alpha, m.hertz_limit, p.mu_over_alpha / m.hertz_limit,
+                   p.tau_fric_over_tau0, m.adhesive_limit, p.tau_fric_over_tau0 / m.adhesive_limit,
+                   m.mixed_with_c0_hertz, m.mixed_with_c0_adhesive});
+  }
+  table.write(csv);
+}
+
 namespace {
+
+// Undefined values as null, never NaN.
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+
+// The fit of c0 of either law (the Hertz entry keeps its keys and their order).
+nlohmann::json fit_json(const nuc::RegimeTwoFit& fit, const nuc::RegimeTwoLaw& law,
+                        const Options& o) {
+  return {{"law", law.formula},
+          {"c0", fit.c0},
+          {"c0_error", fit.c0_error},
+          {"error_kind",
+           "bootstrap over points of ln(2 c0), x sqrt(n/(n-1)) x t_{n-1}(Phi(2))/2: +-2 errors "
+           "is the 95.45% interval"},
+          {"c0_se_bootstrap", fit.c0_se_bootstrap},
+          {"c0_interval_2_errors", {fit.c0_lo, fit.c0_hi}},
+          {"prefactor", fit.prefactor},
+          {"prefactor_error", fit.prefactor_error},
+          {"window_a_over_bcore0", {fit.window_lo, fit.window_hi}},
+          {"window_automatic", fit.window_automatic},
+          {"points", fit.points},
+          {"dof", fit.dof},
+          {"t_factor", fit.t_factor},
+          {"points_trimmed", fit.trimmed},
+          {"max_relative_deviation", fit.max_relative_deviation},
+          {"within_max_deviation", fit.within_max_deviation},
+          {"rms_log_residual", fit.rms_log_residual},
+          {"free_slope", fit.free_slope},
+          {"free_slope_error", fit.free_slope_error},
+          {"law_slope", -law.exponent},
+          {"c0_lower_half", fit.c0_lower_half},
+          {"c0_upper_half", fit.c0_upper_half},
+          {"c0_window_spread", fit.c0_window_spread},
+          {"bootstrap_samples", o.bootstrap},
+          {"seed", o.seed}};
+}
+
+nlohmann::json adhesive_json(const AdhesiveAnalysis& an, const Options& o, std::size_t points) {
+  nlohmann::json fit = fit_json(an.fit, an.law, o);
+  fit["condition_slope_over_window"] = an.condition_slope;
+  fit["condition_slope_note"] =
+      "log-log slope of the nucleation condition 2 sqrt(q (2 - q)), q = c0/(a/b_core), at the "
+      "fitted c0 over the window's points: the law's -1/2 with its finite-size correction";
+  return {{"envelope", "adhesive: tau_max = tau0 for r < a, no load"},
+          {"quantity", "tau_fric/tau0, tau_fric = Fx/A at the peak, A = N_c d^2"},
+          {"points", points},
+          {"regime_two", fit},
+          {"regime_one_crossover",
+           {{"a_over_bcore0_condition_reaches_1", an.x_one},
+            {"a_over_bcore0_condition_reaches_1_error", an.x_one * an.fit.c0_error / an.fit.c0},
+            {"condition", "tau_fric/tau0 = min(1, 2 sqrt(q (2 - q))), q = c0/(a/b_core)"}}},
+          {"predictions", "adhesive_predictions.csv"}};
+}
+
+nlohmann::json mixed_json(const std::vector<DataPoint>& pts, const MixedAnalysis& an) {
+  const auto limit = [](const LimitC0& l, const char* missing) {
+    if (l.source.empty()) return nlohmann::json{{"c0", nullptr}, {"note", missing}};
+    return nlohmann::json{{"c0", l.c0}, {"c0_error", num(l.error)}, {"source", l.source}};
+  };
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    const MixedPoint& m = an.points[i];
+    rows.push_back({{"a", p.a},
+                    {"R", p.R},
+                    {"alpha", p.alpha},
+                    {"tau0", p.tau0},
+                    {"a_over_bcore0", p.x},
+                    {"a_over_bcore0_hertz", m.x_hertz},
+                    {"a_over_bcore0_adhesive", m.x_adhesive},
+                    {"friction_over_regime_one", p.mu},
+                    {"mu_over_alpha", num(p.mu_over_alpha)},
+                    {"hertz_limit", num(m.hertz_limit)},
+                    {"tau_fric_over_tau0", num(p.tau_fric_over_tau0)},
+                    {"adhesive_limit", num(m.adhesive_limit)},
+                    {"mixed_condition_c0_hertz", num(m.mixed_with_c0_hertz)},
+                    {"mixed_condition_c0_adhesive", num(m.mixed_with_c0_adhesive)}});
+  }
+  return {{"envelope", "mixed: tau_max = tau0 + alpha p inside the Hertz contact"},
+          {"quantity",
+           "Fx/(alpha Fz + tau0 A) at the peak; against the Hertz limit mu/alpha, against the "
+           "adhesive limit tau_fric/tau0"},
+          {"c0_hertz", limit(an.hertz, "no Hertz table and no --c0-hertz")},
+          {"c0_adhesive", limit(an.adhesive, "no adhesive table and no --c0-adhesive")},
+          {"limits",
+           "hertz_limit: mu/alpha of the Hertz nucleation condition at a/b_core^0 of alpha p "
+           "alone; adhesive_limit: tau_fric/tau0 of the adhesive one at a tau0/(d G); "
+           "mixed_condition: Fx/F_I of the condition under tau0 + alpha p, with each c0"},
+          {"points", rows},
+          {"predictions", "mixed_predictions.csv"}};
+}
 
 nlohmann::json regime_two_json(const Analysis& an, const Options& o) {
   const nuc::RegimeTwoFit& fit = an.fit;
@@ -181,41 +311,53 @@ nlohmann::json regime_map_json(const std::vector<DataPoint>& pts, const Analysis
 
 }  // namespace
 
-void write_summary(const fs::path& json, const Loaded& data, const LawSource& law,
-                   const Analysis& an, const Options& o, const std::vector<fs::path>& figures,
-                   double wall_s) {
+void write_summary(const fs::path& json, const Loaded& data, const Results& res, const Options& o,
+                   const std::vector<fs::path>& figures, double wall_s) {
   nlohmann::json figure_names = nlohmann::json::array();
   for (const auto& f : figures)
     figure_names.push_back(f.filename().string());
-  const double x_one = an.x_one, x_one_two = an.x_one_two, c0 = an.fit.c0;
-  app::write_json(
-      json, {{"tool", "fit_scaling"},
-             {"inputs",
-              {{"sweeps", data.sources},
-               {"alpha", an.alpha},
-               {"alpha_rule", an.map_alpha.rule},
-               {"alpha_range", {an.map_alpha.min, an.map_alpha.max}},
-               {"nu", an.nu}}},
-             {"regime_two", regime_two_json(an, o)},
-             {"regime_one_crossover",
-              {{"a_over_bcore0_condition_reaches_1", x_one},
-               {"a_over_bcore0_condition_reaches_1_error", x_one * an.fit.c0_error / c0},
-               {"a_over_bcore0_boundary", x_one_two},
-               {"a_over_bcore0_boundary_error", x_one_two * an.fit.c0_error / c0},
-               {"boundary_rule", "nearer asymptote in ln(mu/alpha): 1 or the Regime II law"}}},
-             {"peierls", law.json},
-             {"f_P", o.f_P},
-             {"crossovers_two_three", crossovers_json(an)},
-             {"regime_three_upturns", upturns_json(data.points, an)},
-             {"regime_three_fit_to_friction", fit_three_json(an.fit_three)},
-             {"regime_map", regime_map_json(data.points, an)},
-             {"predictions", "predictions.csv"},
-             {"figures", figure_names},
-             {"run", {{"wall_s", wall_s}, {"provenance", app::provenance_json()}}}});
+  nlohmann::json out = {{"tool", "fit_scaling"}};
+  if (res.hertz) {
+    const Analysis& an = *res.hertz;
+    const LawSource& law = *res.law;
+    const std::vector<DataPoint>& pts = res.points->hertz;
+    const double x_one = an.x_one, x_one_two = an.x_one_two, c0 = an.fit.c0;
+    out.update({{"inputs",
+                 {{"sweeps", data.sources},
+                  {"alpha", an.alpha},
+                  {"alpha_rule", an.map_alpha.rule},
+                  {"alpha_range", {an.map_alpha.min, an.map_alpha.max}},
+                  {"nu", an.nu}}},
+                {"regime_two", regime_two_json(an, o)},
+                {"regime_one_crossover",
+                 {{"a_over_bcore0_condition_reaches_1", x_one},
+                  {"a_over_bcore0_condition_reaches_1_error", x_one * an.fit.c0_error / c0},
+                  {"a_over_bcore0_boundary", x_one_two},
+                  {"a_over_bcore0_boundary_error", x_one_two * an.fit.c0_error / c0},
+                  {"boundary_rule", "nearer asymptote in ln(mu/alpha): 1 or the Regime II law"}}},
+                {"peierls", law.json},
+                {"f_P", o.f_P},
+                {"crossovers_two_three", crossovers_json(an)},
+                {"regime_three_upturns", upturns_json(pts, an)},
+                {"regime_three_fit_to_friction", fit_three_json(an.fit_three)},
+                {"regime_map", regime_map_json(pts, an)},
+                {"predictions", "predictions.csv"}});
+  } else {
+    out["inputs"] = {{"sweeps", data.sources}};
+  }
+  if (res.adhesive) out["adhesive"] = adhesive_json(*res.adhesive, o, res.points->adhesive.size());
+  if (res.mixed) out["mixed"] = mixed_json(res.points->mixed, *res.mixed);
+  out["envelopes"] = {{"hertz", res.points->hertz.size()},
+                      {"adhesive", res.points->adhesive.size()},
+                      {"mixed", res.points->mixed.size()}};
+  out["figures"] = figure_names;
+  out["run"] = {{"wall_s", wall_s}, {"provenance", app::provenance_json()}};
+  app::write_json(json, out);
 }
 
-void print_report(const fs::path& dir, const LawSource& law, const Analysis& an, const Options& o,
-                  const std::vector<fs::path>& figures) {
+namespace {
+
+void print_hertz(const LawSource& law, const Analysis& an, const Options& o) {
   const nuc::RegimeTwoFit& fit = an.fit;
   std::printf("c0 = %.4f +- %.4f (a/b_core^0 in [%g, %g], %zu points%s; fit within %.1f%%)\n",
               fit.c0, fit.c0_error, fit.window_lo, fit.window_hi, fit.points,
@@ -262,6 +404,58 @@ void print_report(const fs::path& dir, const LawSource& law, const Analysis& an,
       "Peierls law is used within its window); %zu disagree where the prediction decides "
       "(%zu points within 2 errors of a boundary)\n",
       m.agree, m.points, m.agree_in_law, m.in_law, m.contradictions, m.undetermined);
+}
+
+void print_adhesive(const AdhesiveAnalysis& an) {
+  const nuc::RegimeTwoFit& fit = an.fit;
+  std::printf(
+      "adhesive: c0 = %.4f +- %.4f (tau_fric/tau0 = 2 (a/(2 c0 b_core))^(-1/2); a/b_core in "
+      "[%g, %g], %zu points%s; fit within %.1f%%)\n",
+      fit.c0, fit.c0_error, fit.window_lo, fit.window_hi, fit.points,
+      fit.window_automatic
+          ? (", automatic window, " + std::to_string(fit.trimmed) + " trimmed").c_str()
+          : "",
+      100.0 * fit.max_relative_deviation);
+  if (!fit.within_max_deviation)
+    std::fprintf(stderr,
+                 "fit_scaling: warning: the adhesive law misses a point of the window by %.1f%%, "
+                 "more than %.0f%%\n",
+                 100.0 * fit.max_relative_deviation,
+                 100.0 * an.fit_options.automatic.max_deviation);
+  if (fit.free_slope_error > 0.0)
+    std::printf(
+        "  free log-log slope of tau_fric %.3f +- %.3f (law: -1/2; the nucleation condition's "
+        "over the same points: %.3f); c0 lower / upper half of the window %.4f / %.4f\n",
+        fit.free_slope, fit.free_slope_error, an.condition_slope, fit.c0_lower_half,
+        fit.c0_upper_half);
+  std::printf("  Regime I: the condition reaches tau_fric = tau0 at a/b_core = %.3g\n", an.x_one);
+}
+
+void print_mixed(const std::vector<DataPoint>& pts, const MixedAnalysis& an) {
+  const auto source = [](const LimitC0& l) {
+    return l.source.empty() ? std::string("none") : fmt("%.4f", l.c0) + " (" + l.source + ")";
+  };
+  std::printf("mixed: %zu points; c0 of the Hertz law %s, of the adhesive law %s\n", pts.size(),
+              source(an.hertz).c_str(), source(an.adhesive).c_str());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    const MixedPoint& m = an.points[i];
+    std::printf(
+        "  a = %g d, R = %g d, tau0 = %g: Fx/F_I = %.4f; mu/alpha %.4f against the Hertz limit "
+        "%.4f (a/b_core^0 %.3g); tau_fric/tau0 %.4f against the adhesive limit %.4f (a/b_core "
+        "%.3g); mixed condition %.4f .. %.4f\n",
+        p.a, p.R, p.tau0, p.mu, p.mu_over_alpha, m.hertz_limit, m.x_hertz, p.tau_fric_over_tau0,
+        m.adhesive_limit, m.x_adhesive, m.mixed_with_c0_hertz, m.mixed_with_c0_adhesive);
+  }
+}
+
+}  // namespace
+
+void print_report(const fs::path& dir, const Results& res, const Options& o,
+                  const std::vector<fs::path>& figures) {
+  if (res.hertz) print_hertz(*res.law, *res.hertz, o);
+  if (res.adhesive) print_adhesive(*res.adhesive);
+  if (res.mixed) print_mixed(res.points->mixed, *res.mixed);
   std::printf("results: %s\n", fs::absolute(dir / "summary.json").c_str());
   for (const auto& f : figures)
     std::printf("figure:  %s\n", fs::absolute(f).c_str());

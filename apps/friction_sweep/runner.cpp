@@ -174,13 +174,13 @@ class SweepRunner {
   // exactly the reused rows (points are added as they finish).
   void announce(const ResumedRows& resumed, const ResumedRows& resumed_x) {
     std::fprintf(stderr,
-                 "friction_sweep: %zu points (model %s): R = %s d; %s = %s; alpha = %g, nu = %g; "
-                 "%s protocol, %s, tolerance %g\n",
+                 "friction_sweep: %zu points (model %s): R = %s d; %s = %s; %s envelope, "
+                 "alpha = %g, tau0 = %g G, nu = %g; %s protocol, %s, tolerance %g\n",
                  points_.size() + xpoints_.size(), s_.model.c_str(),
-                 describe_list(s_.R.values).c_str(), s_.a ? "a (d)" : "a/b_core^0",
+                 describe_list(s_.radii()).c_str(), s_.a ? "a (d)" : "a/b_core^0",
                  describe_list(s_.a ? s_.a->values : s_.a_over_bcore0->values).c_str(),
-                 s_.base.contact.alpha, s_.base.contact.material.nu,
-                 slide::to_string(s_.base.options.protocol).c_str(),
+                 s_.base.contact.envelope.c_str(), s_.base.contact.alpha, s_.base.contact.tau0,
+                 s_.base.contact.material.nu, slide::to_string(s_.base.options.protocol).c_str(),
                  minimize::to_string(s_.base.options.minimizer.method).c_str(),
                  s_.base.options.minimizer.force_tolerance);
     for (const auto& [table, res, n] : {std::tuple{&csv_, &resumed, points_.size()},
@@ -214,10 +214,10 @@ class SweepRunner {
     ++finished_;
     std::fprintf(stderr,
                  "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
-                 "mu/alpha = %.5f%s, %.1f s%s%s\n",
+                 "%s = %.5f%s, %.1f s%s%s\n",
                  finished_, order_.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
-                 row.a_over_bcore0, row.mu_over_alpha,
-                 row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                 row.a_over_bcore0, relative_friction_name(row.envelope).c_str(),
+                 row.relative_friction, row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
                  row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
     (job.x ? rows_x_ : rows_)[job.k] = std::move(row);
     try {

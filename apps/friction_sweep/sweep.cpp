@@ -110,7 +110,14 @@ const settings::Table<SweepScene>& SweepScene::settings() {
 
 void SweepScene::validate() const {
   settings::validate(*this, settings());
-  check_list(R);
+  const auto& envelope = base.contact.envelope;
+  if (runs_explicit() && envelope != "hertz") {
+    throw std::invalid_argument("sweep.model = \"" + model + "\": allowed: \"lfm\" with " +
+                                "contact.envelope = \"" + envelope +
+                                "\" (the explicit model's interface is its tip, MODEL.md 4)");
+  }
+  // The adhesive envelope has no sphere: its points may go without radii.
+  if (base.contact.carries_load() || !R.values.empty()) check_list(R);
   if (a && a_over_bcore0) {
     throw std::invalid_argument(a->key + " and " + a_over_bcore0->key +
                                 ": give exactly one of them (contact radii or targets of "
@@ -122,6 +129,11 @@ void SweepScene::validate() const {
         "targets of a/b_core^0)");
   }
   check_list(a ? *a : *a_over_bcore0);
+}
+
+std::vector<double> SweepScene::radii() const {
+  if (!R.values.empty()) return R.values;
+  return {interface::ContactScene{}.R};
 }
 
 int SweepScene::effective_jobs() const {
@@ -155,22 +167,25 @@ SweepScene read_sweep_scene(const std::string& path) {
 }
 
 double contact_radius_for(const interface::ContactScene& c, double target) {
-  return std::sqrt(target * c.R * c.d / (contact::bcore_factor(c.material.nu) * c.alpha));
+  return c.radius_for(target);
 }
 
 std::vector<SweepPoint> sweep_points(const SweepScene& s) {
   s.validate();
   std::vector<SweepPoint> points;
   if (!s.runs_lfm()) return points;
-  for (std::size_t j = 0; j < s.R.values.size(); ++j) {
+  const std::vector<double> radii = s.radii();
+  // Without a sphere (adhesive) a is bounded by its own range alone.
+  const bool below_R = s.base.contact.carries_load();
+  for (std::size_t j = 0; j < radii.size(); ++j) {
     interface::ContactScene c = s.base.contact;
-    c.R = s.R.values[j];
+    c.R = radii[j];
     const auto& list = s.a ? *s.a : *s.a_over_bcore0;
     for (std::size_t i = 0; i < list.values.size(); ++i) {
       const double v = list.values[i];
       const double a = s.a ? v : contact_radius_for(c, v);
       const double a_min = *a_range().lower, a_max = *a_range().upper;
-      if (a_range().contains(a) && a < c.R) {
+      if (a_range().contains(a) && (!below_R || a < c.R)) {
         interface::ContactScene point = c;
         point.a = a;
         try {
@@ -181,20 +196,27 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
         points.push_back({a, c.R});
         continue;
       }
-      const std::string with_R = " with R = " + format_number(c.R) + " d (" + element(s.R, j) + ")";
+      const std::string with_R =
+          !below_R ? std::string()
+                   : " with R = " + format_number(c.R) + " d (" + element(s.R, j) + ")";
+      const std::string and_R = below_R ? " and < R" : "";
       if (s.a) {
         throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
-                                    ": allowed: " + a_range().describe() + " d and < R");
+                                    ": allowed: " + a_range().describe() + " d" + and_R);
       }
-      // The same limits expressed in the target: x = c alpha a^2 / (R d) is increasing in a.
-      const double k = contact::bcore_factor(c.material.nu) * c.alpha / (c.R * c.d);
-      const bool capped = a_max < c.R;
+      // The same limits expressed in the target, which increases with a.
+      const auto target_at = [&](double radius) {
+        interface::ContactScene at = c;
+        at.a = radius;
+        return at.a_over_bcore0();
+      };
+      const bool capped = !below_R || a_max < c.R;
       char allowed[160];
-      std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", k * a_min * a_min,
-                    k * (capped ? a_max * a_max : c.R * c.R), capped ? "]" : ")");
+      std::snprintf(allowed, sizeof allowed, "[%.6g, %.6g%s", target_at(a_min),
+                    target_at(capped ? a_max : c.R), capped ? "]" : ")");
       throw std::invalid_argument(element(list, i) + " = " + format_number(v) + with_R +
                                   " needs a = " + format_number(a) + " d: allowed: " + allowed +
-                                  " (a in " + a_range().describe() + " d and a < R)");
+                                  " (a in " + a_range().describe() + " d" + and_R + ")");
     }
   }
   std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
@@ -306,10 +328,17 @@ const std::vector<std::string>& sweep_columns() {
                                                    "R",
                                                    "alpha",
                                                    "nu",
+                                                   "G",
+                                                   "envelope",
+                                                   "tau0",
                                                    "a_over_bcore0",
                                                    "lambda",
                                                    "mu",
                                                    "mu_over_alpha",
+                                                   "tau_fric",
+                                                   "tau_fric_over_tau0",
+                                                   "friction_over_regime_one",
+                                                   "area",
                                                    "mu_is_lower_bound",
                                                    "kinetic_over_alpha",
                                                    "kinetic_over_static",
@@ -325,11 +354,29 @@ const std::vector<std::string>& sweep_columns() {
 
 namespace {
 
-// sweep.csv before the wall times moved to summary.json.
-bool is_layout_with_wall_time(const std::vector<std::string>& columns) {
+// sweep.csv before the envelopes (issue 27): without their columns.
+std::vector<std::string> layout_without_envelopes() {
   std::vector<std::string> old = sweep_columns();
+  for (const char* c : {"G", "envelope", "tau0", "tau_fric", "tau_fric_over_tau0",
+                        "friction_over_regime_one", "area"})
+    old.erase(std::find(old.begin(), old.end(), c));
+  return old;
+}
+
+// Earlier layouts of sweep.csv: before the envelopes, and before that with the wall times
+// (since moved to summary.json).
+bool is_earlier_layout(const std::vector<std::string>& columns) {
+  std::vector<std::string> old = layout_without_envelopes();
+  if (columns == old) return true;
   old.insert(old.end() - 1, "wall_s");
   return columns == old;
+}
+
+// The envelope's friction over its Regime I value (SweepRow::relative_friction).
+double relative_friction(const interface::ContactScene& c, const slide::SlideResult& r) {
+  if (!c.uses_tau0()) return r.mu_over_alpha;
+  if (!c.carries_load()) return r.tau_fric / c.tau0;
+  return slide::friction_over_regime_one(c, r);
 }
 
 }  // namespace
@@ -337,9 +384,12 @@ bool is_layout_with_wall_time(const std::vector<std::string>& columns) {
 SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                    const std::string& settings) {
   const auto& c = scene.contact;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   SweepRow row{.point = {c.a, c.R},
+               .envelope = c.envelope,
                .a_over_bcore0 = c.a_over_bcore0(),
                .mu_over_alpha = r.mu_over_alpha,
+               .relative_friction = relative_friction(c, r),
                .kinetic_over_static = r.kinetic_over_static,
                .slip_events = r.slip_events,
                .mu_is_lower_bound = r.mu_is_lower_bound,
@@ -350,12 +400,19 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                c.R,
                c.alpha,
                c.material.nu,
+               c.material.G,
+               c.envelope,
+               c.tau0,
                c.a_over_bcore0(),
                c.lambda(),
                r.mu,
                r.mu_over_alpha,
+               r.tau_fric,
+               c.uses_tau0() ? r.tau_fric / c.tau0 : nan,
+               slide::friction_over_regime_one(c, r),
+               r.area,
                static_cast<long long>(r.mu_is_lower_bound),
-               r.kinetic / c.alpha,
+               c.carries_load() ? r.kinetic / c.alpha : nan,
                r.kinetic_over_static,
                static_cast<long long>(r.slip_events),
                r.distance,
@@ -376,17 +433,20 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   for (std::size_t at; (at = reason.find('\n')) != std::string::npos;)
     reason.replace(at, 1, "; ");
   SweepRow row{.point = {c.a, c.R},
+               .envelope = c.envelope,
                .a_over_bcore0 = c.a_over_bcore0(),
                .mu_over_alpha = nan,
+               .relative_friction = nan,
                .kinetic_over_static = nan,
                .failed = true,
                .stop_reason = reason,
                .wall_s = wall_s};
   // In sweep_columns() order: the parameters, then no results.
-  row.cells = {c.a,        c.R, c.alpha, c.material.nu, c.a_over_bcore0(),
-               c.lambda(), nan, nan,     0LL,           nan,
-               nan,        0LL, nan,     reason,        1LL,
-               0LL,        0LL, settings};
+  row.cells = {
+      c.a,        c.R, c.alpha, c.material.nu, c.material.G, c.envelope, c.tau0, c.a_over_bcore0(),
+      c.lambda(), nan, nan,     nan,           nan,          nan,        nan,    0LL,
+      nan,        nan, 0LL,     nan,           reason,       1LL,        0LL,    0LL,
+      settings};
   return row;
 }
 
@@ -396,7 +456,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
   out.rows.resize(points.size());
   if (!std::filesystem::exists(csv)) return out;
   const CsvTable t = CsvTable::read(csv);
-  if (is_layout_with_wall_time(t.columns())) {
+  if (is_earlier_layout(t.columns())) {
     out.other_settings = t.rows();
     return out;
   }
@@ -428,15 +488,21 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
     }
     auto& slot = out.rows[static_cast<std::size_t>(it - points.begin())];
     if (slot) continue;  // a repeated row (edited file): the first one stands
-    SweepRow row{.point = {a, R},
-                 .a_over_bcore0 = t.number(i, "a_over_bcore0"),
-                 .mu_over_alpha = t.number(i, "mu_over_alpha"),
-                 .kinetic_over_static = t.number(i, "kinetic_over_static"),
-                 .slip_events = static_cast<int>(t.integer(i, "slip_events")),
-                 .mu_is_lower_bound = t.integer(i, "mu_is_lower_bound") != 0,
-                 .failed = false,
-                 .stop_reason = t.text(i, "stop_reason"),
-                 .wall_s = std::numeric_limits<double>::quiet_NaN()};
+    const std::string envelope = t.text(i, "envelope");
+    SweepRow row{
+        .point = {a, R},
+        .envelope = envelope,
+        .a_over_bcore0 = t.number(i, "a_over_bcore0"),
+        .mu_over_alpha = t.number(i, "mu_over_alpha"),
+        .relative_friction = t.number(i, envelope == "hertz"      ? "mu_over_alpha"
+                                         : envelope == "adhesive" ? "tau_fric_over_tau0"
+                                                                  : "friction_over_regime_one"),
+        .kinetic_over_static = t.number(i, "kinetic_over_static"),
+        .slip_events = static_cast<int>(t.integer(i, "slip_events")),
+        .mu_is_lower_bound = t.integer(i, "mu_is_lower_bound") != 0,
+        .failed = false,
+        .stop_reason = t.text(i, "stop_reason"),
+        .wall_s = std::numeric_limits<double>::quiet_NaN()};
     // The stored text, not re-formatted numbers: a resumed table is byte-identical.
     for (std::size_t j = 0; j < t.columns().size(); ++j)
       row.cells.push_back(t.cell(i, j));
@@ -446,18 +512,34 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
   return out;
 }
 
-nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi) {
+std::string relative_friction_name(const std::string& envelope) {
+  if (envelope == "adhesive") return "tau_fric/tau0";
+  if (envelope == "mixed") return "Fx/(alpha Fz + tau0 A)";
+  return "mu/alpha";
+}
+
+double regime_two_slope(const std::string& envelope) {
+  if (envelope == "adhesive") return -0.5;
+  if (envelope == "mixed") return std::numeric_limits<double>::quiet_NaN();
+  return -2.0 / 3.0;
+}
+
+nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi,
+                         const std::string& envelope) {
   std::vector<double> x, y;
   for (const auto& r : rows) {
-    if (r.failed || r.mu_is_lower_bound || !(r.mu_over_alpha > 0.0)) continue;
+    if (r.failed || r.mu_is_lower_bound || !(r.relative_friction > 0.0)) continue;
     if (r.a_over_bcore0 < lo || r.a_over_bcore0 > hi) continue;
     x.push_back(std::log(r.a_over_bcore0));
-    y.push_back(std::log(r.mu_over_alpha));
+    y.push_back(std::log(r.relative_friction));
   }
-  nlohmann::json fit = {{"quantity", "log(mu/alpha) = log(prefactor) + slope log(a/b_core^0)"},
-                        {"window", {lo, hi}},
-                        {"points", x.size()},
-                        {"regime_ii_slope", -2.0 / 3.0}};
+  const double law_slope = regime_two_slope(envelope);
+  nlohmann::json fit = {
+      {"quantity",
+       "log(" + relative_friction_name(envelope) + ") = log(prefactor) + slope log(a/b_core^0)"},
+      {"window", {lo, hi}},
+      {"points", x.size()},
+      {"regime_ii_slope", std::isfinite(law_slope) ? nlohmann::json(law_slope) : nlohmann::json()}};
   const LineFit line = fit_line(x, y);
   // Points at a single a/b_core^0 (several R, one target) fix no slope.
   if (x.size() < 2 || !(line.sxx > 1e-12 * static_cast<double>(line.n))) {

@@ -10,6 +10,12 @@
 // lateral force model's rows go to sweep.csv, the explicit model's (MODEL.md 4; alpha of the
 // potential at each point's central load, contact.alpha unused) to sweep_explicit.csv, in the
 // same columns.
+//
+// contact.envelope (issue 27) chooses the interface: hertz (default), adhesive or mixed; the
+// rows carry it with tau0, and a/b_core^0 is the envelope's (ContactScene::a_over_bcore0). An
+// adhesive sweep may leave out sweep.R (the adhesive envelope has no sphere: its points carry
+// contact.R's default, 535 d, which enters nothing); the explicit model runs the Hertz envelope
+// only.
 #pragma once
 
 #include <cstddef>
@@ -46,10 +52,14 @@ struct SweepScene {
   // The [sweep] and [explicit] settings (common/settings.hpp), flags --R, --a, --a-over-bcore0,
   // --jobs; the slide's own are SlideScene::settings().
   static const settings::Table<SweepScene>& settings();
-  // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty,
-  // values positive and finite, exactly one of a and a_over_bcore0. The a < R check needs the
-  // points: see sweep_points().
+  // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty
+  // (sweep.R may be empty for the adhesive envelope), values positive and finite, exactly one of
+  // a and a_over_bcore0, the explicit model only with the Hertz envelope. The a < R check needs
+  // the points: see sweep_points().
   void validate() const;
+  // The sphere radii of the points: sweep.R, or for an adhesive sweep without it contact.R's
+  // default.
+  [[nodiscard]] std::vector<double> radii() const;
   // jobs, or its default on this machine.
   [[nodiscard]] int effective_jobs() const;
   [[nodiscard]] bool runs_lfm() const { return model != "explicit"; }
@@ -65,8 +75,9 @@ struct SweepPoint {
   double R = 0.0;  // sphere radius (d)
 };
 
-// Contact radius at which a / b_core^0 = target: a = sqrt(target R d / (c alpha)),
-// c = 4 / (pi (1 - nu)) (MODEL.md 3).
+// Contact radius at which a / b_core^0 = target (ContactScene::radius_for): Hertz
+// a = sqrt(target R d / (c alpha)), c = 4 / (pi (1 - nu)) (MODEL.md 3); adhesive target d G /
+// tau0; mixed the root of target = a tau0 / (d G) + c alpha a^2 / (R d).
 double contact_radius_for(const interface::ContactScene& contact, double target);
 
 // Every R with every a (or target), sorted by R then a: the order of sweep.csv. Throws
@@ -101,10 +112,20 @@ std::string explicit_settings_fingerprint(const SweepScene& scene);
 const std::vector<std::string>& sweep_columns();
 
 // One row of sweep.csv, with what the figures, the fit and the summary need.
+// Columns of the envelopes (issue 27): G (the unit of stress, which tau0 is in), envelope, tau0;
+// tau_fric = Fx / A at the peak (A the
+// contact-site area, column area), tau_fric_over_tau0 (nan without tau0: hertz),
+// friction_over_regime_one = Fx / (alpha Fz + tau0 A) at the peak (1 in Regime I); mu,
+// mu_over_alpha and kinetic_over_alpha are nan for the adhesive envelope (no load: mu undefined),
+// whose kinetic_over_static is that of Fx/A.
 struct SweepRow {
   SweepPoint point;
+  std::string envelope = "hertz";
   double a_over_bcore0 = 0.0;
   double mu_over_alpha = 0.0;
+  // Friction over its Regime I value, the quantity of the envelope's scaling law: mu/alpha
+  // (hertz), tau_fric/tau0 (adhesive), friction_over_regime_one (mixed).
+  double relative_friction = 0.0;
   double kinetic_over_static = 0.0;
   int slip_events = 0;
   bool mu_is_lower_bound = false;
@@ -135,10 +156,19 @@ struct ResumedRows {
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
                         const std::string& settings);
 
-// Least-squares fit of log(mu/alpha) = log(prefactor) + slope log(a/b_core^0) over the rows
-// with a/b_core^0 in [lo, hi] that neither failed nor are lower bounds. Needs 2 distinct
-// a/b_core^0 values; otherwise the json says why there is no fit.
-nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi);
+// The quantity a sweep of this envelope plots and fits (SweepRow::relative_friction), e.g.
+// "mu/alpha", and the Regime II slope of its law: -2/3 (hertz: MODEL.md 8), -1/2 (adhesive:
+// tau_fric/tau0 = 2 (a/(2 c0 b_core))^(-1/2), nucleation/regime_two.hpp); the mixed envelope
+// lies between its two limits and has no slope of its own (NaN).
+std::string relative_friction_name(const std::string& envelope);
+double regime_two_slope(const std::string& envelope);
+
+// Least-squares fit of log(y) = log(prefactor) + slope log(a/b_core^0), y the rows'
+// relative_friction (mu/alpha for the Hertz envelope), over the rows with a/b_core^0 in [lo, hi]
+// that neither failed nor are lower bounds. Needs 2 distinct a/b_core^0 values; otherwise the
+// json says why there is no fit. `envelope` names the quantity and the law's slope.
+nlohmann::json fit_slope(const std::vector<SweepRow>& rows, double lo, double hi,
+                         const std::string& envelope = "hertz");
 
 // The collapse of the two models (issue 4 acceptance 3): each explicit row against the LFM's
 // mu/alpha at the same R and a/b_core^0, interpolated linearly in log-log between the LFM rows

@@ -22,18 +22,25 @@ const settings::Table<ContactScene>& ContactScene::settings() {
     settings::Table<ContactScene> t = {
         settings::number<ContactScene>(
             "contact.a", [](auto& c) -> auto& { return c.a; }, R::closed(1.0, 4096.0), "d",
-            "Hertz contact radius", "--a"),
+            "contact radius", "--a"),
         // A sphere of 1e9 d is a 0.3 m ball at d = 0.3 nm; far beyond, the Hertz pressure
         // 2 a E*/(pi R) underflows and Fz = 0 would make mu = Fx/Fz meaningless.
         settings::number<ContactScene>(
             "contact.R", [](auto& c) -> auto& { return c.R; }, R::open_closed(0.0, 1e9), "d",
-            "sphere radius", "--R"),
+            "sphere radius (hertz, mixed)", "--R"),
         settings::number<ContactScene>(
             "contact.alpha", [](auto& c) -> auto& { return c.alpha; }, R::open_closed(0.0, 10.0),
-            "", "local friction coefficient: peak shear stress / pressure", "--alpha"),
+            "", "local friction coefficient: peak shear stress / pressure (hertz, mixed)",
+            "--alpha"),
+        settings::number<ContactScene>(
+            "contact.tau0", [](auto& c) -> auto& { return c.tau0; }, R::non_negative(), "G",
+            "shear strength without load: tau_max = tau0 (adhesive), tau0 + alpha p (mixed)",
+            "--tau0"),
         settings::choice<ContactScene>(
             "contact.envelope", [](auto& c) -> auto& { return c.envelope; }, envelope_names(),
-            "interface envelope: hertz (tau_max = alpha p, Hertz p)")};
+            "interface envelope: hertz (tau_max = alpha p, Hertz p) | adhesive (tau_max = tau0 "
+            "for r < a, no load) | mixed (tau0 + alpha p)",
+            "--envelope")};
     settings::lift(
         t, elastic::Material::settings(), "material.", [](auto& c) -> auto& { return c.material; });
     return t;
@@ -42,12 +49,15 @@ const settings::Table<ContactScene>& ContactScene::settings() {
 }
 
 const std::vector<std::string>& envelope_names() {
-  static const std::vector<std::string> names = {"hertz"};
+  static const std::vector<std::string> names = {"hertz", "adhesive", "mixed"};
   return names;
 }
 
 std::unique_ptr<Envelope> make_envelope(const ContactScene& scene) {
   if (scene.envelope == "hertz") return std::make_unique<HertzEnvelope>(scene.hertz(), scene.alpha);
+  if (scene.envelope == "adhesive") return std::make_unique<AdhesiveEnvelope>(scene.a, scene.tau0);
+  if (scene.envelope == "mixed")
+    return std::make_unique<MixedEnvelope>(scene.hertz(), scene.alpha, scene.tau0);
   throw std::invalid_argument("contact.envelope = \"" + scene.envelope +
                               "\": not an envelope of this build");
 }
@@ -55,26 +65,78 @@ std::unique_ptr<Envelope> make_envelope(const ContactScene& scene) {
 void ContactScene::validate() const {
   settings::validate(*this, settings());
   require_positive("ContactScene.d", d);
-  if (!(a < R)) {
+  // The sphere's contact must be small against it (Hertz); the adhesive envelope has no sphere.
+  if (carries_load() && !(a < R)) {
     throw std::invalid_argument("contact.a = " + settings::format_number(a) +
                                 ": allowed: < contact.R = " + settings::format_number(R));
   }
+  const auto with_envelope = [&](const char* allowed) {
+    return std::invalid_argument("contact.tau0 = " + settings::format_number(tau0) + ": allowed: " +
+                                 allowed + " with contact.envelope = \"" + envelope + "\"");
+  };
+  if (envelope == "adhesive" && !(tau0 > 0.0)) {
+    throw with_envelope("> 0 (the contact's whole strength)");
+  }
+  // A tau0 that the envelope ignores would be a silent mistake (an envelope forgotten).
+  if (!uses_tau0() && tau0 != 0.0) {
+    throw with_envelope("0 (tau0 enters the adhesive and mixed envelopes)");
+  }
+}
+
+bool ContactScene::carries_load() const {
+  return envelope != "adhesive";
+}
+bool ContactScene::uses_tau0() const {
+  return envelope != "hertz";
 }
 
 contact::Hertz ContactScene::hertz() const {
   return contact::Hertz::from_radius(material, R, a);
 }
+double ContactScene::tau_max0() const {
+  // Mixed with tau0 = 0 is the Hertz value bit for bit (0 + x = x).
+  if (!carries_load()) return tau0;
+  const double hertz_part = alpha * hertz().p0;
+  return uses_tau0() ? tau0 + hertz_part : hertz_part;
+}
 double ContactScene::bcore0() const {
-  return d * material.G / (alpha * hertz().p0);
+  return d * material.G / tau_max0();
 }
 double ContactScene::a_over_bcore0() const {
   return a / bcore0();
+}
+double ContactScene::radius_for(double x) const {
+  const double c = contact::bcore_factor(material.nu);
+  // Hertz (and mixed without tau0): x = c alpha a^2 / (R d).
+  if (!uses_tau0() || (carries_load() && tau0 == 0.0)) return std::sqrt(x * R * d / (c * alpha));
+  const double t = tau0 / (d * material.G);  // adhesive: x = t a
+  if (!carries_load()) return x / t;
+  // Mixed: k a^2 + t a = x, the positive root in the form without cancellation.
+  const double k = c * alpha / (R * d);
+  return 2.0 * x / (t + std::sqrt(t * t + 4.0 * k * x));
+}
+
+double ContactScene::load() const {
+  return carries_load() ? hertz().load : 0.0;
+}
+double ContactScene::regime_one_force() const {
+  double f = carries_load() ? alpha * hertz().load : 0.0;
+  if (uses_tau0()) f += tau0 * std::numbers::pi * a * a;
+  return f;
+}
+double ContactScene::regime_one_force(double Fz, double area) const {
+  double f = carries_load() ? alpha * Fz : 0.0;
+  if (uses_tau0()) f += tau0 * area;
+  return f;
 }
 double ContactScene::lateral_stiffness() const {
   return 8.0 * material.G * a / (2.0 - material.nu);
 }
 double ContactScene::lambda() const {
-  return 2.0 * std::numbers::pi * alpha * hertz().load / (d * lateral_stiffness());
+  // 2 pi F_I / (d k); the Hertz term in the order it always had (the same bits).
+  double two_pi_f = carries_load() ? 2.0 * std::numbers::pi * alpha * hertz().load : 0.0;
+  if (uses_tau0()) two_pi_f += 2.0 * std::numbers::pi * tau0 * std::numbers::pi * a * a;
+  return two_pi_f / (d * lateral_stiffness());
 }
 
 LateralForceModel::LateralForceModel(const ContactScene& scene, LatticeBlock block)
@@ -111,6 +173,7 @@ void LateralForceModel::set_tip(double Dx) {
       }
     }
   }
+  area_ = static_cast<double>(sites_.size()) * d * d;
 }
 
 double LateralForceModel::sx(std::size_t i, double ux) const {

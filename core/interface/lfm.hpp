@@ -2,10 +2,16 @@
 // substrate sites, with registry energy per site
 //   V_i = (tau_max(r_i) d^3 / 2 pi) [2 - cos(2 pi s_ix / d) - cos(2 pi s_iy / d)],
 //   s_i = X_i + u_i - (Dx, 0),  f_i = -tau_max(r_i) d^2 [sin(2 pi s_ix/d), sin(2 pi s_iy/d)],
-// and envelope tau_max(r) = alpha p(r), the Hertz pressure of MODEL.md 1 around the tip centre
-// (Dx, 0). Friction Fx = sum_i f_ix; load Fz = sum_i p(r_i) d^2 (the discrete Hertz load).
-// Control parameter a / b_core^0 = c alpha a^2 / (R d), c = 4 / (pi (1 - nu)) (b_core^0 =
-// d G / (alpha p0)); Prandtl-Tomlinson lambda = 2 pi alpha Fz / (d k), k = 8 G a / (2 - nu).
+// and envelope tau_max(r) (envelope.hpp): alpha p(r), the Hertz pressure of MODEL.md 1 around the
+// tip centre (Dx, 0) (contact.envelope = "hertz"); tau0 inside r < a ("adhesive"); tau0 + alpha p
+// ("mixed", issue 27). Friction Fx = sum_i f_ix; load Fz = sum_i p(r_i) d^2 (the discrete Hertz
+// load; 0 for the adhesive envelope); contact-site area A = N_c d^2 (N_c the sites with
+// tau_max > 0), which turns Fx into the friction stress tau_fric = Fx / A.
+// Core width at the centre b_core^0 = d G / tau_max(0), tau_max(0) = alpha p0, tau0 or
+// tau0 + alpha p0; the control parameter a / b_core^0 (Hertz: c alpha a^2 / (R d), c = 4 / (pi
+// (1 - nu)); adhesive: a tau0 / (d G)). Regime I (rigid) friction force F_I = sum_i tau_max(r_i)
+// d^2, continuum alpha Fz, tau0 pi a^2 or both; Prandtl-Tomlinson lambda = 2 pi F_I / (d k),
+// k = 8 G a / (2 - nu).
 #pragma once
 
 #include <cstddef>
@@ -21,25 +27,44 @@
 namespace asperity::interface {
 
 struct ContactScene {
-  double a = 43.0;                 // Hertz contact radius (d)
-  double R = 535.0;                // sphere radius (d)
+  double a = 43.0;                 // contact radius (d)
+  double R = 535.0;                // sphere radius (d); not used by the adhesive envelope
   double alpha = 0.7;              // local friction coefficient: peak shear stress / pressure
+  double tau0 = 0.0;               // shear strength without load (G): adhesive, mixed envelopes
   elastic::Material material{};    // substrate: G (unit of stress), nu
   double d = 1.0;                  // lattice spacing (unit of length)
-  std::string envelope = "hertz";  // interface envelope (envelope.hpp): "hertz"
+  std::string envelope = "hertz";  // interface envelope (envelope.hpp): hertz, adhesive, mixed
 
   // The settings, keyed as in a scene ("contact.a", "contact.R", "contact.alpha",
-  // "material.G", "material.nu"): common/settings.hpp. d is the unit of length, not a setting.
+  // "contact.tau0", "contact.envelope", "material.G", "material.nu"): common/settings.hpp. d is
+  // the unit of length, not a setting.
   static const settings::Table<ContactScene>& settings();
   // Throws std::invalid_argument naming the violated constraint (the table's ranges, d > 0,
-  // a < R).
+  // a < R where the envelope has a sphere, tau0 > 0 for the adhesive envelope, tau0 = 0 for the
+  // Hertz one, which does not use it).
   void validate() const;
 
-  [[nodiscard]] contact::Hertz hertz() const;
-  [[nodiscard]] double bcore0() const;             // d G / (alpha p0)
-  [[nodiscard]] double a_over_bcore0() const;      // the control parameter
+  // Whether the envelope has a pressure (Hertz, mixed): friction is then mu = Fx / Fz; without
+  // (adhesive) it is the stress tau_fric = Fx / A (slide::FrictionMeasure).
+  [[nodiscard]] bool carries_load() const;
+  // Whether tau0 enters the envelope (adhesive, mixed).
+  [[nodiscard]] bool uses_tau0() const;
+
+  [[nodiscard]] contact::Hertz hertz() const;  // of a and R (the sphere's; not adhesive)
+  [[nodiscard]] double tau_max0() const;       // tau_max at the centre: alpha p0, tau0 or both
+  [[nodiscard]] double bcore0() const;         // d G / tau_max0()
+  [[nodiscard]] double a_over_bcore0() const;  // the control parameter
+  // The contact radius (d) at which a / b_core^0 = x, the other parameters as they are: Hertz
+  // sqrt(x R d / (c alpha)); adhesive x d G / tau0; mixed the root of x = a tau0 / (d G) +
+  // c alpha a^2 / (R d) (the two parts of the control parameter add, as p0 grows with a).
+  [[nodiscard]] double radius_for(double a_over_bcore0) const;
+  [[nodiscard]] double load() const;              // continuum Fz: the Hertz load, 0 (adhesive)
+  [[nodiscard]] double regime_one_force() const;  // continuum F_I: alpha Fz + tau0 pi a^2
+  // Discrete F_I = sum_i tau_max(r_i) d^2 from the load Fz = sum_i p(r_i) d^2 and the
+  // contact-site area A of a tip position: alpha Fz + tau0 A, each term where it enters.
+  [[nodiscard]] double regime_one_force(double Fz, double area) const;
   [[nodiscard]] double lateral_stiffness() const;  // k = 8 G a / (2 - nu)
-  [[nodiscard]] double lambda() const;             // 2 pi alpha Fz / (d k), continuum Fz
+  [[nodiscard]] double lambda() const;             // 2 pi F_I / (d k), continuum F_I
 };
 
 // Per-site registry physics of the LFM at a tip position, for the sites of a block.
@@ -60,6 +85,8 @@ class LateralForceModel {
   [[nodiscard]] const std::vector<double>& pressure() const { return pressure_; }
   // Discrete load sum_i p(r_i) d^2 at the current tip position.
   [[nodiscard]] double load() const { return load_; }
+  // Contact-site area N_c d^2 at the current tip position (N_c = contact_sites().size()).
+  [[nodiscard]] double area() const { return area_; }
 
   // Relative position s = X + u - (Dx, 0) of block site i.
   [[nodiscard]] double sx(std::size_t i, double ux) const;
@@ -82,6 +109,7 @@ class LateralForceModel {
   std::vector<std::size_t> sites_;
   std::vector<double> site_tau_, site_phase_x_;  // per contact site: tau_max, (X - Dx)/d mod 1
   double load_ = 0.0;
+  double area_ = 0.0;
 };
 
 }  // namespace asperity::interface

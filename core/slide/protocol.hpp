@@ -111,6 +111,8 @@ struct ProtocolParams {
   double alpha = 1.0;         // local friction coefficient, for mu / alpha
   double Fz_continuum = 0.0;  // continuum load reported with the result (G d^2)
   double default_cap = 0.0;   // automatic distance cap when SlideOptions.max_distance = 0 (d)
+  // What friction is (types.hpp): Fx / Fz, or Fx / A where the contact carries no load.
+  FrictionMeasure measure = FrictionMeasure::load;
 };
 
 // A start state must come from a slide of the same scene: every field on a block of that
@@ -345,8 +347,8 @@ class ProtocolRun {
   // A trace row of state s; replayed rows cost no iterations.
   void record(const State& s, int iterations, std::size_t gf, double max_force, bool slip,
               int sites, bool replayed) {
-    res_.trace.push_back(
-        TraceRow{s.Dx, s.Fx, s.Fz, s.energy, iterations, gf, max_force, slip, sites, replayed});
+    res_.trace.push_back(TraceRow{s.Dx, s.Fx, s.Fz, s.energy, iterations, gf, max_force, slip,
+                                  sites, replayed, s.area});
     res_.iterations += iterations;
   }
   void count(const minimize::MinimizeResult& r) {
@@ -366,9 +368,12 @@ class ProtocolRun {
     if (r.termination != Termination::converged) {
       what = "";
     } else if (!std::isfinite(s.Fx) || !std::isfinite(s.Fz) || !std::isfinite(s.energy) ||
-               !(s.Fz > 0.0)) {
-      // Fz = 0 (a load that underflowed) would make mu = Fx / Fz NaN.
-      what = "non-finite force or energy, or no load, after ";
+               !(denominator(s) > 0.0)) {
+      // Fz = 0 (a load that underflowed) would make mu = Fx / Fz NaN; A = 0 (no contact site)
+      // tau_fric = Fx / A.
+      what = params_.measure == FrictionMeasure::load
+                 ? "non-finite force or energy, or no load, after "
+                 : "non-finite force or energy, or no contact site, after ";
     } else {
       return {};
     }
@@ -381,6 +386,30 @@ class ProtocolRun {
                   r.iterations, r.max_force, r.energy, minimize::to_string(m.method).c_str(),
                   m.force_tolerance, m.max_iterations);
     return buf;
+  }
+
+  // The friction ratio of a state (types.hpp, FrictionMeasure) and what it divides Fx by.
+  double ratio(const State& s) const { return friction_ratio(s.Fx, s.Fz, s.area, params_.measure); }
+  double denominator(const State& s) const {
+    return params_.measure == FrictionMeasure::load ? s.Fz : s.area;
+  }
+
+  // The friction of a result from the largest friction ratio `peak` at the peak state `at`: mu
+  // and mu / alpha where there is a load, and the friction stress at the peak's contact-site
+  // area.
+  void set_friction(SlideResult& out, double peak, const State& at) const {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    out.measure = params_.measure;
+    out.Fz = at.Fz;
+    out.area = at.area;
+    if (params_.measure == FrictionMeasure::load) {
+      out.mu = peak;
+      out.mu_over_alpha = peak / params_.alpha;
+      out.tau_fric = at.area > 0.0 ? peak * at.Fz / at.area : nan;
+    } else {
+      out.tau_fric = peak;
+      out.mu = out.mu_over_alpha = nan;
+    }
   }
 
   double mismatch(const State& later, const State& before) const {
@@ -434,7 +463,7 @@ class ProtocolRun {
       window_.push_back(state_);
       window_rows_.push_back(0);
     }
-    best_ = state_.Fx / state_.Fz;
+    best_ = ratio(state_);
     peak_ = state_;
     if (const std::string why = failure(first, state_, 0.0, 0.0); !why.empty()) {
       res_.failed = true;  // no good state yet to keep
@@ -491,11 +520,9 @@ class ProtocolRun {
     std::snprintf(buf, sizeof buf, "interrupted at Dx = %.6g d%s%s", st.current.Dx,
                   st.stepping_done ? " (refining the peak)" : "", within);
     out.stop_reason = buf;
-    out.mu = st.best;
-    out.mu_over_alpha = st.best / params_.alpha;
+    set_friction(out, st.best, st.peak);
     out.mu_is_lower_bound = true;  // the static peak is not established yet
     out.peak_Dx = st.peak.Dx;
-    out.Fz = st.peak.Fz;
     out.distance = st.current.Dx;
     out.kinetic = out.kinetic_over_static = std::numeric_limits<double>::quiet_NaN();
     return out;
@@ -572,11 +599,11 @@ class ProtocolRun {
     // A later maximum replaces the peak only if it is higher beyond the minimiser's noise: in
     // Regime I the trace repeats its first maximum a period later, and the first, which has
     // samples on both sides, is the one to refine.
-    const double ratio = state_.Fx / state_.Fz;
-    if (ratio > best_ + 1e-6 * std::abs(best_)) {
+    const double now = ratio(state_);
+    if (now > best_ + 1e-6 * std::abs(best_)) {
       runner_up_ = std::move(peak_);
       runner_up_ratio_ = best_;
-      best_ = ratio;
+      best_ = now;
       peak_ = state_;
     }
     report(SlidePhase::accepted, state_.Dx);
@@ -593,8 +620,8 @@ class ProtocolRun {
       first_max_Dx_ = res_.trace[k - 2].Dx;
     }
     if (automatic_ && res_.slip_events >= options_.slips_to_stop &&
-        peak_held(res_.trace, best_, state_.Fx / state_.Fz, state_.Dx, d_,
-                  options_.slips_to_stop)) {
+        peak_held(res_.trace, best_, ratio(state_), state_.Dx, d_, options_.slips_to_stop,
+                  params_.measure)) {
       res_.stop_reason = "slip events reached";
       return true;
     }
@@ -983,9 +1010,8 @@ class ProtocolRun {
         peak_->Dx == res_.trace.back().Dx ||
         (automatic_ && res_.slip_events > 0 && res_.stop_reason == "distance cap reached") ||
         res_.stop_reason == kSlipLimit;
-    res_.mu = best_;
+    peak_value_ = best_;
     res_.peak_Dx = peak_->Dx;
-    res_.Fz = peak_->Fz;
     const auto at_peak = std::find_if(res_.trace.begin(), res_.trace.end(),
                                       [&](const TraceRow& row) { return row.Dx == peak_->Dx; });
     if (at_peak == res_.trace.begin() || at_peak == res_.trace.end() ||
@@ -993,11 +1019,11 @@ class ProtocolRun {
       return std::nullopt;
     const auto prev = at_peak - 1, next = at_peak + 1;
     if (next->slip) {
-      res_.peak_precision = peak_precision_before_slip(*prev, *at_peak, *next);
+      res_.peak_precision = peak_precision_before_slip(*prev, *at_peak, *next, params_.measure);
       return std::nullopt;
     }
-    const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
-    PeakBracket b{prev->Dx, at_peak->Dx, next->Dx, ratio(*prev), ratio(*at_peak), ratio(*next)};
+    const auto y = [&](const TraceRow& row) { return ratio_of(row, params_.measure); };
+    PeakBracket b{prev->Dx, at_peak->Dx, next->Dx, y(*prev), y(*at_peak), y(*next)};
     return search_peak(b);
   }
 
@@ -1043,7 +1069,7 @@ class ProtocolRun {
         break;
       }
       const bool off_branch = model_.slipped_sites(*peak_, probe) > 0;
-      const double y = off_branch ? -std::numeric_limits<double>::infinity() : probe.Fx / probe.Fz;
+      const double y = off_branch ? -std::numeric_limits<double>::infinity() : ratio(probe);
       if (y > b.y1) {
         (xv < b.x1 ? b.x2 : b.x0) = b.x1;
         (xv < b.x1 ? b.y2 : b.y0) = b.y1;
@@ -1059,18 +1085,18 @@ class ProtocolRun {
       res_.peak_precision = std::max(0.0, yv - b.y1);
       if (res_.peak_precision < 1e-9 * std::abs(b.y1)) break;
     }
-    res_.mu = std::max(best_, b.y1);
+    peak_value_ = std::max(best_, b.y1);
     res_.peak_Dx = b.x1;
-    res_.Fz = peak_->Fz;
     return std::nullopt;
   }
 
-  // The result: mu / alpha, kinetic friction (trace.hpp), the peak's frame and the cost.
+  // The result: mu / alpha (or tau_fric), kinetic friction (trace.hpp), the peak's frame and the
+  // cost.
   SlideResult finish() {
-    res_.mu_over_alpha = res_.mu / params_.alpha;
+    set_friction(res_, peak_value_, *peak_);
     res_.distance = state_.Dx;
-    res_.kinetic = kinetic_friction(res_.trace, state_.Dx, d_);
-    res_.kinetic_over_static = res_.kinetic / res_.mu;
+    res_.kinetic = kinetic_friction(res_.trace, state_.Dx, d_, params_.measure);
+    res_.kinetic_over_static = res_.kinetic / peak_value_;
     res_.peak_snapshot = model_.snapshot(*peak_, "peak");
     if (control_.frames) {
       control_.frames->state(res_.peak_snapshot);
@@ -1102,6 +1128,7 @@ class ProtocolRun {
   std::optional<State> peak_, previous_, earlier_, runner_up_;
   double runner_up_ratio_ = -std::numeric_limits<double>::infinity();
   double best_ = 0.0;
+  double peak_value_ = 0.0;     // the peak's friction ratio, refined (refine_peak, search_peak)
   double first_max_Dx_ = -1.0;  // Regime I: first maximum of Fx without a slip
   double slip_at_ = std::numeric_limits<double>::infinity();  // bisection: the slipping end
   bool stopped_ = false;

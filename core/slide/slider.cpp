@@ -132,6 +132,7 @@ class Slider {
             for (std::size_t j = 0; j < uu.size(); ++j)
               fu += ff[j] * uu[j];
             frame.fields.Fz = lfm_.load();
+            frame.fields.area = lfm_.area();
             frame.fields.energy = 0.5 * fu + v;
             frames->push_back(std::move(frame));
           }
@@ -158,6 +159,7 @@ class Slider {
     for (std::size_t j = 0; j < m; ++j)
       s.Fx += fint[j];
     s.Fz = lfm_.load();
+    s.area = lfm_.area();
     double fu = 0.0;
     for (std::size_t j = 0; j < 2 * m; ++j)
       fu += f[j] * u[j];
@@ -434,12 +436,21 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   control.validate();
   const auto t0 = std::chrono::steady_clock::now();
   Slider slider(scene, options);
-  const double ramp = scene.alpha * scene.hertz().load / scene.lateral_stiffness();
-  const detail::ProtocolParams params{.d = scene.d,
-                                      .alpha = scene.alpha,
-                                      .Fz_continuum = scene.hertz().load,
-                                      .default_cap = 3.0 * scene.d + 3.0 * ramp};
+  // The loading ramp to the Regime I force, F_I / k (alpha Fz / k for the Hertz envelope).
+  const double ramp = scene.regime_one_force() / scene.lateral_stiffness();
+  const detail::ProtocolParams params{
+      .d = scene.d,
+      .alpha = scene.alpha,
+      .Fz_continuum = scene.load(),
+      .default_cap = 3.0 * scene.d + 3.0 * ramp,
+      .measure = scene.carries_load() ? FrictionMeasure::load : FrictionMeasure::area};
   return detail::run_protocol(slider, params, options, control, t0);
+}
+
+double friction_over_regime_one(const interface::ContactScene& scene, const SlideResult& r) {
+  const double Fx = r.measure == FrictionMeasure::load ? r.mu * r.Fz : r.tau_fric * r.area;
+  const double capacity = scene.regime_one_force(r.Fz, r.area);
+  return capacity > 0.0 ? Fx / capacity : std::numeric_limits<double>::quiet_NaN();
 }
 
 int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& block,

@@ -20,6 +20,10 @@
 // with period d; Regime III: Fx rises through many small slips as arrested loops pile up, and
 // the peak moves on with it), or, without slips (Regime I), one period d past the first
 // maximum of Fx; capped (mu is then a lower bound unless the peak had held).
+// Friction: mu = max Fx / Fz where the envelope carries a load (hertz, mixed), else the friction
+// stress tau_fric = max Fx / A, A = N_c d^2 the contact-site area (adhesive; types.hpp,
+// FrictionMeasure); the automatic distance's cap is 3 d + 3 F_I / k (F_I = alpha Fz, tau0 pi a^2
+// or both: ContactScene::regime_one_force).
 #pragma once
 
 #include <cstddef>
@@ -39,6 +43,13 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
 // Throws std::invalid_argument if control.start does not fit the scene (other block size).
 SlideResult slide(const interface::ContactScene& scene, const SlideOptions& options,
                   const SlideControl& control);
+
+// The friction at the peak over its Regime I (rigid) value there (MODEL.md 3): Fx / F_I with Fx =
+// mu Fz or tau_fric A (the result's measure) and F_I = alpha Fz + tau0 A (= sum_i tau_max(r_i) d^2
+// over the contact sites, ContactScene::regime_one_force). 1 in Regime I; mu / alpha for the
+// Hertz envelope, tau_fric / tau0 for the adhesive one (to round-off), and for the mixed one
+// 1 / (alpha Fz / Fx + tau0 A / Fx). NaN if the result has no peak (failed before a state).
+double friction_over_regime_one(const interface::ContactScene& scene, const SlideResult& r);
 
 // Sites along each side of the block of unknowns that follows the tip: 2 H + 1, H = ceil(a/d) + 2
 // (the contact radius and two sites of margin). Snapshots are frames of this block.

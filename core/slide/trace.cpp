@@ -5,15 +5,24 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
+
+namespace asperity::slide {
+
+std::string to_string(FrictionMeasure m) {
+  return m == FrictionMeasure::load ? "load" : "area";
+}
+
+}  // namespace asperity::slide
 
 namespace asperity::slide::detail {
 
 bool peak_held(std::span<const TraceRow> t, double best, double ratio_now, double Dx_now, double d,
-               int slips_to_stop) {
+               int slips_to_stop, FrictionMeasure measure) {
   // The slide stops at a slip, and not while Fx is still within reach of the peak (after a
   // small slip in Regime III it can lie just below it and rise past it next).
   if (t.empty() || !t.back().slip) return false;
-  const auto y = [&](std::size_t i) { return t[i].Fx / t[i].Fz; };
+  const auto y = [&](std::size_t i) { return ratio_of(t[i], measure); };
   const double floor_tie = kPeakTie * std::abs(best);
   double largest_tie = floor_tie;
   std::optional<double> held_Dx;
@@ -48,7 +57,8 @@ bool peak_held(std::span<const TraceRow> t, double best, double ratio_now, doubl
          }) >= slips_to_stop;
 }
 
-double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d) {
+double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d,
+                        FrictionMeasure measure) {
   auto from = std::find_if(t.begin(), t.end(), [](const TraceRow& row) { return row.slip; });
   if (from == t.end() && Dx_end >= d) {
     from = std::find_if(t.begin(), t.end(),
@@ -58,10 +68,10 @@ double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d) {
   double area = 0.0, span = 0.0;
   for (auto a = from; a + 1 != t.end(); ++a) {
     const double w = (a + 1)->Dx - a->Dx;
-    area += 0.5 * w * (a->Fx / a->Fz + (a + 1)->Fx / (a + 1)->Fz);
+    area += 0.5 * w * (ratio_of(*a, measure) + ratio_of(*(a + 1), measure));
     span += w;
   }
-  return span > 0.0 ? area / span : from->Fx / from->Fz;
+  return span > 0.0 ? area / span : ratio_of(*from, measure);
 }
 
 double PeakBracket::vertex(double& y_vertex) const {
@@ -72,9 +82,9 @@ double PeakBracket::vertex(double& y_vertex) const {
   return curv < 0.0 ? xv : x1;
 }
 
-double peak_precision_before_slip(const TraceRow& prev, const TraceRow& peak,
-                                  const TraceRow& next) {
-  const auto ratio = [](const TraceRow& row) { return row.Fx / row.Fz; };
+double peak_precision_before_slip(const TraceRow& prev, const TraceRow& peak, const TraceRow& next,
+                                  FrictionMeasure measure) {
+  const auto ratio = [&](const TraceRow& row) { return ratio_of(row, measure); };
   return (next.Dx - peak.Dx) * std::abs((ratio(peak) - ratio(prev)) / (peak.Dx - prev.Dx));
 }
 

@@ -29,14 +29,22 @@ namespace asperity::slide::detail {
 //
 // t: the trace so far; best: the largest Fx/Fz of it; ratio_now, Dx_now: the current state (the
 // last row); d: the period; slips_to_stop: the slip events wanted after the peak.
+// Here and below "Fx/Fz" is the slide's friction ratio (types.hpp, FrictionMeasure): Fx / Fz,
+// or Fx / A for FrictionMeasure::area.
 inline constexpr double kPeakTie = 1e-3;
 bool peak_held(std::span<const TraceRow> t, double best, double ratio_now, double Dx_now, double d,
-               int slips_to_stop);
+               int slips_to_stop, FrictionMeasure measure = FrictionMeasure::load);
+
+// The friction ratio of a row.
+inline double ratio_of(const TraceRow& row, FrictionMeasure measure) {
+  return friction_ratio(row.Fx, row.Fz, row.area, measure);
+}
 
 // Kinetic friction of a trace (MODEL.md 5): the mean of Fx/Fz over Dx (trapezoid: adaptive
 // steps are uneven) after the first slip; without slips (smooth sliding) over the last whole
 // period d before Dx_end. NaN if neither exists (no slip, slide shorter than d).
-double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d);
+double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d,
+                        FrictionMeasure measure = FrictionMeasure::load);
 
 // Three samples (x0 < x1 < x2, y1 the highest) of Fx/Fz around a smooth maximum. vertex() is the
 // top of the parabola through them (Newton form) and its height, or x1 itself when they are not
@@ -51,6 +59,7 @@ struct PeakBracket {
 // mu's resolution when the peak is the last stable sample before a slip (`next` the slip row,
 // `prev` the sample before the peak): the instability lies within the step after the peak,
 // which the slope before it turns into a difference of Fx/Fz.
-double peak_precision_before_slip(const TraceRow& prev, const TraceRow& peak, const TraceRow& next);
+double peak_precision_before_slip(const TraceRow& prev, const TraceRow& peak, const TraceRow& next,
+                                  FrictionMeasure measure = FrictionMeasure::load);
 
 }  // namespace asperity::slide::detail

@@ -22,6 +22,17 @@
 namespace asperity::slide {
 
 enum class Protocol { reference, adaptive };
+
+// What the friction force is divided by to give the friction a slide maximises and reports
+// (MODEL.md 3; issue 27): the load (mu = Fx / Fz: the Hertz and mixed envelopes, the explicit
+// model) or the contact-site area (tau_fric = Fx / A, A = N_c d^2: the adhesive envelope, whose
+// load is zero, so mu is undefined there).
+enum class FrictionMeasure { load, area };
+std::string to_string(FrictionMeasure m);
+// Fx / Fz or Fx / area.
+inline double friction_ratio(double Fx, double Fz, double area, FrictionMeasure m) {
+  return m == FrictionMeasure::load ? Fx / Fz : Fx / area;
+}
 std::string to_string(Protocol p);
 Protocol protocol_from_string(const std::string& name);  // throws std::invalid_argument
 
@@ -99,20 +110,30 @@ struct TraceRow {
   int slipped_sites = 0;   // sites whose registry index changed in this step
   bool replayed = false;   // copied from the computed row one or more periods d back (the cycle
                            // repeats, SlideOptions::replay_cycle), not computed: no iterations
+  double area = 0.0;       // contact-site area N_c d^2 (d^2; lateral force model; explicit: 0)
 };
 
 struct SlideResult {
   std::vector<TraceRow> trace;  // accepted steps, Dx increasing (first row: Dx = 0)
-  double mu = 0.0;              // max Fx / Fz
-  double mu_over_alpha = 0.0;
+  // Which friction the slide maximised: Fx / Fz (mu) or Fx / A (tau_fric).
+  FrictionMeasure measure = FrictionMeasure::load;
+  double mu = 0.0;             // max Fx / Fz; NaN where there is no load (FrictionMeasure::area)
+  double mu_over_alpha = 0.0;  // NaN likewise
+  // The friction stress at the peak, Fx / A with A the contact-site area there (G): the maximum of
+  // Fx / A (FrictionMeasure::area), or mu Fz / A at the peak of Fx / Fz (load). NaN for a model
+  // without contact sites (explicit).
+  double tau_fric = 0.0;
+  double area = 0.0;  // contact-site area at the peak, N_c d^2 (d^2; explicit model: 0)
   double peak_Dx = 0.0;
-  double peak_precision = 0.0;     // uncertainty of mu from the step resolution at the peak
+  double peak_precision = 0.0;     // uncertainty of mu (or tau_fric, FrictionMeasure::area) from
+                                   // the step resolution at the peak
   bool mu_is_lower_bound = false;  // the maximum is the last sample (the slide ended on the
                                    // ramp), or the automatic cap came before it had held
   double Fz = 0.0;                 // discrete Hertz load at the peak
   double Fz_continuum = 0.0;       // 4 E* a^3 / (3 R)
-  double kinetic = 0.0;            // mean Fx / Fz after the first slip; without slips over the last
-                                   // period d; NaN if not measured (no slip, slide shorter than d)
+  double kinetic = 0.0;            // mean Fx / Fz (Fx / A: FrictionMeasure::area) after the first
+                                   // slip; without slips over the last period d; NaN if not
+                                   // measured (no slip, slide shorter than d)
   double kinetic_over_static = 0.0;
   int slip_events = 0;
   double distance = 0.0;  // Dx reached
@@ -179,6 +200,7 @@ struct SlideFields {
   int shift = 0;             // block offset along x (lattice steps)
   std::vector<double> f, u;  // force (G d^2) and displacement (d) per block site, x then y
   double Fx = 0.0, Fz = 0.0, energy = 0.0;
+  double area = 0.0;    // contact-site area N_c d^2 (d^2; lateral force model; explicit: 0)
   double h = 0.0;       // explicit model: apex height of the tip (d); unused (0) in the LFM
   double dFz_dh = 0.0;  // explicit model: the load loop's last secant slope of Fz(h) (G d),
                         // carried so that a resumed slide repeats it; 0: none yet (and LFM)
@@ -215,8 +237,8 @@ struct SlideState {
   std::optional<SlideFields> earlier;    // extrapolation)
   SlideFields peak;                      // highest Fx/Fz so far
   std::optional<SlideFields> runner_up;  // the peak it replaced
-  double best = 0.0;                     // Fx/Fz at the peak
-  double runner_up_ratio = 0.0;          // Fx/Fz at the runner-up (-inf: none)
+  double best = 0.0;                     // Fx/Fz (or Fx/A, FrictionMeasure) at the peak
+  double runner_up_ratio = 0.0;          // the same at the runner-up (-inf: none)
   double first_max_Dx = -1.0;            // Regime I: first maximum of Fx without a slip (-1: none)
   double slip_at = 0.0;                  // adaptive: known unstable Dx beyond current (inf: none)
   bool stepping_done = false;       // the stepping had ended (stop_reason set); the peak refinement

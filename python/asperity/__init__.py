@@ -9,6 +9,7 @@ module turns its results into Python objects.
     result.mu_over_alpha, result.trace["Fx"], result.summary["cost"]
     peak = result.snapshots["peak"]          # an xarray.Dataset, as snapshots/peak.nc
     asperity.find_lines(result.snapshots["slip_001_before"])["lines"]
+    asperity.slide({"contact": {"a": 10, "envelope": "adhesive", "tau0": 0.05}}).tau_fric
 
 Scenes take the keys of a scene file (data/scenes/default.toml, docs/settings.md), as nested
 dicts or dotted keys; a bad key or value raises ValueError naming the key, value and allowed
@@ -125,7 +126,7 @@ class SlideResult:
 
     @property
     def mu(self):
-        """Static friction coefficient max Fx/Fz."""
+        """Static friction coefficient max Fx/Fz; None for the adhesive envelope (no load)."""
         return self.summary["mu"]
 
     @property
@@ -145,8 +146,19 @@ class SlideResult:
                                for label, frames in groups.items()}
         return self._snapshots
 
+    @property
+    def tau_fric(self):
+        """Friction stress Fx/A at the peak (G), A the contact-site area (summary "contact_area")."""
+        return self.summary["tau_fric"]
+
     def __repr__(self):
-        return (f"SlideResult(mu/alpha={self.mu_over_alpha:.6g}, "
+        if self.mu_over_alpha is not None:
+            friction = f"mu/alpha={self.mu_over_alpha:.6g}"
+        elif self.summary.get("tau_fric_over_tau0") is not None:
+            friction = f"tau_fric/tau0={self.summary['tau_fric_over_tau0']:.6g}"
+        else:
+            friction = "no friction (failed)"
+        return (f"SlideResult({friction}, "
                 f"{len(self.trace)} rows, {self.summary.get('slip_events')} slip events)")
 
 

@@ -147,6 +147,7 @@ py::dict trace_columns(const std::vector<slide::TraceRow>& trace) {
   c["slipped_sites"] =
       column([](const slide::TraceRow& r) { return static_cast<long long>(r.slipped_sites); });
   c["replayed"] = column([](const slide::TraceRow& r) { return r.replayed; });
+  c["area"] = column([](const slide::TraceRow& r) { return r.area; });
   return c;
 }
 

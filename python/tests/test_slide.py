@@ -53,6 +53,24 @@ def test_slide_gives_the_tools_numbers(tmp_path):
     assert result.trace["slip"].dtype == bool
 
 
+def test_adhesive_envelope_reports_the_friction_stress(tmp_path):
+    # The new keys come through the settings table (issue 27): no load, so mu is None and the
+    # friction is the stress tau_fric = Fx/A, as contact_slide gives it.
+    scene = {"contact": {"a": 10, "envelope": "adhesive", "tau0": 0.05}}
+    result = asperity.slide(scene)
+    subprocess.run([BIN / "contact_slide", "--a", "10", "--envelope", "adhesive", "--tau0", "0.05",
+                    "--out", tmp_path], check=True, capture_output=True)
+    tool = json.loads((tmp_path / "summary.json").read_text())
+    assert result.mu is None and result.mu_over_alpha is None and "mu_note" in result.summary
+    assert result.tau_fric == tool["tau_fric"]
+    assert result.summary["tau_fric_over_tau0"] == tool["tau_fric_over_tau0"]
+    assert 0 < result.summary["tau_fric_over_tau0"] <= 1
+    assert result.summary["envelope"] == "adhesive" and result.summary["bcore0"] == 20
+    assert np.all(result.trace["Fz"] == 0) and np.all(result.trace["area"] > 0)
+    with pytest.raises(ValueError, match="contact.tau0 = 0"):
+        asperity.Scene({"contact": {"envelope": "adhesive"}})
+
+
 def test_progress_is_called_and_phases_are_named():
     seen = []
     asperity.slide(SMALL, progress=seen.append)

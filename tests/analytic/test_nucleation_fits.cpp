@@ -241,3 +241,39 @@ TEST(ClosedForms, NucleationConditionSatisfiesItsDefinition) {
     EXPECT_NEAR((a - r) / (c0 / (alpha * p)), 1.0, 1e-10) << a;
   }
 }
+
+// The adhesive law's c0 (issue 27) with honest errors as the Hertz one's: 200 trials of 5
+// points with 5% log-normal scatter about tau_fric/tau0 = 2 (2 c0)^(1/2) (a/b_core)^(-1/2).
+TEST(Acceptance1, AdhesiveC0ErrorsAreHonest) {
+  const double c0 = 0.2;
+  const RegimeTwoLaw law = adhesive_law();
+  int hits = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    Normal noise(5000 + static_cast<std::uint64_t>(trial));
+    std::vector<ScalingPoint> points;
+    for (double x : {4.0, 8.0, 16.0, 32.0, 64.0})
+      points.push_back({.a_over_bcore0 = x,
+                        .mu_over_alpha = regime_two_law(law, x, c0) * std::exp(0.05 * noise())});
+    const RegimeTwoFit fit = fit_regime_two(points, {.law = law,
+                                                     .window = std::pair{1.0, 1e3},
+                                                     .bootstrap_samples = 2000,
+                                                     .seed = static_cast<std::uint64_t>(trial)});
+    ASSERT_TRUE(fit.valid);
+    if (std::abs(fit.c0 - c0) <= 2.0 * fit.c0_error) ++hits;
+  }
+  expect_coverage(hits, "adhesive c0 (5 points)");
+}
+
+// The adhesive condition from its definition: the bonded traction Fx/(2 pi a^2)(1 - x^2)^(-1/2)
+// with Fx = (tau_fric/tau0) tau0 pi a^2 equals tau0 at r* = x a, and a (1 - x) = c0 d G / tau0.
+TEST(ClosedForms, AdhesiveNucleationConditionSatisfiesItsDefinition) {
+  const double c0 = 0.2, tau0 = 0.2;  // b_core = 5 d
+  for (double a : {20.0, 80.0, 300.0}) {
+    const NucleationSolution s = nucleation_condition(adhesive_law(), a * tau0, c0);
+    ASSERT_FALSE(s.rigid);
+    const double Fx = s.mu_over_alpha * tau0 * std::numbers::pi * a * a;
+    const double tau = Fx / (2.0 * std::numbers::pi * a * a) / std::sqrt(1.0 - s.x * s.x);
+    EXPECT_NEAR(tau / tau0, 1.0, 1e-12) << a;
+    EXPECT_NEAR(a * (1.0 - s.x) / (c0 / tau0), 1.0, 1e-12) << a;
+  }
+}

@@ -103,6 +103,13 @@ ASPERITY_MEMORY_GIB=x check $cs "ASPERITY_MEMORY_GIB" --a 10
 # = 200 d: 10.7 MB per frame, about 0.7 GB with the path of slip 1, more than 0.1 GiB).
 ASPERITY_DISK_GIB=0.1 check $cs "GiB of disk" --a 200 --R 1e4
 ASPERITY_DISK_GIB=0 check $cs "ASPERITY_DISK_GIB" --a 10
+# Envelopes (issue 27): tau0 is checked against the envelope that uses it.
+check $cs 'contact.tau0 = 0: allowed: > 0' "$(scene e1 <<<$'[contact]\nenvelope = "adhesive"')"
+check $cs 'contact.tau0 = 0.1: allowed: 0' "$(scene e2 <<<$'[contact]\ntau0 = 0.1')"
+check $cs "contact.envelope" "$(scene e3 <<<$'[contact]\nenvelope = "jkr"')"
+check $cs "--tau0" --envelope mixed --tau0 -1
+check $cs "--envelope" --envelope jkr
+check $cs 'contact.envelope = "adhesive": allowed: "hertz" with the explicit model' --model explicit --envelope adhesive --tau0 0.1
 check $cs "output.path_frames" "$(scene o1 <<<$'[output]\npath_frames = -1')"
 check $cs "output.precision" "$(scene o2 <<<$'[output]\nprecision = "half"')"
 check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
@@ -122,6 +129,8 @@ ASPERITY_DISK_GIB=0.1 check $fs "GiB of disk" --R 1e4 --a 100,200 --figures
 check $fs "sweep.model" "$(scene w6 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "atoms"')"
 check $fs "a/R < 0.1" "$(scene w7 <<<$'[sweep]\nR = [100]\na = [5, 12]\nmodel = "both"')"
 check $fs "raise R" "$(scene w8 <<<$'[sweep]\nR = [100]\na_over_bcore0 = [10]\nmodel = "explicit"')"
+check $fs 'sweep.model = "both": allowed: "lfm"' "$(scene w10 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "both"\n[contact]\nenvelope = "adhesive"\ntau0 = 0.1')"
+check $fs "sweep.a_over_bcore0[0] = 1000 needs a = 5000 d: allowed: [0.2, 819.2] (a in [1, 4096] d)" "$(scene w11 <<<$'[sweep]\na_over_bcore0 = [1000]\n[contact]\nenvelope = "adhesive"\ntau0 = 0.2')"
 check $fs "explicit.sigma_over_d" "$(scene w9 <<<$'[sweep]\nR = [535]\na = [5]\n[explicit]\nsigma_over_d = 2')"
 
 gv=gf_validate

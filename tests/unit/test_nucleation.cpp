@@ -551,3 +551,73 @@ TEST(Comparison, UpturnsAndTheRegimeThreeFitToThem) {
   EXPECT_NEAR(fit.fit.law.k1, 2.3, 1e-6);
   EXPECT_NEAR(fit.fit.law.k2, 1.8, 1e-6);
 }
+
+// The adhesive law (issue 27): tau_fric/tau0 = 2 (a/(2 c0 b_core))^(-1/2), fitted as the Hertz
+// law is, with its own exponent and prefactor; exact data give c0 back, and the Hertz law's
+// functions are untouched by the law argument.
+TEST(AdhesiveLaw, ExactDataGiveC0) {
+  const RegimeTwoLaw law = adhesive_law();
+  EXPECT_DOUBLE_EQ(regime_two_law(law, 50.0, 0.25), 2.0 * std::sqrt(2.0 * 0.25 / 50.0));
+  EXPECT_DOUBLE_EQ(c0_of_point(law, 50.0, regime_two_law(law, 50.0, 0.25)), 0.25);
+  EXPECT_EQ(regime_two_law(hertz_law(), 30.0, 0.2), regime_two_law(30.0, 0.2));
+  std::vector<ScalingPoint> points;
+  for (double x : {0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0}) {
+    // The nucleation condition capped at 1 below the crossover, the law above.
+    const double y = x < regime_one_crossover(law, 0.25) ? 1.0 : regime_two_law(law, x, 0.25);
+    points.push_back({.a_over_bcore0 = x, .mu_over_alpha = y, .a = 5.0 * x, .R = 535.0});
+  }
+  const RegimeTwoFit fit = fit_regime_two(points, {.law = law});
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_NEAR(fit.c0, 0.25, 1e-12);
+  EXPECT_NEAR(fit.c0_error, 0.0, 1e-12);
+  EXPECT_NEAR(fit.free_slope, -0.5, 1e-12);
+  EXPECT_NEAR(fit.prefactor, 2.0 * std::sqrt(0.5), 1e-12);
+  // Past the crossover (law(2) = 1.0 is not below 0.75; law(4) = 0.71 is) to the end.
+  EXPECT_DOUBLE_EQ(fit.window_lo, 4.0);
+  EXPECT_DOUBLE_EQ(fit.window_hi, 64.0);
+}
+
+// The adhesive nucleation condition: x = 1 - q, tau_fric/tau0 = min(1, 2 sqrt(q (2 - q))),
+// q = c0 / (a/b_core); the law is its leading order in q, with relative correction -q/4
+// (sqrt(1 - q/2) = 1 - q/4 - q^2/32 ...: tolerance q^2/16).
+TEST(AdhesiveLaw, LimitsOfTheCondition) {
+  const RegimeTwoLaw law = adhesive_law();
+  const double c0 = 0.2;
+  for (double x : {1e2, 1e4, 1e6}) {
+    const NucleationSolution s = nucleation_condition(law, x, c0);
+    EXPECT_FALSE(s.rigid);
+    const double q = c0 / x;
+    EXPECT_NEAR(s.x, 1.0 - q, 1e-15);
+    EXPECT_NEAR(s.mu_over_alpha / regime_two_law(law, x, c0) - 1.0, -q / 4.0, q * q / 16.0 + 1e-14);
+  }
+  EXPECT_TRUE(nucleation_condition(law, 1.0, c0).rigid);
+  EXPECT_EQ(nucleation_condition(law, 1.0, c0).mu_over_alpha, 1.0);
+  EXPECT_EQ(nucleation_condition(law, 0.1, c0).bonded_mu_over_alpha, 2.0);  // c0 > a/b_core
+  const double xc = regime_one_crossover(law, c0);
+  EXPECT_NEAR(nucleation_condition(law, xc, c0).bonded_mu_over_alpha, 1.0, 1e-12);
+  EXPECT_NEAR(xc / c0, 1.0 / (1.0 - std::sqrt(3.0) / 2.0), 1e-12);  // 7.46
+  // The leading-order law reaches 1 at a/b_core = 8 c0.
+  EXPECT_NEAR(regime_two_law(law, 8.0 * c0, c0), 1.0, 1e-15);
+}
+
+// The mixed envelope's condition reduces to the Hertz one without tau0 and to the adhesive one
+// without pressure (to the bisections' resolution), and lies between where both enter.
+TEST(MixedCondition, ItsLimitsAreTheHertzAndAdhesiveConditions) {
+  const double c0 = 0.2;
+  for (double x : {2.0, 10.0, 60.0}) {
+    EXPECT_NEAR(mixed_nucleation_condition(0.0, x, c0).mu_over_alpha,
+                nucleation_condition(x, c0).mu_over_alpha, 1e-12);
+    EXPECT_NEAR(mixed_nucleation_condition(x, 0.0, c0).mu_over_alpha,
+                nucleation_condition(adhesive_law(), x, c0).mu_over_alpha, 1e-12);
+    EXPECT_NEAR(mixed_nucleation_condition(0.0, x, c0).x, nucleation_condition(x, c0).x, 1e-12);
+  }
+  // Equal parts of the control parameter: the friction lies between the two limits taken at the
+  // whole a / b_core^0.
+  const double both = mixed_nucleation_condition(10.0, 10.0, c0).mu_over_alpha;
+  const double hertz = nucleation_condition(20.0, c0).mu_over_alpha;
+  const double adhesive = nucleation_condition(adhesive_law(), 20.0, c0).mu_over_alpha;
+  EXPECT_GT(both, std::min(hertz, adhesive));
+  EXPECT_LT(both, std::max(hertz, adhesive));
+  EXPECT_TRUE(mixed_nucleation_condition(0.05, 0.05, c0).rigid);
+  EXPECT_THROW(mixed_nucleation_condition(0.0, 0.0, c0), std::invalid_argument);
+}

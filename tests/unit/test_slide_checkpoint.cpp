@@ -56,10 +56,14 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
     EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.Fz, y.Fz) &&
                 same_bits(x.energy, y.energy) && same_bits(x.max_force, y.max_force) &&
                 x.iterations == y.iterations && x.gf_applications == y.gf_applications &&
-                x.slip == y.slip && x.slipped_sites == y.slipped_sites && x.replayed == y.replayed)
+                x.slip == y.slip && x.slipped_sites == y.slipped_sites &&
+                x.replayed == y.replayed && same_bits(x.area, y.area))
         << where << ": trace row " << i;
   }
+  EXPECT_EQ(a.measure, b.measure) << where;
   EXPECT_TRUE(same_bits(a.mu, b.mu)) << where;
+  EXPECT_TRUE(same_bits(a.tau_fric, b.tau_fric)) << where;
+  EXPECT_TRUE(same_bits(a.area, b.area)) << where;
   EXPECT_TRUE(same_bits(a.peak_Dx, b.peak_Dx)) << where;
   EXPECT_TRUE(same_bits(a.peak_precision, b.peak_precision)) << where;
   EXPECT_TRUE(same_bits(a.kinetic, b.kinetic)) << where;
@@ -120,7 +124,12 @@ TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
   // Regime I with a fixed distance (the peak is refined after the stepping), and Regime II
   // through two slip events (bisection brackets, relaxation-path frames, and after the first
   // slip the window of states and the pending probe of the cycle replay): every poll.
-  for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1}}) {
+  // And the adhesive envelope (issue 27), whose slide maximises Fx/A: every third poll.
+  app::SlideScene adhesive = scene(16.0, 0.0);
+  adhesive.contact.envelope = "adhesive";
+  adhesive.contact.tau0 = 0.2;
+  for (const auto& [s, stride] :
+       {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1}, std::pair{adhesive, 3}}) {
     const SlideResult reference = slide::slide(s.contact, s.options);
     ASSERT_FALSE(reference.failed) << reference.stop_reason;
     // Regime II replays its second cycle (SlideOptions::replay_cycle): stops between the first
