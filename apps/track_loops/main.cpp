@@ -377,11 +377,10 @@ std::vector<std::pair<std::string, std::string>> snapshot_reads(
     const std::vector<std::string>& files, const std::string& label, int slip) {
   std::vector<std::pair<std::string, std::string>> reads;
   if (slip > 0) {
-    char prefix[32];
-    std::snprintf(prefix, sizeof prefix, "slip_%03d_", slip);
+    const std::string prefix = slide::slip_label(slip) + "_";
     for (const char* part : {"before", "path", "after"}) {
       for (const auto& file : files)
-        reads.emplace_back(file, std::string(prefix) + part);
+        reads.emplace_back(file, prefix + part);
     }
   } else {
     for (const auto& file : files)

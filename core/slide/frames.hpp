@@ -17,6 +17,15 @@
 
 namespace asperity::slide {
 
+// The label stem of slip event `event` (1, 2, ...): "slip_001"; its frames are labelled
+// stem + "_before", "_after" and "_path". The one place the labels are spelt (the slide that
+// makes them, track_loops that selects them).
+inline std::string slip_label(int event) {
+  std::string digits = std::to_string(event);
+  if (digits.size() < 3) digits.insert(0, 3 - digits.size(), '0');
+  return "slip_" + digits;
+}
+
 // One field snapshot of the contact (MODEL.md section 5), on the block of sites.
 struct Snapshot {
   std::string label;   // "peak", "slip_001_before", "slip_001_after", "slip_001_path"

@@ -528,11 +528,6 @@ class ProtocolRun {
     return out;
   }
 
-  static std::string slip_label(int event) {
-    char label[32];
-    std::snprintf(label, sizeof label, "slip_%03d", event);
-    return std::string(label);
-  }
   // Slip events whose relaxation paths are recorded: 1, 1 + k, 1 + 2k, ...
   bool paths_of(int event) const {
     return options_.path_frame_every > 0 && options_.path_frame_slips > 0 && sink_->wants_paths() &&
