@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "asperity/core/common/shape.hpp"
+#include "asperity/core/interface/tip_lattice.hpp"
 
 namespace asperity::slide {
 
@@ -31,6 +32,9 @@ struct Snapshot {
                                           // explicit model's alpha p and p = -f_z / d^2
   std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
   std::vector<std::uint8_t> in_contact;
+  // The tip's lattice (interface/tip_lattice.hpp): the registry of a site is
+  // rho = Q(-angle) (sx, sy) / ((1 + mismatch) d), which tracking follows (docs/tracking.md).
+  interface::TipLattice tip;
   // Of a slip's "before" and "after" states: the sites whose registry index changed in the slip
   // (TraceRow::slipped_sites); 0 for every other frame. Not stored in the NetCDF frames.
   int slipped_sites = 0;
