@@ -108,7 +108,28 @@ void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attribu
     sized("in_contact", f.in_contact.size());
     // uz (explicit model only): in every frame of a file or in none.
     if (!frames.front().uz.empty() || !f.uz.empty()) sized("uz", f.uz.size());
+    if (!(f.tip == frames.front().tip)) invalid(frame + "tip lattice differs from frame 0's");
   }
+}
+
+// The tip's lattice of a file (global attributes tip_angle, tip_mismatch; absent in files
+// written before them and by tools without a tip: aligned).
+template <class Error>
+interface::TipLattice read_tip(const Dataset<Error>& in, int id) {
+  interface::TipLattice tip;
+  const auto number = [&](const char* name, double& value) {
+    nc_type type = NC_NAT;
+    std::size_t length = 0;
+    if (nc_inq_att(id, NC_GLOBAL, name, &type, &length) != NC_NOERR) return;
+    if (length != 1 || type == NC_CHAR)
+      in.fail(std::string("attribute '") + name + "' is not a number");
+    in.check(nc_get_att_double(id, NC_GLOBAL, name, &value),
+             std::string("attribute '") + name + "'");
+    if (!std::isfinite(value)) in.fail(std::string("attribute '") + name + "' is not finite");
+  };
+  number("tip_angle", tip.angle);
+  number("tip_mismatch", tip.mismatch);
+  return tip;
 }
 
 }  // namespace
@@ -218,6 +239,7 @@ SnapshotAppender SnapshotAppender::open(const fs::path& nc) {
   for (std::size_t f = 0; f < kFields.size(); ++f)
     l.fields[f] = var(kFields[f].name);
   if (nc_inq_varid(a.id_, "uz", &l.uz) != NC_NOERR) l.uz = -1;
+  a.tip_ = read_tip(out, a.id_);
   for (const int v : l.fields)
     no_chunk_cache(out, a.id_, v, "field");
   no_chunk_cache(out, a.id_, l.in_contact, "in_contact");
@@ -233,7 +255,8 @@ SnapshotAppender::SnapshotAppender(SnapshotAppender&& other) noexcept
       fixed_frames_(other.fixed_frames_),
       id_(std::exchange(other.id_, -1)),
       frames_(other.frames_),
-      layout_(std::move(other.layout_)) {}
+      layout_(std::move(other.layout_)),
+      tip_(other.tip_) {}
 
 SnapshotAppender::~SnapshotAppender() {
   if (id_ >= 0) nc_close(id_);
@@ -348,6 +371,14 @@ void SnapshotAppender::define(const Snapshot& first) {
       }
     }
   }
+  // The tip's lattice, from the frames (all alike): the registry tracking follows
+  // (interface/tip_lattice.hpp, docs/tracking.md). Written last among the numbers, so that
+  // they replace entries of the same name.
+  o.check(nc_put_att_double(id_, NC_GLOBAL, "tip_angle", NC_DOUBLE, 1, &first.tip.angle),
+          "attribute 'tip_angle'");
+  o.check(nc_put_att_double(id_, NC_GLOBAL, "tip_mismatch", NC_DOUBLE, 1, &first.tip.mismatch),
+          "attribute 'tip_mismatch'");
+  tip_ = first.tip;
   put_text(o, id_, NC_GLOBAL, "title", "asperity sliding snapshots");
   put_text(o, id_, NC_GLOBAL, "Conventions", "CF-1.8");
   put_text(o, id_, NC_GLOBAL, "comment",
@@ -396,6 +427,7 @@ void SnapshotAppender::append(const Snapshot& frame) {
   // uz (explicit model only): in every frame of a file or in none.
   if (l.uz >= 0) sized("uz", frame.uz.size());
   if (l.uz < 0 && !frame.uz.empty()) invalid("'uz' given, but the file's frames have none");
+  if (!(frame.tip == tip_)) invalid("tip lattice differs from the file's");
 
   if (fixed_frames_ > 0 && frames_ >= fixed_frames_) {
     invalid("the file holds " + std::to_string(fixed_frames_) + " frames");
@@ -441,6 +473,7 @@ Snapshot SnapshotAppender::read(std::size_t k) const {
   in.check(nc_get_vara_int(id_, l.origin_x, at, one, &origin0), "reading 'origin_x'");
   in.check(nc_get_vara_int(id_, l.origin_y, at, one, &origin1), "reading 'origin_y'");
   frame.block = {{static_cast<int>(l.n0), static_cast<int>(l.n1)}, origin0, origin1};
+  frame.tip = tip_;
   for (std::size_t s = 0; s < kScalars.size(); ++s) {
     in.check(nc_get_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
              std::string("reading '") + kScalars[s].name + "'");
@@ -550,6 +583,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
       in.fail("variable '" + name + "' has unexpected dimensions");
     return v;
   };
+  const interface::TipLattice tip = read_tip(in, in.id);
   if (out == nullptr) {
     var("label", {frame_dim, label_dim});
     for (const char* name : {"iteration", "origin_x", "origin_y"})
@@ -580,6 +614,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
     frames[k].label.assign(label, std::find(label, label + label_length, '\0'));
     frames[k].iteration = iteration[k];
     frames[k].block = {{static_cast<int>(n0), static_cast<int>(n1)}, origin_x[k], origin_y[k]};
+    frames[k].tip = tip;
   }
   for (const Scalar& s : kScalars) {
     std::vector<double> values(n);

@@ -10,7 +10,8 @@
 // of d are those of the first frame's block; the block may follow the tip, so site (i, j) of frame
 // k is at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
 // stresses G, forces G d^2, energy G d^3) and `long_name`; the global attribute field_precision
-// says float32 or float64.
+// says float32 or float64, and tip_angle (degrees) and tip_mismatch give the tip's lattice of
+// the frames (slide::Snapshot::tip, alike in every frame of a file; read as 0 where absent).
 #pragma once
 
 #include <filesystem>
@@ -77,6 +78,7 @@ class SnapshotAppender {
   int id_ = -1;
   std::size_t frames_ = 0;
   std::unique_ptr<Layout> layout_;
+  interface::TipLattice tip_;  // of the file's frames
 };
 
 // Writes `frames` as one file, atomically (temporary file renamed onto `nc`). Global attributes:

@@ -48,7 +48,8 @@ struct Snapshot {
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
-  // A state: "peak" (at the end), "slip_NNN_before", "slip_NNN_after", "last_good".
+  // A state: "start" (the loaded contact at Dx = 0, before the slide), "peak" (at the end),
+  // "slip_NNN_before", "slip_NNN_after", "last_good".
   virtual void state(const Snapshot& frame) = 0;
   // A frame of the relaxation path of a computed slip ("slip_NNN_path"), in iteration order,
   // after the slip's "before" and "after" states.
