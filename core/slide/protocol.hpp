@@ -442,10 +442,10 @@ class ProtocolRun {
       stopped_ = true;
       return;
     }
-    // The loaded contact before the slide, to a sink that writes frames (not into
-    // res_.snapshots): what exists without nucleation, e.g. the misfit dislocations under a
-    // tip lattice out of registry (interface/tip_lattice.hpp). A resumed slide has written it.
-    if (control_.frames) control_.frames->state(model_.snapshot(state_, "start"));
+    // The loaded contact before the slide: what exists without nucleation, e.g. the misfit
+    // dislocations under a tip lattice out of registry (interface/tip_lattice.hpp). A resumed
+    // slide has handed it over already.
+    sink_->state(model_.snapshot(state_, "start"));
   }
 
   // The state at the top of the stepping loop (or after it), for checkpoints. Its cost is the
