@@ -209,7 +209,7 @@ std::vector<RigidRow> rigid_rows(const SweepScene& s, const std::vector<SweepRow
     c.a = r.point.a;
     c.R = r.point.R;
     c.tip = r.point.tip;
-    out.push_back({r.point, c.a_over_bcore0(), interface::rigid_tip_friction(c).mu / c.alpha});
+    out.push_back({r.point, c.a_over_bcore0(), interface::rigid_tip_friction(c).over_regime_one});
   }
   return out;
 }
@@ -271,7 +271,7 @@ std::vector<fs::path> write_tip_figures(const fs::path& dir, const SweepScene& s
     for (int k = 0; k <= kSamples; ++k) {
       c.a = lo + (hi - lo) * k / kSamples;
       l.x.push_back(c.a);
-      l.y.push_back(interface::rigid_tip_friction(c).mu / c.alpha);
+      l.y.push_back(interface::rigid_tip_friction(c).over_regime_one);
     }
   }
   std::vector<Series> series;
@@ -445,7 +445,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                           {"tip_angle", r.point.tip.angle},
                           {"tip_mismatch", r.point.tip.mismatch},
                           {"a_over_bcore0", r.a_over_bcore0},
-                          {"rigid_mu_over_alpha", r.mu_over_alpha}});
+                          {"rigid_over_regime_one", r.mu_over_alpha}});
   }
   // The Regime II scaling (MODEL.md 8) is the aligned tip's.
   const nlohmann::json fit = fit_slope(aligned_rows(done), kFitLo, kFitHi);
@@ -513,7 +513,8 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
   if (!rigid.empty()) {
     summary["rigid_tip"] = {
         {"quantity",
-         "mu/alpha of the tip on a rigid substrate (u = 0), the Regime I limit out of registry "
+         "max Fx / F_I of the tip on a rigid substrate (u = 0), F_I = sum_i tau_max(r_i) d^2 "
+         "(mu/alpha for the Hertz envelope): the Regime I limit out of registry "
          "(interface::rigid_tip_friction)"},
         {"points", rigid_json}};
   }

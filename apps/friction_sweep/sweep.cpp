@@ -423,7 +423,7 @@ bool is_earlier_layout(const std::vector<std::string>& columns) {
 SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                    const std::string& settings) {
   const auto& c = scene.contact;
-  SweepRow row{.point = {c.a, c.R, c.tip},
+  SweepRow row{.point = {c.a, c.R},
                .a_over_bcore0 = c.a_over_bcore0(),
                .mu_over_alpha = r.mu_over_alpha,
                .kinetic_over_static = r.kinetic_over_static,
@@ -432,6 +432,7 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                .failed = r.failed,
                .stop_reason = r.stop_reason,
                .wall_s = r.wall_s};
+  row.point.tip = c.tip;
   row.cells = {c.a,
                c.R,
                c.alpha,
@@ -463,7 +464,7 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   std::string reason = "error: " + message;
   for (std::size_t at; (at = reason.find('\n')) != std::string::npos;)
     reason.replace(at, 1, "; ");
-  SweepRow row{.point = {c.a, c.R, c.tip},
+  SweepRow row{.point = {c.a, c.R},
                .a_over_bcore0 = c.a_over_bcore0(),
                .mu_over_alpha = nan,
                .kinetic_over_static = nan,
@@ -471,6 +472,7 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
                .stop_reason = reason,
                .wall_s = wall_s};
   // In sweep_columns() order: the parameters, then no results.
+  row.point.tip = c.tip;
   row.cells = {c.a,
                c.R,
                c.alpha,
@@ -536,7 +538,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
     }
     auto& slot = out.rows[static_cast<std::size_t>(it - points.begin())];
     if (slot) continue;  // a repeated row (edited file): the first one stands
-    SweepRow row{.point = {a, R, tip},
+    SweepRow row{.point = {a, R},
                  .a_over_bcore0 = t.number(i, "a_over_bcore0"),
                  .mu_over_alpha = t.number(i, "mu_over_alpha"),
                  .kinetic_over_static = t.number(i, "kinetic_over_static"),
@@ -545,6 +547,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
                  .failed = false,
                  .stop_reason = t.text(i, "stop_reason"),
                  .wall_s = std::numeric_limits<double>::quiet_NaN()};
+    row.point.tip = tip;
     // The stored text, not re-formatted numbers: a resumed table is byte-identical.
     for (std::size_t j = 0; j < t.columns().size(); ++j)
       row.cells.push_back(t.cell(i, j));

@@ -10,11 +10,6 @@
 // lateral force model's rows go to sweep.csv, the explicit model's (MODEL.md 4; alpha of the
 // potential at each point's central load, contact.alpha unused) to sweep_explicit.csv, in the
 // same columns.
-//
-// sweep.tip_angle and sweep.tip_mismatch (issue 27): lists of the tip's lattice rotation and
-// mismatch (interface/tip_lattice.hpp); every R and a runs with every angle and mismatch. Absent,
-// the scene's contact.tip_angle and contact.tip_mismatch hold for every point (giving both a
-// list and the contact value is an error). sweep.csv has the columns tip_angle, tip_mismatch.
 #pragma once
 
 #include <cstddef>
@@ -36,6 +31,10 @@ struct ValueList {
   std::string key;  // its setting, "sweep.a"
 };
 
+// sweep.tip_angle and sweep.tip_mismatch (issue 27): lists of the tip's lattice rotation and
+// mismatch (interface/tip_lattice.hpp); every R and a runs with every angle and mismatch. Absent,
+// the scene's contact.tip_angle and contact.tip_mismatch hold for every point (giving both a
+// list and the contact value is an error). sweep.csv has the columns tip_angle, tip_mismatch.
 struct SweepScene {
   std::string source;                      // scene file
   SlideScene base;                         // settings shared by all points; a and R set per point
@@ -74,10 +73,6 @@ struct SweepPoint {
   interface::TipLattice tip {};  // the tip's lattice (angle in degrees, mismatch)
 };
 
-// The tips of a sweep: every sweep.tip_angle with every sweep.tip_mismatch (each absent list
-// replaced by the scene's contact value).
-std::vector<interface::TipLattice> sweep_tips(const SweepScene& scene);
-
 // Contact radius at which a / b_core^0 = target: a = sqrt(target R d / (c alpha)),
 // c = 4 / (pi (1 - nu)) (MODEL.md 3).
 double contact_radius_for(const interface::ContactScene& contact, double target);
@@ -88,6 +83,10 @@ double contact_radius_for(const interface::ContactScene& contact, double target)
 // limits of contact.a), or if two points coincide. Empty if the sweep runs the explicit model
 // only.
 std::vector<SweepPoint> sweep_points(const SweepScene& scene);
+
+// The tips of a sweep: every sweep.tip_angle with every sweep.tip_mismatch (each absent list
+// replaced by the scene's contact value).
+std::vector<interface::TipLattice> sweep_tips(const SweepScene& scene);
 
 // The explicit model's points (sweep_explicit.csv), empty unless it runs. A target of
 // a/b_core^0 is met with the alpha of the potential at the point's own central load (a fixed

@@ -9,6 +9,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -296,15 +297,18 @@ RigidTipFriction rigid_tip_friction(const ContactScene& scene, int samples) {
     f.assign(2 * m, 0.0);
     lfm.energy_and_force(u, f);
     RigidTipFriction r{.Dx = Dx, .Fz = lfm.load()};
-    for (std::size_t j = 0; j < m; ++j)
+    for (std::size_t j = 0; j < m; ++j) {
       r.Fx += f[j];
-    r.mu = r.Fx / r.Fz;
+      r.F_I += lfm.tau_max()[lfm.contact_sites()[j]] * d * d;
+    }
+    r.over_regime_one = r.Fx / r.F_I;
+    r.mu = r.Fz > 0.0 ? r.Fx / r.Fz : std::numeric_limits<double>::quiet_NaN();
     return r;
   };
   RigidTipFriction best = at(0.0);
   for (int k = 1; k < samples; ++k) {
     const RigidTipFriction r = at(d * k / samples);
-    if (r.mu > best.mu) best = r;
+    if (r.over_regime_one > best.over_regime_one) best = r;
   }
   // Golden-section search for the maximum within one sample of the best.
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
@@ -312,7 +316,7 @@ RigidTipFriction rigid_tip_friction(const ContactScene& scene, int samples) {
   double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
   RigidTipFriction f1 = at(x1), f2 = at(x2);
   while (hi - lo > 1e-9 * d) {
-    if (f1.mu > f2.mu) {
+    if (f1.over_regime_one > f2.over_regime_one) {
       hi = x2, x2 = x1, f2 = f1;
       x1 = hi - g * (hi - lo);
       f1 = at(x1);
@@ -323,7 +327,7 @@ RigidTipFriction rigid_tip_friction(const ContactScene& scene, int samples) {
     }
   }
   for (const RigidTipFriction& r : {f1, f2}) {
-    if (r.mu > best.mu) best = r;
+    if (r.over_regime_one > best.over_regime_one) best = r;
   }
   best.Dx -= d * std::floor(best.Dx / d);
   return best;

@@ -4,9 +4,6 @@
 //   s_i = X_i + u_i - (Dx, 0),  f_i = -tau_max(r_i) d^2 [sin(2 pi s_ix/d), sin(2 pi s_iy/d)],
 // and envelope tau_max(r) = alpha p(r), the Hertz pressure of MODEL.md 1 around the tip centre
 // (Dx, 0). Friction Fx = sum_i f_ix; load Fz = sum_i p(r_i) d^2 (the discrete Hertz load).
-// A tip lattice out of registry (rotated by contact.tip_angle, spacing (1 + contact.tip_mismatch)
-// d) replaces s / d by the registry coordinates rho = Q(-theta) s / d_tip in the cosines and the
-// amplitude d^3 by d^2 d_tip (tip_lattice.hpp); the aligned tip keeps the arithmetic above.
 // Control parameter a / b_core^0 = c alpha a^2 / (R d), c = 4 / (pi (1 - nu)) (b_core^0 =
 // d G / (alpha p0)); Prandtl-Tomlinson lambda = 2 pi alpha Fz / (d k), k = 8 G a / (2 - nu).
 #pragma once
@@ -29,6 +26,7 @@ struct ContactScene {
   double R = 535.0;                // sphere radius (d)
   double alpha = 0.7;              // local friction coefficient: peak shear stress / pressure
   elastic::Material material{};    // substrate: G (unit of stress), nu
+  TipLattice tip{};                // the tip's lattice (tip_lattice.hpp): aligned by default
   double d = 1.0;                  // lattice spacing (unit of length)
   std::string envelope = "hertz";  // interface envelope (envelope.hpp): "hertz"
 
@@ -44,11 +42,11 @@ struct ContactScene {
   [[nodiscard]] double a_over_bcore0() const;      // the control parameter
   [[nodiscard]] double lateral_stiffness() const;  // k = 8 G a / (2 - nu)
   [[nodiscard]] double lambda() const;             // 2 pi alpha Fz / (d k), continuum Fz
-
-  // The tip's lattice (tip_lattice.hpp): contact.tip_angle, contact.tip_mismatch; aligned by
-  // default. Declared last, so that designated initialisers of the members above stay valid.
-  TipLattice tip{};
 };
+
+// A tip lattice out of registry (rotated by contact.tip_angle, spacing (1 + contact.tip_mismatch)
+// d) replaces s / d by the registry coordinates rho = Q(-theta) s / d_tip in the cosines and the
+// amplitude d^3 by d^2 d_tip (tip_lattice.hpp); the aligned tip keeps the arithmetic of MODEL.md 3.
 
 // Per-site registry physics of the LFM at a tip position, for the sites of a block.
 class LateralForceModel {
@@ -105,20 +103,24 @@ class LateralForceModel {
   double load_ = 0.0;
 };
 
-// Static friction of the tip on a rigid substrate (u = 0): the largest Fx(Dx) / Fz over one
+// Static friction of the tip on a rigid substrate (u = 0): the largest Fx(Dx) / F_I over one
 // period of the slide, Fx the sum of the site forces of MODEL.md 3 at u = 0 (Fx(Dx + d) = Fx(Dx):
-// the envelope moves with the tip). For the aligned tip mu = alpha (MODEL.md 3, Regime I). Out of
+// the envelope moves with the tip). For the aligned tip Fx / F_I = 1 (MODEL.md 3, Regime I). Out of
 // registry (tip_lattice.hpp) the site forces are phase-shifted across the contact and cancel in
 // part: the Regime I limit of mu under a rotated or mismatched tip (a << b_core^0); beyond, the
 // substrate's elasticity pulls sites into registry (misfit dislocations). For many sites it tends
-// to alpha cos(theta) |P(q)| / P(0), P the Fourier transform of the pressure and
+// to cos(theta) |T(q)| / T(0), T the Fourier transform of tau_max(r) (the pressure's for Hertz) and
 // q = 2 pi |Q(theta) e_x / d_tip - e_x / d| the beat of the two lattices along the slide
 // (|3 (sin x - x cos x) / x^3| at x = q a for Hertz; q = (2 pi / d) sqrt(theta^2 + m^2) for small
 // theta and m); the tip's other axis adds nothing to Fx for a symmetric envelope.
+// The friction is taken relative to the aligned tip's Regime I force F_I = sum_i tau_max(r_i)
+// d^2 (alpha Fz for the Hertz envelope, so that over_regime_one = mu / alpha), which needs no
+// load: the measure of any envelope.
 struct RigidTipFriction {
-  double mu = 0.0;  // max Fx / Fz
-  double Dx = 0.0;  // where, in [0, d)
-  double Fx = 0.0, Fz = 0.0;
+  double over_regime_one = 0.0;  // max Fx / F_I over the period
+  double mu = 0.0;               // Fx / Fz there (NaN without load)
+  double Dx = 0.0;               // where, in [0, d)
+  double Fx = 0.0, Fz = 0.0, F_I = 0.0;
 };
 // `samples` tip positions over [0, d), then a golden-section search around the best to 1e-9 d.
 // Throws std::invalid_argument for samples < 4 and for a scene validate() rejects.

@@ -95,6 +95,12 @@ check $cs "--distance" --distance -1
 check $cs "--bogus" --bogus
 check $cs "scene" "$work/no_such_scene.toml"
 check $cs "contact.R" --R 1e10
+# The tip's lattice (issue 27): ranges, flags, and the explicit tip's spacing against the cutoff.
+check $cs "contact.tip_angle" "$(scene t1 <<<$'[contact]\ntip_angle = 50')"
+check $cs "contact.tip_mismatch" "$(scene t2 <<<$'[contact]\ntip_mismatch = -0.3')"
+check $cs "--tip-angle" --tip-angle nan
+check $cs "--tip-mismatch" --tip-mismatch 0.5
+check $cs "tip lattice spacing" --model explicit --tip-mismatch 0.19
 # Memory: the checks plan with ASPERITY_MEMORY_GIB (1 GiB here), so that the cases do not depend
 # on the machine: a = 1000 d needs about 4 GiB, two contacts of 600-700 d at once about 3.6 GiB.
 ASPERITY_MEMORY_GIB=1 check $cs "contact.a = 1000 d needs about" --a 1000 --R 1e6
@@ -103,12 +109,6 @@ ASPERITY_MEMORY_GIB=x check $cs "ASPERITY_MEMORY_GIB" --a 10
 # = 200 d: 10.7 MB per frame, about 0.7 GB with the path of slip 1, more than 0.1 GiB).
 ASPERITY_DISK_GIB=0.1 check $cs "GiB of disk" --a 200 --R 1e4
 ASPERITY_DISK_GIB=0 check $cs "ASPERITY_DISK_GIB" --a 10
-# The tip's lattice (issue 27): ranges, flags, and the explicit tip's spacing against the cutoff.
-check $cs "contact.tip_angle" "$(scene t1 <<<$'[contact]\ntip_angle = 50')"
-check $cs "contact.tip_mismatch" "$(scene t2 <<<$'[contact]\ntip_mismatch = -0.3')"
-check $cs "--tip-angle" --tip-angle nan
-check $cs "--tip-mismatch" --tip-mismatch 0.5
-check $cs "tip lattice spacing" --model explicit --tip-mismatch 0.19
 check $cs "output.path_frames" "$(scene o1 <<<$'[output]\npath_frames = -1')"
 check $cs "output.precision" "$(scene o2 <<<$'[output]\nprecision = "half"')"
 check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
@@ -129,10 +129,10 @@ check $fs "sweep.model" "$(scene w6 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "a
 check $fs "a/R < 0.1" "$(scene w7 <<<$'[sweep]\nR = [100]\na = [5, 12]\nmodel = "both"')"
 check $fs "raise R" "$(scene w8 <<<$'[sweep]\nR = [100]\na_over_bcore0 = [10]\nmodel = "explicit"')"
 check $fs "explicit.sigma_over_d" "$(scene w9 <<<$'[sweep]\nR = [535]\na = [5]\n[explicit]\nsigma_over_d = 2')"
-check $fs "sweep.tip_angle" "$(scene w10 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [0, 60]')"
-check $fs "sweep.tip_mismatch" "$(scene w11 <<<$'[sweep]\nR = [535]\na = [5]\ntip_mismatch = [0.3]')"
-check $fs "contact.tip_angle and sweep.tip_angle" "$(scene w12 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [1, 2]\n[contact]\ntip_angle = 1')"
-check $fs "tip lattice spacing" "$(scene w13 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "explicit"\ntip_mismatch = [0.19]')"
+check $fs "sweep.tip_angle" "$(scene wt1 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [0, 60]')"
+check $fs "sweep.tip_mismatch" "$(scene wt2 <<<$'[sweep]\nR = [535]\na = [5]\ntip_mismatch = [0.3]')"
+check $fs "contact.tip_angle and sweep.tip_angle" "$(scene wt3 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [1, 2]\n[contact]\ntip_angle = 1')"
+check $fs "tip lattice spacing" "$(scene wt4 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "explicit"\ntip_mismatch = [0.19]')"
 
 gv=gf_validate
 check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"

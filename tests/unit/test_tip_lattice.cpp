@@ -255,9 +255,11 @@ TEST(TipLattice, SettingsRows) {
 TEST(TipLattice, RigidTipFriction) {
   const auto aligned = interface::rigid_tip_friction(scene_with(0.0, 0.0));
   EXPECT_NEAR(aligned.mu, 0.7, 1e-12);
+  EXPECT_NEAR(aligned.over_regime_one, 1.0, 1e-12);
   EXPECT_NEAR(aligned.Dx, 0.25, 1e-6);  // Fx = alpha Fz sin(2 pi Dx / d)
   const auto rotated = interface::rigid_tip_friction(scene_with(2.0, 0.0));
   EXPECT_LT(rotated.mu, 0.7);
+  EXPECT_NEAR(rotated.over_regime_one, rotated.mu / 0.7, 1e-12);
   EXPECT_GT(rotated.mu, 0.0);
   EXPECT_THROW((void)interface::rigid_tip_friction(scene_with(2.0, 0.0), 3), std::invalid_argument);
 }
