@@ -35,6 +35,15 @@ void FieldView::validate() const {
   check_size("tau_x", tau_x.size(), false);
   check_size("tau_max", tau_max.size(), false);
   check_size("in_contact", in_contact.size(), true);
+  // Out of registry the registry and the stress along the tip's first axis need both components.
+  check_size("sy", sy.size(), tip.aligned());
+  check_size("tau_y", tau_y.size(), tip.aligned());
+  if (!tip.aligned() &&
+      !(std::isfinite(tip.angle) && std::isfinite(tip.mismatch) && tip.mismatch > -1.0)) {
+    reject("FieldView.tip",
+           std::to_string(tip.angle) + " degrees, mismatch " + std::to_string(tip.mismatch),
+           "finite, mismatch > -1");
+  }
 }
 
 FieldView view_of(const slide::Snapshot& snapshot, bool periodic) {
@@ -44,7 +53,10 @@ FieldView view_of(const slide::Snapshot& snapshot, bool periodic) {
                    .sx = snapshot.sx,
                    .tau_x = snapshot.tau_x,
                    .tau_max = snapshot.tau_max,
-                   .in_contact = snapshot.in_contact};
+                   .in_contact = snapshot.in_contact,
+                   .sy = snapshot.sy,
+                   .tau_y = snapshot.tau_y,
+                   .tip = snapshot.tip};
 }
 
 std::string to_string(LineKind kind) {
@@ -107,7 +119,7 @@ struct Crossing {
 
 class Tracer {
  public:
-  Tracer(const FieldView& f, const DetectOptions& o) : f_(f), o_(o) {
+  Tracer(const FieldView& f, const DetectOptions& o) : f_(f), o_(o), frame_(f.tip, f.d) {
     n0_ = f.block.shape.n0;
     n1_ = f.block.shape.n1;
   }
@@ -130,8 +142,12 @@ class Tracer {
   std::size_t edge_id(std::size_t p, int axis) const {
     return 2 * p + static_cast<std::size_t>(axis);
   }
-  double phase(std::size_t s) const {  // s_x / d - X / d: its rounding is the registry index
+  // s_x / d - X / d: its rounding is the registry index. Out of registry rho_1 - X / d, rho_1
+  // the registry coordinate along the tip's first axis (tip_lattice.hpp): constant over a patch
+  // in registry with the tip, it steps by one across a misfit dislocation.
+  double phase(std::size_t s) const {
     const auto i0 = static_cast<int>(s / static_cast<std::size_t>(n1_));
+    if (!frame_.aligned()) return rho1_[s] - static_cast<double>(f_.block.origin0 + i0);
     return f_.sx[s] / f_.d - static_cast<double>(f_.block.origin0 + i0);
   }
   void measure_windings();
@@ -146,6 +162,8 @@ class Tracer {
 
   const FieldView& f_;
   const DetectOptions& o_;
+  interface::TipFrame frame_;
+  std::vector<double> rho1_;  // out of registry: rho_1 per site (tip spacings)
   int n0_ = 0, n1_ = 0;
   std::vector<std::uint8_t> valid_;
   std::vector<double> t_;                // tau_x / tau_max on valid sites
@@ -185,12 +203,23 @@ void Tracer::find_crossings() {
   const std::size_t n = f_.block.shape.count();
   valid_.assign(n, 0);
   t_.assign(n, 0.0);
+  if (!frame_.aligned()) rho1_.assign(n, 0.0);
   for (std::size_t s = 0; s < n; ++s) {
     const bool contact = f_.in_contact.empty() || f_.in_contact[s] != 0;
-    if (contact && f_.tau_max[s] > 0.0 && std::isfinite(f_.tau_x[s]) && std::isfinite(f_.sx[s])) {
+    if (!(contact && f_.tau_max[s] > 0.0 && std::isfinite(f_.tau_x[s]) && std::isfinite(f_.sx[s])))
+      continue;
+    if (frame_.aligned()) {
       valid_[s] = 1;
       t_[s] = f_.tau_x[s] / f_.tau_max[s];
+      continue;
     }
+    // Out of registry: the stress along the tip's first axis, the force conjugate to rho_1.
+    if (!std::isfinite(f_.tau_y[s]) || !std::isfinite(f_.sy[s])) continue;
+    double rho2 = 0.0, tau1 = 0.0, tau2 = 0.0;
+    frame_.registry(f_.sx[s], f_.sy[s], rho1_[s], rho2);
+    frame_.to_tip(f_.tau_x[s], f_.tau_y[s], tau1, tau2);
+    valid_[s] = 1;
+    t_[s] = tau1 / f_.tau_max[s];
   }
   measure_windings();
   edge_node_.assign(2 * n, kNoCrossing);
@@ -397,6 +426,8 @@ void Tracer::measure(Line& line, std::vector<std::size_t>& order) const {
       tx = b.x - a.x;
       ty = b.y - a.y;
     }
+    // The angle to b, which lies along the tip's first axis (x for the aligned tip).
+    frame_.to_tip(tx, ty, tx, ty);
     const double angle = std::atan2(std::abs(ty), std::abs(tx)) * 180.0 / std::numbers::pi;
     line.angle_deg[k] = angle;
     line.length += seg;

@@ -13,6 +13,10 @@
 // lines as the connected components of a Boost.Graph graph whose vertices are the edge crossings.
 // The side of each crossing where tau_x > 0 must have the higher index (registry_consistency); the
 // index jump gives the line's Burgers vector b = (n_left - n_right) d x-hat and its sense.
+// Under a tip lattice out of registry (rotated by theta, spacing d_tip; FieldView::tip) the same
+// on the tip's first axis: s_x / d becomes rho_1 (tip_lattice.hpp), tau_x the stress along that
+// axis, and b = (n_left - n_right) d_tip along it; the lines found are then the misfit
+// dislocations that accommodate the rotation and mismatch, which exist without nucleation.
 //
 // Only the tracking/ library: plain fields in, plain structs out (apps/ reads and writes files).
 #pragma once
@@ -42,6 +46,13 @@ struct FieldView {
   std::span<const double> tau_x;    // local shear stress along x (G)
   std::span<const double> tau_max;  // envelope (G); sites with tau_max <= 0 are not in contact
   std::span<const std::uint8_t> in_contact;  // 1: in contact; empty: every site with tau_max > 0
+  // A tip lattice out of registry (interface/tip_lattice.hpp): the registry followed is then
+  // rho_1 = (cos theta s_x + sin theta s_y) / d_tip along the tip's first axis, the stress its
+  // conjugate cos theta tau_x + sin theta tau_y, and b lies along that axis (b = burgers d_tip
+  // times the axis). sy and tau_y may be empty for the aligned tip.
+  std::span<const double> sy;     // relative position along y, Y + uy (d)
+  std::span<const double> tau_y;  // local shear stress along y (G)
+  interface::TipLattice tip;
 
   // Throws std::invalid_argument naming the violated constraint (shape >= 2 x 2, d > 0, field
   // sizes equal to the site count; periodic cells at least 3 x 3).
@@ -84,9 +95,11 @@ struct Line {
   // lines through the sides of a periodic cell are unwrapped (continuous, may leave the cell).
   std::vector<Point> points;
   // Per segment (points[k] -> points[k + 1], for loops also the closing one): angle between the
-  // tangent and b, folded into [0, 90] degrees (0: screw, 90: edge).
+  // tangent and b, folded into [0, 90] degrees (0: screw, 90: edge); b along the tip's first
+  // axis out of registry.
   std::vector<double> angle_deg;
   int burgers = 0;  // registry-index jump n_left - n_right along the points: b = burgers d x-hat
+                    // (burgers d_tip along the tip's first axis out of registry)
   double registry_consistency = 0.0;  // fraction of the line's crossings with that jump
   int interior_ends = 0;  // ends of an open line inside the contact (a broken trace; normally 0)
   double length = 0.0;    // d

@@ -188,7 +188,8 @@ json snapshot_json(const slide::Snapshot& s) {
           {"tau_y", bytes_of(s.tau_y)},
           {"tau_max", bytes_of(s.tau_max)},
           {"pressure", bytes_of(s.pressure)},
-          {"in_contact", json::binary(s.in_contact)}};
+          {"in_contact", json::binary(s.in_contact)},
+          {"tip", {s.tip.angle, s.tip.mismatch}}};
 }
 
 json result_json(const slide::SlideResult& r) {
@@ -430,6 +431,10 @@ slide::Snapshot snapshot_from(const json& j) {
   if (!c.is_binary() || c.get_binary().size() != n)
     throw Bad("in_contact: expected " + std::to_string(n) + " bytes");
   s.in_contact.assign(c.get_binary().begin(), c.get_binary().end());
+  if (j.contains("tip")) {  // checkpoints written before the tip's lattice: aligned
+    const json& t = array(j, "tip", 2);
+    s.tip = {.angle = number(t[0]), .mismatch = number(t[1])};
+  }
   return s;
 }
 

@@ -449,7 +449,7 @@ SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene) {
 
 double SnapshotBytes::run(int slips, int path_frame_slips) const {
   const int paths = path == 0.0 || path_frame_slips <= 0 ? 0 : (slips - 1) / path_frame_slips + 1;
-  return frame + slips * slip + paths * path + checkpoint;
+  return 2.0 * frame + slips * slip + paths * path + checkpoint;  // the start and the peak
 }
 
 std::string check_output_fits(const SlideScene& scene, const std::string& out) {
@@ -525,6 +525,7 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
   m.R = s.slide.contact.R;
   m.material = s.slide.contact.material;
   m.d = s.slide.contact.d;
+  m.tip = s.slide.contact.tip;
   return s;
 }
 

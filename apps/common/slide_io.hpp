@@ -76,8 +76,8 @@ struct SnapshotBytes {
   double slip = 0.0;        // a slip without its path
   double path = 0.0;        // the path of a slip that records one
   double checkpoint = 0.0;  // the checkpoint (the states the slide keeps, no frames)
-  // A slide through `slips` slip events: the peak, the slips, the paths of those that record
-  // one, and the checkpoint.
+  // A slide through `slips` slip events: the start and the peak, the slips, the paths of those
+  // that record one, and the checkpoint.
   [[nodiscard]] double run(int slips, int path_frame_slips) const;
 };
 SnapshotBytes estimated_snapshot_bytes(const SlideScene& scene);

@@ -119,7 +119,28 @@ void validate(const std::vector<Snapshot>& frames, const nlohmann::json& attribu
     sized("in_contact", f.in_contact.size());
     // uz (explicit model only): in every frame of a file or in none.
     if (!frames.front().uz.empty() || !f.uz.empty()) sized("uz", f.uz.size());
+    if (!(f.tip == frames.front().tip)) invalid(frame + "tip lattice differs from frame 0's");
   }
+}
+
+// The tip's lattice of a file (global attributes tip_angle, tip_mismatch; absent in files
+// written before them and by tools without a tip: aligned).
+template <class Error>
+interface::TipLattice read_tip(const Dataset<Error>& in, int id) {
+  interface::TipLattice tip;
+  const auto number = [&](const char* name, double& value) {
+    nc_type type = NC_NAT;
+    std::size_t length = 0;
+    if (nc_inq_att(id, NC_GLOBAL, name, &type, &length) != NC_NOERR) return;
+    if (length != 1 || type == NC_CHAR)
+      in.fail(std::string("attribute '") + name + "' is not a number");
+    in.check(nc_get_att_double(id, NC_GLOBAL, name, &value),
+             std::string("attribute '") + name + "'");
+    if (!std::isfinite(value)) in.fail(std::string("attribute '") + name + "' is not finite");
+  };
+  number("tip_angle", tip.angle);
+  number("tip_mismatch", tip.mismatch);
+  return tip;
 }
 
 }  // namespace
@@ -270,6 +291,7 @@ SnapshotAppender SnapshotAppender::open(const fs::path& nc) {
   if (nc_inq_varid(a.id_, "uz", &l.uz) != NC_NOERR) l.uz = -1;
   if (nc_inq_varid(a.id_, "frame", &l.frame_index) != NC_NOERR) l.frame_index = -1;
   l.y_major = fields_y_major(out, a.id_, l.fields[0], l.y_dim);
+  a.tip_ = read_tip(out, a.id_);
   for (const int v : l.fields)
     no_chunk_cache(out, a.id_, v, "field");
   no_chunk_cache(out, a.id_, l.in_contact, "in_contact");
@@ -285,7 +307,8 @@ SnapshotAppender::SnapshotAppender(SnapshotAppender&& other) noexcept
       fixed_frames_(other.fixed_frames_),
       id_(std::exchange(other.id_, -1)),
       frames_(other.frames_),
-      layout_(std::move(other.layout_)) {}
+      layout_(std::move(other.layout_)),
+      tip_(other.tip_) {}
 
 SnapshotAppender::~SnapshotAppender() {
   if (id_ >= 0) nc_close(id_);
@@ -408,6 +431,14 @@ void SnapshotAppender::define(const Snapshot& first) {
       }
     }
   }
+  // The tip's lattice, from the frames (all alike): the registry tracking follows
+  // (interface/tip_lattice.hpp, docs/tracking.md). Written last among the numbers, so that
+  // they replace entries of the same name.
+  o.check(nc_put_att_double(id_, NC_GLOBAL, "tip_angle", NC_DOUBLE, 1, &first.tip.angle),
+          "attribute 'tip_angle'");
+  o.check(nc_put_att_double(id_, NC_GLOBAL, "tip_mismatch", NC_DOUBLE, 1, &first.tip.mismatch),
+          "attribute 'tip_mismatch'");
+  tip_ = first.tip;
   put_text(o, id_, NC_GLOBAL, "title", "asperity sliding snapshots");
   put_text(o, id_, NC_GLOBAL, "Conventions", "CF-1.8");
   put_text(o, id_, NC_GLOBAL, "comment",
@@ -456,6 +487,7 @@ void SnapshotAppender::append(const Snapshot& frame) {
   // uz (explicit model only): in every frame of a file or in none.
   if (l.uz >= 0) sized("uz", frame.uz.size());
   if (l.uz < 0 && !frame.uz.empty()) invalid("'uz' given, but the file's frames have none");
+  if (!(frame.tip == tip_)) invalid("tip lattice differs from the file's");
 
   if (fixed_frames_ > 0 && frames_ >= fixed_frames_) {
     invalid("the file holds " + std::to_string(fixed_frames_) + " frames");
@@ -517,6 +549,7 @@ Snapshot SnapshotAppender::read(std::size_t k) const {
   in.check(nc_get_vara_int(id_, l.origin_x, at, one, &origin0), "reading 'origin_x'");
   in.check(nc_get_vara_int(id_, l.origin_y, at, one, &origin1), "reading 'origin_y'");
   frame.block = {{static_cast<int>(l.n0), static_cast<int>(l.n1)}, origin0, origin1};
+  frame.tip = tip_;
   for (std::size_t s = 0; s < kScalars.size(); ++s) {
     in.check(nc_get_vara_double(id_, l.scalars[s], at, one, &(frame.*kScalars[s].value)),
              std::string("reading '") + kScalars[s].name + "'");
@@ -632,6 +665,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
   const bool y_major = fields_y_major(in, in.id, ux, y_dim);
   const std::vector<int> field_dims = y_major ? std::vector<int>{frame_dim, y_dim, x_dim}
                                               : std::vector<int>{frame_dim, x_dim, y_dim};
+  const interface::TipLattice tip = read_tip(in, in.id);
   if (out == nullptr) {
     var("label", {frame_dim, label_dim});
     for (const char* name : {"iteration", "origin_x", "origin_y"})
@@ -662,6 +696,7 @@ std::size_t read_file(const fs::path& nc, std::vector<Snapshot>* out,
     frames[k].label.assign(label, std::find(label, label + label_length, '\0'));
     frames[k].iteration = iteration[k];
     frames[k].block = {{static_cast<int>(n0), static_cast<int>(n1)}, origin_x[k], origin_y[k]};
+    frames[k].tip = tip;
   }
   for (const Scalar& s : kScalars) {
     std::vector<double> values(n);

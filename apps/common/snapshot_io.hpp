@@ -11,7 +11,8 @@
 // those of the first frame's block; the block may follow the tip, so site (i, j) of frame k is
 // at ((origin_x[k] + i) d, (origin_y[k] + j) d). Every variable has `units` (lengths d,
 // stresses G, forces G d^2, energy G d^3) and `long_name`; the global attribute field_precision
-// says float32 or float64.
+// says float32 or float64, and tip_angle (degrees) and tip_mismatch give the tip's lattice of
+// the frames (slide::Snapshot::tip, alike in every frame of a file; read as 0 where absent).
 //
 // The layout is the one VTK's CF reader (ParaView's) reads right with its default settings
 // (issue 25; tests/regression/test_netcdf_vtk.py): a flat grid with x along VTK's x, one time
@@ -98,6 +99,7 @@ class SnapshotAppender {
   int id_ = -1;
   std::size_t frames_ = 0;
   std::unique_ptr<Layout> layout_;
+  interface::TipLattice tip_;  // of the file's frames
 };
 
 // Writes `frames` as one file, atomically (temporary file renamed onto `nc`). Global attributes:

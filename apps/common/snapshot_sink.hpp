@@ -2,7 +2,8 @@
 // made and keeps none, so that the memory of a slide does not grow with its slips (issue 22).
 //
 // Into <dir> (snapshots/ of a run):
-// - <label>.nc, one file per state: "peak", "slip_NNN_before", "slip_NNN_after", "last_good"
+// - <label>.nc, one file per state: "start" (before the slide), "peak", "slip_NNN_before",
+//   "slip_NNN_after", "last_good"
 //   (each written atomically);
 // - paths.nc: the relaxation paths of the slips that record one (SlideOptions::path_frame_slips),
 //   every frame of the run in one file with an unlimited frame dimension, labelled

@@ -60,9 +60,10 @@ void check_sizes(const slide::Snapshot& s) {
   }
 }
 
-// round(s / d) in lattice units (d = 1 in the snapshots), as the slider counts slips.
-long registry_index(double s) {
-  return std::lround(s);
+// round(rho), rho = s / d in lattice units (d = 1 in the snapshots) or, under a tip out of
+// registry, the registry coordinate along a tip axis (tip_lattice.hpp), as the slider counts slips.
+long registry_index(double rho) {
+  return std::lround(rho);
 }
 
 }  // namespace
@@ -92,12 +93,17 @@ std::string extended_xyz_frame(const slide::Snapshot& s, const nlohmann::json& a
     put_number(out, value, false);  // per frame: double in the NetCDF file too
   }
   out += " origin_x=" + std::to_string(blk.origin0) + " origin_y=" + std::to_string(blk.origin1);
+  out += " tip_angle=";
+  put_number(out, s.tip.angle, false);
+  out += " tip_mismatch=";
+  put_number(out, s.tip.mismatch, false);
+  const interface::TipFrame frame(s.tip, 1.0);
   if (attributes.is_object()) {
     for (const auto& [key, value] : attributes.items()) {
       if (!plain_key(key) || value.is_structured() || value.is_null()) continue;
       static constexpr std::string_view frame_keys[] = {
-          "label",    "iteration", "Dx",      "Fx",     "Fz",  "energy",
-          "origin_x", "origin_y",  "Lattice", "Origin", "pbc", "Properties"};
+          "label",    "iteration", "Dx",     "Fx",  "Fz",         "energy",    "origin_x",
+          "origin_y", "Lattice",   "Origin", "pbc", "Properties", "tip_angle", "tip_mismatch"};
       if (std::find(std::begin(frame_keys), std::end(frame_keys), key) != std::end(frame_keys))
         continue;
       out += " " + key + "=";
@@ -142,8 +148,12 @@ std::string extended_xyz_frame(const slide::Snapshot& s, const nlohmann::json& a
       }
       const double sx = single ? static_cast<float>(s.sx[i]) : s.sx[i];
       const double sy = single ? static_cast<float>(s.sy[i]) : s.sy[i];
+      // The registry coordinates in the tip's frame (s / d for the aligned tip).
+      double rho1 = 0.0, rho2 = 0.0;
+      frame.registry(sx, sy, rho1, rho2);
       out += ' ' + std::to_string(s.in_contact.empty() ? 1 : int{s.in_contact[i]});
-      out += ' ' + std::to_string(registry_index(sx)) + ' ' + std::to_string(registry_index(sy));
+      out +=
+          ' ' + std::to_string(registry_index(rho1)) + ' ' + std::to_string(registry_index(rho2));
       out += '\n';
     }
   }

@@ -9,13 +9,15 @@
 //   ux uy sx sy tau_x tau_y tau_max pressure [uz], in_contact: the NetCDF variables, same names
 //            and units (snapshot_io.hpp),
 //   registry_x registry_y: the registry index round(s / d) along x and y (slider.hpp), whose
-//            jumps are the slips and whose steps the dislocation lines bound.
+//            jumps are the slips and whose steps the dislocation lines bound; under a tip
+//            lattice out of registry round(rho) along the tip's axes (tip_lattice.hpp).
 // Comment line: Lattice (a box of n0 d x n1 d x 1 d around the block, not periodic: pbc="F F F"),
 // Origin (its corner, (origin0 - 1/2, origin1 - 1/2, -1/2) d, which OVITO places the box at;
 // ASE keeps it in Atoms.info), Properties, then the frame's label, iteration, Dx, Fx, Fz, energy,
-// origin_x, origin_y and the file's flat attributes (model, a, R, ...; a key holding characters
-// the format cannot carry is left out). ASE moves `energy` into a SinglePointCalculator
-// (atoms.get_potential_energy()): every other key stays in atoms.info.
+// origin_x, origin_y, the tip's lattice (tip_angle, tip_mismatch) and the file's flat attributes
+// (model, a, R, ...; a key holding characters the format cannot carry is left out). ASE moves
+// `energy` into a SinglePointCalculator (atoms.get_potential_energy()): every other key stays in
+// atoms.info.
 #pragma once
 
 #include <filesystem>

@@ -164,12 +164,13 @@ void apply_slip_solver(const Run& run, app::SlideScene& scene) {
                     : std::string("solver.method"));
 }
 
-// The flags over an explicit scene: the tip's radius and the substrate's Poisson ratio are the
-// contact's.
+// The flags over an explicit scene: the tip's radius and lattice and the substrate's Poisson
+// ratio are the contact's.
 void apply_explicit_flags(const Run& run, app::ExplicitSlideScene& e) {
   run.flags->apply(app::SlideScene::settings(), e.slide);
   if (run.flags->given("contact.R")) e.model.R = e.slide.contact.R;
   if (run.flags->given("material.nu")) e.model.material.nu = e.slide.contact.material.nu;
+  e.model.tip = e.slide.contact.tip;  // the scene's, or --tip-angle and --tip-mismatch
 }
 
 // The lines that say where a run's results and figures are.

@@ -77,8 +77,17 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
         std::find(t.columns().begin(), t.columns().end(), "settings") != t.columns().end();
     const bool has_slips =
         std::find(t.columns().begin(), t.columns().end(), "slip_events") != t.columns().end();
-    std::size_t used = 0, failed = 0, lower = 0;
+    // The scaling laws (MODEL.md 8) are the aligned tip's: rows of a tip out of registry
+    // (issue 27, sweep.tip_angle and sweep.tip_mismatch) are left out and counted.
+    const bool has_tip =
+        std::find(t.columns().begin(), t.columns().end(), "tip_angle") != t.columns().end() &&
+        std::find(t.columns().begin(), t.columns().end(), "tip_mismatch") != t.columns().end();
+    std::size_t used = 0, failed = 0, lower = 0, tipped = 0;
     for (std::size_t i = 0; i < t.rows(); ++i) {
+      if (has_tip && (t.number(i, "tip_angle") != 0.0 || t.number(i, "tip_mismatch") != 0.0)) {
+        ++tipped;
+        continue;
+      }
       // A failed point has no result; a lower bound (the slide stopped before its peak) would
       // bias a fit low: both are left out and counted.
       if (t.integer(i, "failed") != 0) {
@@ -135,7 +144,8 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
                            {"rows", t.rows()},
                            {"used", used},
                            {"failed_skipped", failed},
-                           {"lower_bound_skipped", lower}});
+                           {"lower_bound_skipped", lower},
+                           {"tip_out_of_registry_skipped", tipped}});
   }
   if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
   // The bootstrap takes the points as independent measurements: a point given twice (a table

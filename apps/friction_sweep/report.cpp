@@ -12,12 +12,14 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/plot.hpp"
 #include "asperity/apps/common/slide_io.hpp"
+#include "asperity/core/interface/lfm.hpp"
 
 namespace asperity::app {
 
@@ -140,6 +142,10 @@ nlohmann::json scene_json(const SweepScene& s, int jobs) {
   };
   if (s.a) j["a"] = s.a->values;
   if (s.a_over_bcore0) j["a_over_bcore0"] = s.a_over_bcore0->values;
+  nlohmann::json tips = nlohmann::json::array();
+  for (const auto& t : sweep_tips(s))
+    tips.push_back({{"angle", t.angle}, {"mismatch", t.mismatch}});
+  j["tips"] = tips;
   j["model"] = s.model;
   if (s.runs_explicit()) {
     j["explicit"] = {{"G_eps_sigma3", s.potential.G_eps_sigma3},
@@ -150,32 +156,195 @@ nlohmann::json scene_json(const SweepScene& s, int jobs) {
   return j;
 }
 
-// Series per R, in increasing R; `pick` returns the y value or nothing to leave the row out.
-// Adhesive rows have no sphere: one series, named by tau0.
+// The key of a row's series: its tip, then R (the order of sweep.csv).
+using SeriesKey = std::tuple<double, double, double>;
+SeriesKey series_key(const SweepRow& r) {
+  return {r.point.tip.angle, r.point.tip.mismatch, r.point.R};
+}
+
+// "R = 535 d" and, for a tip out of registry, "R = 535 d, tip 2 deg, m = 0".
+std::string series_title(const SweepPoint& p) {
+  char title[96];
+  if (p.tip.aligned()) {
+    std::snprintf(title, sizeof title, "R = %g d", p.R);
+  } else {
+    std::snprintf(title, sizeof title, "R = %g d, tip %g deg, m = %g", p.R, p.tip.angle,
+                  p.tip.mismatch);
+  }
+  return title;
+}
+
+// Series per tip and R, in the order of sweep.csv; `pick` returns the y value or nothing to
+// leave the row out. Adhesive rows have no sphere: one series, named by tau0.
 template <class Pick>
 std::vector<Series> series_per_R(const std::vector<SweepRow>& rows, Pick pick, double tau0 = 0.0) {
-  std::map<double, Series> by_R;
+  std::map<SeriesKey, Series> by_R;
   for (const auto& r : rows) {
     const std::optional<double> y = pick(r);
     if (!y) continue;
-    auto& s = by_R[r.point.R];
+    auto& s = by_R[series_key(r)];
     if (s.title.empty()) {
-      char title[48];
       if (r.envelope == "adhesive") {
+        char title[48];
         std::snprintf(title, sizeof title, "adhesive, tau0 = %g G", tau0);
+        s.title = title;
       } else {
-        std::snprintf(title, sizeof title, "R = %g d", r.point.R);
+        s.title = series_title(r.point);
       }
-      s.title = title;
       s.style = "linespoints pt 7 ps 1.3";
     }
     s.x.push_back(r.a_over_bcore0);
     s.y.push_back(*y);
   }
   std::vector<Series> out;
-  for (auto& [R, s] : by_R)
+  for (auto& [key, s] : by_R)
     out.push_back(std::move(s));
   return out;
+}
+
+// The rows of an aligned tip: the scaling laws of MODEL.md 8 (the Regime II fit and guide) are
+// theirs.
+std::vector<SweepRow> aligned_rows(const std::vector<SweepRow>& rows) {
+  std::vector<SweepRow> out;
+  for (const auto& r : rows) {
+    if (r.point.tip.aligned()) out.push_back(r);
+  }
+  return out;
+}
+
+// The rigid tip's mu/alpha (interface::rigid_tip_friction, the Regime I limit out of registry)
+// at every row of a tip out of registry, for the figure and summary.json.
+struct RigidRow {
+  SweepPoint point;
+  double a_over_bcore0 = 0.0, mu_over_alpha = 0.0;
+};
+std::vector<RigidRow> rigid_rows(const SweepScene& s, const std::vector<SweepRow>& rows) {
+  std::vector<RigidRow> out;
+  for (const auto& r : rows) {
+    if (r.point.tip.aligned()) continue;
+    interface::ContactScene c = s.base.contact;
+    c.a = r.point.a;
+    c.R = r.point.R;
+    c.tip = r.point.tip;
+    out.push_back({r.point, c.a_over_bcore0(), interface::rigid_tip_friction(c).over_regime_one});
+  }
+  return out;
+}
+
+// mu/alpha against a for the tips out of registry (issue 27): the sweep's points per tip and R,
+// and the rigid tip's (u = 0) as dashed lines of the same colour; linear, and with log y, where
+// the zeros of the rigid tip's friction and the level friction falls to beyond them show.
+std::vector<fs::path> write_tip_figures(const fs::path& dir, const SweepScene& s,
+                                        const std::vector<SweepRow>& rows,
+                                        const std::vector<RigidRow>& rigid) {
+  const auto usable = [](const SweepRow& r) {
+    return !r.failed && std::isfinite(r.mu_over_alpha) && r.mu_over_alpha > 0.0;
+  };
+  std::map<SeriesKey, Series> points, lines;
+  std::map<double, int> radii;
+  double a_max = 0.0;
+  for (const auto& r : rows) {
+    if (!usable(r)) continue;
+    radii[r.point.R] = 1;
+    a_max = std::max(a_max, r.point.a);
+  }
+  // Titles name R only if the sweep has several.
+  const auto title_of = [&](const SweepPoint& p) {
+    char t[96];
+    if (p.tip.aligned()) {
+      std::snprintf(t, sizeof t, "aligned tip");
+    } else {
+      std::snprintf(t, sizeof t, "%g deg, m = %g", p.tip.angle, p.tip.mismatch);
+    }
+    std::string title = t;
+    if (radii.size() > 1) {
+      std::snprintf(t, sizeof t, ", R = %g d", p.R);
+      title += t;
+    }
+    return title;
+  };
+  for (const auto& r : rows) {
+    if (!usable(r)) continue;
+    auto& p = points[series_key(r)];
+    if (p.title.empty()) p.title = title_of(r.point);
+    p.x.push_back(r.point.a);
+    p.y.push_back(r.mu_over_alpha);
+  }
+  if (points.empty()) return {};
+  // The rigid tip's curve between the sweep's smallest and largest a of each series, finer
+  // than the points (its zeros are narrow): 200 contact radii (a few seconds at a = 500 d).
+  for (const auto& r : rigid) {
+    auto& l = lines[{r.point.tip.angle, r.point.tip.mismatch, r.point.R}];
+    l.x.push_back(r.point.a);
+  }
+  for (auto& [key, l] : lines) {
+    const double lo = *std::min_element(l.x.begin(), l.x.end());
+    const double hi = *std::max_element(l.x.begin(), l.x.end());
+    l.x.clear();
+    interface::ContactScene c = s.base.contact;
+    c.tip = {.angle = std::get<0>(key), .mismatch = std::get<1>(key)};
+    c.R = std::get<2>(key);
+    constexpr int kSamples = 200;
+    for (int k = 0; k <= kSamples; ++k) {
+      c.a = lo + (hi - lo) * k / kSamples;
+      l.x.push_back(c.a);
+      l.y.push_back(interface::rigid_tip_friction(c).over_regime_one);
+    }
+  }
+  std::vector<Series> series;
+  int colour = 0;
+  double y_lo = 1.0;
+  for (auto& [key, p] : points) {
+    ++colour;
+    p.style = "linespoints pt 7 ps 1.3 lw 2 lc " + std::to_string(colour);
+    for (double y : p.y)
+      y_lo = std::min(y_lo, y);
+    if (const auto it = lines.find(key); it != lines.end()) {
+      it->second.style = "lines dt 2 lw 1.5 lc " + std::to_string(colour);
+      for (double y : it->second.y)
+        if (y > 0.0) y_lo = std::min(y_lo, y);
+      series.push_back(std::move(it->second));
+    }
+    series.push_back(std::move(p));
+  }
+  // The dashes' meaning in the key (a point outside the axes).
+  series.push_back({.x = {-1.0},
+                    .y = {-1.0},
+                    .title = "dashed: rigid substrate (u = 0)",
+                    .style = "lines dt 2 lw 1.5 lc 'black'"});
+  char title[200];
+  std::snprintf(title, sizeof title, "Static friction of tips out of registry: alpha = %g, nu = %g",
+                s.base.contact.alpha, s.base.contact.material.nu);
+  std::string one_R;
+  if (radii.size() == 1) {
+    char t[48];
+    std::snprintf(t, sizeof t, ", R = %g d", radii.begin()->first);
+    one_R = t;
+  }
+  std::vector<fs::path> written;
+  const fs::path png = dir / "mu_vs_a_by_tip.png", log_png = dir / "mu_vs_a_by_tip_log.png";
+  plot_png(png, series,
+           {.title = title + one_R,
+            .xlabel = "a / d",
+            .ylabel = "mu / alpha",
+            .width = 900,
+            .height = 650,
+            .xrange = std::pair{0.0, 1.05 * a_max},
+            .yrange = std::pair{0.0, 1.1},
+            .extra_commands = {"set key inside right top box opaque"}});
+  written.push_back(png);
+  plot_png(log_png, series,
+           {.title = title + one_R,
+            .xlabel = "a / d",
+            .ylabel = "mu / alpha",
+            .logy = true,
+            .width = 900,
+            .height = 650,
+            .xrange = std::pair{0.0, 1.05 * a_max},
+            .yrange = std::pair{0.5 * y_lo, 1.5},
+            .extra_commands = {"set key inside left bottom box opaque"}});
+  written.push_back(log_png);
+  return written;
 }
 
 // mu/alpha against a/b_core^0, log-log, with the Regime I limit and a Regime II guide. Returns
@@ -224,7 +393,7 @@ std::vector<fs::path> write_figures(const fs::path& dir, const SweepScene& s,
         bounds.x.push_back(r.a_over_bcore0);
         bounds.y.push_back(r.relative_friction);
       }
-      if (r.a_over_bcore0 >= guide_from && !r.mu_is_lower_bound) {
+      if (r.a_over_bcore0 >= guide_from && !r.mu_is_lower_bound && r.point.tip.aligned()) {
         log_x += std::log(r.a_over_bcore0);
         log_y += std::log(r.relative_friction);
         guide_lo = std::min(guide_lo, r.a_over_bcore0);
@@ -297,8 +466,25 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                  std::chrono::steady_clock::time_point t0) {
   const fs::path csv = dir / "sweep.csv", csv_x = dir / "sweep_explicit.csv";
   auto figure_files = done.empty() ? std::vector<fs::path>{} : write_figures(dir, s, done);
+  // Tips out of registry: mu/alpha against a with the rigid tip's limit (issue 27).
+  const std::vector<RigidRow> rigid = rigid_rows(s, done);
+  if (!rigid.empty()) {
+    for (const fs::path& png : write_tip_figures(dir, s, done, rigid))
+      figure_files.push_back(png);
+  }
+  nlohmann::json rigid_json = nlohmann::json::array();
+  for (const auto& r : rigid) {
+    rigid_json.push_back({{"a", r.point.a},
+                          {"R", r.point.R},
+                          {"tip_angle", r.point.tip.angle},
+                          {"tip_mismatch", r.point.tip.mismatch},
+                          {"a_over_bcore0", r.a_over_bcore0},
+                          {"rigid_over_regime_one", r.mu_over_alpha}});
+  }
+  // The Regime II scaling (MODEL.md 8) is the aligned tip's.
   const FitWindow window = fit_window(s.base.contact.envelope);
-  const nlohmann::json fit = fit_slope(done, window.lo, window.hi, s.base.contact.envelope);
+  const nlohmann::json fit =
+      fit_slope(aligned_rows(done), window.lo, window.hi, s.base.contact.envelope);
   nlohmann::json comparison;
   if (s.runs_explicit()) {
     comparison = compare_models(done, done_x, kCompareLo, kCompareHi);
@@ -319,6 +505,8 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
         point_times.push_back({{"model", x ? "explicit" : "lfm"},
                                {"a", r.point.a},
                                {"R", r.point.R},
+                               {"tip_angle", r.point.tip.angle},
+                               {"tip_mismatch", r.point.tip.mismatch},
                                {"wall_s", r.wall_s}});
       }
     }
@@ -328,6 +516,8 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
     failed_json.push_back({{"model", x ? "explicit" : "lfm"},
                            {"a", r->point.a},
                            {"R", r->point.R},
+                           {"tip_angle", r->point.tip.angle},
+                           {"tip_mismatch", r->point.tip.mismatch},
                            {"stop_reason", r->stop_reason}});
   nlohmann::json figure_names = nlohmann::json::array();
   for (const auto& f : figure_files)
@@ -356,6 +546,14 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                               {"points_wall_s", points_wall},
                               {"point_wall_s", point_times}}}};
   if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;
+  if (!rigid.empty()) {
+    summary["rigid_tip"] = {
+        {"quantity",
+         "max Fx / F_I of the tip on a rigid substrate (u = 0), F_I = sum_i tau_max(r_i) d^2 "
+         "(mu/alpha for the Hertz envelope): the Regime I limit out of registry "
+         "(interface::rigid_tip_friction)"},
+        {"points", rigid_json}};
+  }
   write_json(dir / "summary.json", summary);
 
   std::printf("points: %zu (%zu computed, %zu reused, %zu failed), %.1f s\n",

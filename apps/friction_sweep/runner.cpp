@@ -25,6 +25,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// "a = 43 d, R = 535 d" and, for a tip out of registry, ", tip 2 deg / m = 0".
+std::string describe_point(const SweepPoint& p) {
+  char text[160];
+  std::snprintf(text, sizeof text, "a = %.4g d, R = %g d", p.a, p.R);
+  std::string out = text;
+  if (!p.tip.aligned()) {
+    std::snprintf(text, sizeof text, ", tip %g deg / m = %g", p.tip.angle, p.tip.mismatch);
+    out += text;
+  }
+  return out;
+}
+
 void write_table(const fs::path& csv, const std::vector<std::optional<SweepRow>>& rows) {
   CsvTable table(sweep_columns());
   for (const auto& row : rows) {
@@ -141,6 +153,7 @@ class SweepRunner {
       interface::ContactScene c = s_.base.contact;
       c.a = points_[job.k].a;
       c.R = points_[job.k].R;
+      c.tip = points_[job.k].tip;
       slide::SlideOptions opt = s_.base.options;
       if (!o_.figures) opt.path_frame_slips = 0;  // frames discarded: no path is held either
       bytes.push_back(slide::estimated_slide_bytes(c, opt));
@@ -183,6 +196,16 @@ class SweepRunner {
                  s_.base.contact.material.nu, slide::to_string(s_.base.options.protocol).c_str(),
                  minimize::to_string(s_.base.options.minimizer.method).c_str(),
                  s_.base.options.minimizer.force_tolerance);
+    if (const auto tips = sweep_tips(s_); tips.size() > 1 || !tips.front().aligned()) {
+      std::string list;
+      for (const auto& t : tips) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%s%g deg / m = %g", list.empty() ? "" : ", ", t.angle,
+                      t.mismatch);
+        list += text;
+      }
+      std::fprintf(stderr, "friction_sweep: tip lattices (angle / mismatch): %s\n", list.c_str());
+    }
     for (const auto& [table, res, n] : {std::tuple{&csv_, &resumed, points_.size()},
                                         std::tuple{&csv_x_, &resumed_x, xpoints_.size()}}) {
       if (!fs::exists(*table)) continue;
@@ -213,11 +236,12 @@ class SweepRunner {
     const std::lock_guard lock(table_mutex_);
     ++finished_;
     std::fprintf(stderr,
-                 "friction_sweep: [%zu/%zu] %sa = %.4g d, R = %g d, a/b_core^0 = %.4g: "
+                 "friction_sweep: [%zu/%zu] %s%s, a/b_core^0 = %.4g: "
                  "%s = %.5f%s, %.1f s%s%s\n",
-                 finished_, order_.size(), job.x ? "explicit " : "", row.point.a, row.point.R,
-                 row.a_over_bcore0, relative_friction_name(row.envelope).c_str(),
-                 row.relative_friction, row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                 finished_, order_.size(), job.x ? "explicit " : "",
+                 describe_point(row.point).c_str(), row.a_over_bcore0,
+                 relative_friction_name(row.envelope).c_str(), row.relative_friction,
+                 row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
                  row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
     (job.x ? rows_x_ : rows_)[job.k] = std::move(row);
     try {
@@ -230,8 +254,7 @@ class SweepRunner {
 
   void say(const SweepPoint& point, const std::string& what) {
     const std::lock_guard lock(table_mutex_);
-    std::fprintf(stderr, "friction_sweep: a = %.4g d, R = %g d: %s\n", point.a, point.R,
-                 what.c_str());
+    std::fprintf(stderr, "friction_sweep: %s: %s\n", describe_point(point).c_str(), what.c_str());
   }
 
   // The point's checkpoint, if it has one of these settings. A damaged, foreign or unreadable
@@ -268,8 +291,8 @@ class SweepRunner {
                const slide::SlideProgressInfo& info) mutable {
       if (!lines.due(info)) return;
       const std::lock_guard lock(table_mutex_);
-      std::fprintf(stderr, "friction_sweep: %sa = %.4g d, R = %g d: %s\n", job.x ? "explicit " : "",
-                   point.a, point.R, describe_progress(info).c_str());
+      std::fprintf(stderr, "friction_sweep: %s%s: %s\n", job.x ? "explicit " : "",
+                   describe_point(point).c_str(), describe_progress(info).c_str());
     };
   }
 
@@ -311,6 +334,7 @@ class SweepRunner {
     SlideScene ps = s_.base;
     ps.contact.a = point.a;
     ps.contact.R = point.R;
+    ps.contact.tip = point.tip;
     try {
       if (auto row = slide_point(job, point, ps)) record(job, std::move(*row));
     } catch (const std::exception& e) {
@@ -348,10 +372,9 @@ class SweepRunner {
         load_checkpoint(point_dir, checkpoint_file, point_settings);
     if (start) {
       const std::lock_guard lock(table_mutex_);
-      std::fprintf(stderr,
-                   "friction_sweep: resuming %sa = %.4g d, R = %g d from its checkpoint at "
-                   "Dx = %.4f d\n",
-                   job.x ? "explicit " : "", point.a, point.R, start->state.current.Dx);
+      std::fprintf(stderr, "friction_sweep: resuming %s%s from its checkpoint at Dx = %.4f d\n",
+                   job.x ? "explicit " : "", describe_point(point).c_str(),
+                   start->state.current.Dx);
     }
     PointSinks sinks;
     open_sinks(sinks, point_dir, point, ps, extra, start);

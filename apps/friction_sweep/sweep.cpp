@@ -11,6 +11,7 @@
 #include <set>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
@@ -31,6 +32,11 @@ const settings::Range& a_range() {
 // Shortest form that reads back to the same double: fingerprints compare exactly.
 using settings::format_number;
 
+// The allowed values of a contact setting (interface::ContactScene::settings()).
+Range contact_range(const char* key) {
+  return settings::find(interface::ContactScene::settings(), key)->range;
+}
+
 std::string element(const ValueList& list, std::size_t i) {
   return list.key + "[" + std::to_string(i) + "]";
 }
@@ -50,11 +56,11 @@ void check_list(const ValueList& list) {
 // A list row over a ValueList (`optional`: absent when empty), named by its key in messages.
 template <class Ref>
 settings::Setting<SweepScene> list_row(std::string key, Ref ref, std::string unit,
-                                       std::string meaning, std::string flag) {
+                                       std::string meaning, std::string flag,
+                                       Range range = Range::positive()) {
   settings::Setting<SweepScene> s;
-  static_cast<settings::Info&>(s) = {
-      std::move(key),  settings::Kind::numbers, Range::positive(), {},
-      std::move(unit), std::move(meaning),      std::move(flag)};
+  static_cast<settings::Info&>(s) = {std::move(key),  settings::Kind::numbers, range,          {},
+                                     std::move(unit), std::move(meaning),      std::move(flag)};
   s.get = [ref](const SweepScene& r) {
     const auto& list = ref(r);
     if constexpr (requires { list.has_value(); }) {
@@ -99,6 +105,16 @@ const settings::Table<SweepScene>& SweepScene::settings() {
             "sweep.model", [](auto& s) -> auto& { return s.model; }, {"lfm", "explicit", "both"},
             "which models run the points: the lateral force model (sweep.csv), the explicit "
             "tip (sweep_explicit.csv) or both"),
+        // The tip's lattice per point (issue 27), in the ranges of contact.tip_angle and
+        // contact.tip_mismatch; absent: the scene's contact value for every point.
+        list_row(
+            "sweep.tip_angle", [](auto& s) -> auto& { return s.tip_angle; }, "degrees",
+            "rotations of the tip's lattice (instead of contact.tip_angle)", "--tip-angles",
+            contact_range("contact.tip_angle")),
+        list_row(
+            "sweep.tip_mismatch", [](auto& s) -> auto& { return s.tip_mismatch; }, "",
+            "lattice mismatches of the tip (instead of contact.tip_mismatch)", "--tip-mismatches",
+            contact_range("contact.tip_mismatch")),
     };
     settings::lift(
         t, explicit_model::ExplicitScene::settings(), "",
@@ -155,9 +171,20 @@ SweepScene read_sweep_scene(const std::string& path) {
   }
   SweepScene s;
   s.source = path;
+  const bool tip_angle = r.optional_number("contact.tip_angle").has_value();
+  const bool tip_mismatch = r.optional_number("contact.tip_mismatch").has_value();
   s.base = read_slide_scene(r);
   r.read(SweepScene::settings(), s);
   r.reject_unknown();
+  // A value the points would silently replace.
+  for (const auto& [given, list, key] :
+       {std::tuple{tip_angle, s.tip_angle.has_value(), "tip_angle"},
+        std::tuple{tip_mismatch, s.tip_mismatch.has_value(), "tip_mismatch"}}) {
+    if (given && list) {
+      throw std::invalid_argument(path + ": contact." + key + " and sweep." + key +
+                                  ": give one of them (one value for every point, or a list)");
+    }
+  }
   try {
     s.validate();
   } catch (const std::invalid_argument& e) {
@@ -169,6 +196,39 @@ SweepScene read_sweep_scene(const std::string& path) {
 double contact_radius_for(const interface::ContactScene& c, double target) {
   return c.radius_for(target);
 }
+
+std::vector<interface::TipLattice> sweep_tips(const SweepScene& s) {
+  const interface::TipLattice base = s.base.contact.tip;
+  std::vector<interface::TipLattice> tips;
+  for (double angle : s.tip_angle ? s.tip_angle->values : std::vector<double>{base.angle}) {
+    for (double m : s.tip_mismatch ? s.tip_mismatch->values : std::vector<double>{base.mismatch})
+      tips.push_back({.angle = angle, .mismatch = m});
+  }
+  return tips;
+}
+
+namespace {
+
+// The order of sweep.csv: by tip (angle, then mismatch), R, then a.
+bool point_before(const SweepPoint& p, const SweepPoint& q) {
+  return std::tie(p.tip.angle, p.tip.mismatch, p.R, p.a) <
+         std::tie(q.tip.angle, q.tip.mismatch, q.R, q.a);
+}
+
+// The points of one tip: each point's a and R, then every tip.
+std::vector<SweepPoint> with_tips(const SweepScene& s, const std::vector<SweepPoint>& points) {
+  std::vector<SweepPoint> out;
+  for (const auto& tip : sweep_tips(s)) {
+    for (SweepPoint p : points) {
+      p.tip = tip;
+      out.push_back(p);
+    }
+  }
+  std::sort(out.begin(), out.end(), point_before);
+  return out;
+}
+
+}  // namespace
 
 std::vector<SweepPoint> sweep_points(const SweepScene& s) {
   s.validate();
@@ -219,9 +279,7 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
                                   " (a in " + a_range().describe() + " d" + and_R + ")");
     }
   }
-  std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
-    return p.R != q.R ? p.R < q.R : p.a < q.a;
-  });
+  points = with_tips(s, points);
   std::set<std::string> folders;
   for (const auto& p : points) {
     if (!folders.insert(point_folder(p)).second) {
@@ -235,9 +293,14 @@ std::vector<SweepPoint> sweep_points(const SweepScene& s) {
 }
 
 std::string point_folder(const SweepPoint& p, bool explicit_model) {
-  char name[96];
+  char name[160];
   std::snprintf(name, sizeof name, "%sa%.6g_R%.6g", explicit_model ? "explicit_" : "", p.a, p.R);
-  return name;
+  std::string folder = name;
+  if (!p.tip.aligned()) {
+    std::snprintf(name, sizeof name, "_angle%.6g_mismatch%.6g", p.tip.angle, p.tip.mismatch);
+    folder += name;
+  }
+  return folder;
 }
 
 ExplicitSlideScene explicit_point_scene(const SweepScene& s, const SweepPoint& p) {
@@ -246,9 +309,11 @@ ExplicitSlideScene explicit_point_scene(const SweepScene& s, const SweepPoint& p
   e.slide.contact.a = p.a;
   e.slide.contact.R = p.R;
   e.model = s.potential;
+  e.slide.contact.tip = p.tip;
   e.model.R = p.R;
   e.model.material = s.base.contact.material;
   e.model.d = s.base.contact.d;
+  e.model.tip = p.tip;
   return e;
 }
 
@@ -294,9 +359,16 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
           "slopes, MODEL.md 4): raise R");
     }
   }
-  std::sort(points.begin(), points.end(), [](const SweepPoint& p, const SweepPoint& q) {
-    return p.R != q.R ? p.R < q.R : p.a < q.a;
-  });
+  points = with_tips(s, points);
+  for (const auto& p : points) {
+    try {
+      explicit_point_scene(s, p).model.validate();  // the tip's spacing against the cutoff
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(
+          std::string(s.tip_mismatch ? "sweep.tip_mismatch" : "contact.tip_mismatch") + ": " +
+          e.what());
+    }
+  }
   std::set<std::string> folders;
   for (const auto& p : points) {
     if (!folders.insert(point_folder(p, true)).second) {
@@ -311,7 +383,9 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& s) {
 // row's own columns, nor threads and output formats), exact, and the build: the code's own
 // defaults are not all settings, so rows of another build are recomputed rather than trusted.
 std::string settings_fingerprint(const SlideScene& scene) {
-  return settings::fingerprint(scene, SlideScene::settings(), true, {"contact.a", "contact.R"}) +
+  return settings::fingerprint(
+             scene, SlideScene::settings(), true,
+             {"contact.a", "contact.R", "contact.tip_angle", "contact.tip_mismatch"}) +
          " code=" + app::provenance_string();
 }
 
@@ -331,6 +405,8 @@ const std::vector<std::string>& sweep_columns() {
                                                    "G",
                                                    "envelope",
                                                    "tau0",
+                                                   "tip_angle",
+                                                   "tip_mismatch",
                                                    "a_over_bcore0",
                                                    "lambda",
                                                    "mu",
@@ -354,20 +430,28 @@ const std::vector<std::string>& sweep_columns() {
 
 namespace {
 
-// sweep.csv before the envelopes (issue 27): without their columns.
-std::vector<std::string> layout_without_envelopes() {
+// sweep.csv without the columns issue 27 added: the envelopes' (G .. area) and the tip's
+// lattice (tip_angle, tip_mismatch), which came on branches of their own.
+std::vector<std::string> layout_without(bool envelopes, bool tip) {
   std::vector<std::string> old = sweep_columns();
-  for (const char* c : {"G", "envelope", "tau0", "tau_fric", "tau_fric_over_tau0",
-                        "friction_over_regime_one", "area"})
+  std::vector<const char*> drop;
+  if (envelopes) {
+    drop.insert(drop.end(), {"G", "envelope", "tau0", "tau_fric", "tau_fric_over_tau0",
+                             "friction_over_regime_one", "area"});
+  }
+  if (tip) drop.insert(drop.end(), {"tip_angle", "tip_mismatch"});
+  for (const char* c : drop)
     old.erase(std::find(old.begin(), old.end(), c));
   return old;
 }
 
-// Earlier layouts of sweep.csv: before the envelopes, and before that with the wall times
-// (since moved to summary.json).
+// Earlier layouts of sweep.csv: without the envelopes' or the tip's columns (or both), and
+// before them with the wall times (since moved to summary.json).
 bool is_earlier_layout(const std::vector<std::string>& columns) {
-  std::vector<std::string> old = layout_without_envelopes();
-  if (columns == old) return true;
+  for (const auto& [envelopes, tip] : {std::pair{true, true}, {true, false}, {false, true}}) {
+    if (columns == layout_without(envelopes, tip)) return true;
+  }
+  std::vector<std::string> old = layout_without(true, true);
   old.insert(old.end() - 1, "wall_s");
   return columns == old;
 }
@@ -396,6 +480,7 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                .failed = r.failed,
                .stop_reason = r.stop_reason,
                .wall_s = r.wall_s};
+  row.point.tip = c.tip;
   row.cells = {c.a,
                c.R,
                c.alpha,
@@ -403,6 +488,8 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                c.material.G,
                c.envelope,
                c.tau0,
+               c.tip.angle,
+               c.tip.mismatch,
                c.a_over_bcore0(),
                c.lambda(),
                r.mu,
@@ -442,11 +529,34 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
                .stop_reason = reason,
                .wall_s = wall_s};
   // In sweep_columns() order: the parameters, then no results.
-  row.cells = {
-      c.a,        c.R, c.alpha, c.material.nu, c.material.G, c.envelope, c.tau0, c.a_over_bcore0(),
-      c.lambda(), nan, nan,     nan,           nan,          nan,        nan,    0LL,
-      nan,        nan, 0LL,     nan,           reason,       1LL,        0LL,    0LL,
-      settings};
+  row.point.tip = c.tip;
+  row.cells = {c.a,
+               c.R,
+               c.alpha,
+               c.material.nu,
+               c.material.G,
+               c.envelope,
+               c.tau0,
+               c.tip.angle,
+               c.tip.mismatch,
+               c.a_over_bcore0(),
+               c.lambda(),
+               nan,
+               nan,
+               nan,
+               nan,
+               nan,
+               nan,
+               0LL,
+               nan,
+               nan,
+               0LL,
+               nan,
+               reason,
+               1LL,
+               0LL,
+               0LL,
+               settings};
   return row;
 }
 
@@ -471,8 +581,12 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
   }
   for (std::size_t i = 0; i < t.rows(); ++i) {
     const double a = t.number(i, "a"), R = t.number(i, "R");
+    const interface::TipLattice tip {
+      .angle = t.number(i, "tip_angle"), .mismatch = t.number(i, "tip_mismatch")
+    };
+    // The tip's values are the scene's own, written exactly: they compare equal.
     const auto it = std::find_if(points.begin(), points.end(), [&](const SweepPoint& p) {
-      return close(p.a, a) && close(p.R, R);
+      return close(p.a, a) && close(p.R, R) && p.tip == tip;
     });
     if (it == points.end()) {
       ++out.not_requested;
@@ -503,6 +617,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
         .failed = false,
         .stop_reason = t.text(i, "stop_reason"),
         .wall_s = std::numeric_limits<double>::quiet_NaN()};
+    row.point.tip = tip;
     // The stored text, not re-formatted numbers: a resumed table is byte-identical.
     for (std::size_t j = 0; j < t.columns().size(); ++j)
       row.cells.push_back(t.cell(i, j));

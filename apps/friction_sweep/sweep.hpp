@@ -37,12 +37,19 @@ struct ValueList {
   std::string key;  // its setting, "sweep.a"
 };
 
+// sweep.tip_angle and sweep.tip_mismatch (issue 27): lists of the tip's lattice rotation and
+// mismatch (interface/tip_lattice.hpp); every R and a runs with every angle and mismatch. Absent,
+// the scene's contact.tip_angle and contact.tip_mismatch hold for every point (giving both a
+// list and the contact value is an error). sweep.csv has the columns tip_angle, tip_mismatch.
 struct SweepScene {
   std::string source;                      // scene file
   SlideScene base;                         // settings shared by all points; a and R set per point
   ValueList R{{}, "sweep.R"};              // sphere radii (d)
   std::optional<ValueList> a;              // contact radii (d); exactly one of a, a_over_bcore0
   std::optional<ValueList> a_over_bcore0;  // targets of the control parameter a / b_core^0
+  std::optional<ValueList> tip_angle;      // the tip lattice's rotations (degrees); absent:
+                                           // base.contact.tip.angle
+  std::optional<ValueList> tip_mismatch;   // its mismatches; absent: base.contact.tip.mismatch
   int jobs = 0;               // points run at once; 0: max(1, hardware threads / fft.threads)
   std::string model = "lfm";  // lfm | explicit | both
   // The explicit model's potential and substrate: G in eps/sigma^3 and sigma/d ([explicit]);
@@ -71,8 +78,9 @@ struct SweepScene {
 SweepScene read_sweep_scene(const std::string& path);
 
 struct SweepPoint {
-  double a = 0.0;  // contact radius (d)
-  double R = 0.0;  // sphere radius (d)
+  double a = 0.0;                // contact radius (d)
+  double R = 0.0;                // sphere radius (d)
+  interface::TipLattice tip {};  // the tip's lattice (angle in degrees, mismatch)
 };
 
 // Contact radius at which a / b_core^0 = target (ContactScene::radius_for): Hertz
@@ -80,11 +88,16 @@ struct SweepPoint {
 // tau0; mixed the root of target = a tau0 / (d G) + c alpha a^2 / (R d).
 double contact_radius_for(const interface::ContactScene& contact, double target);
 
-// Every R with every a (or target), sorted by R then a: the order of sweep.csv. Throws
+// Every R with every a (or target) and every tip (sweep_tips()), sorted by tip angle, mismatch,
+// R, then a: the order of sweep.csv. Throws
 // std::invalid_argument naming the key if a point has a outside [1, 4096] d or a >= R (the
 // limits of contact.a), or if two points coincide. Empty if the sweep runs the explicit model
 // only.
 std::vector<SweepPoint> sweep_points(const SweepScene& scene);
+
+// The tips of a sweep: every sweep.tip_angle with every sweep.tip_mismatch (each absent list
+// replaced by the scene's contact value).
+std::vector<interface::TipLattice> sweep_tips(const SweepScene& scene);
 
 // The explicit model's points (sweep_explicit.csv), empty unless it runs. A target of
 // a/b_core^0 is met with the alpha of the potential at the point's own central load (a fixed
@@ -95,12 +108,13 @@ std::vector<SweepPoint> explicit_sweep_points(const SweepScene& scene);
 // The contact and potential of an explicit point.
 ExplicitSlideScene explicit_point_scene(const SweepScene& scene, const SweepPoint& p);
 
-// Point folder below DIR/points: "a<a>_R<R>" with 6 significant digits; explicit points
-// "explicit_a<a>_R<R>".
+// Point folder below DIR/points: "a<a>_R<R>" with 6 significant digits, followed by
+// "_angle<angle>_mismatch<m>" for a tip out of registry; explicit points "explicit_a<a>_R<R>...".
 std::string point_folder(const SweepPoint& p, bool explicit_model = false);
 
-// A short string of everything besides a and R that changes a point's result (protocol, steps,
-// distance, solver, tolerance, alpha, G, nu); rows are reused only under the same fingerprint.
+// A short string of everything besides a, R and the tip that changes a point's result
+// (protocol, steps, distance, solver, tolerance, alpha, G, nu); rows are reused only under the
+// same fingerprint.
 // FFT threads and planning change only round-off and are left out.
 std::string settings_fingerprint(const SlideScene& scene);
 // The same for the explicit rows: also G in eps/sigma^3 and sigma/d (alpha is per point).
@@ -144,15 +158,17 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
                    const std::string& settings);
 
 // Rows of an existing sweep.csv that can stand in for points of this sweep: same a and R to a
-// relative 1e-9, same settings fingerprint, and not failed (a failed point is run again).
+// relative 1e-9, the same tip, same settings fingerprint, and not failed (a failed point is run
+// again).
 struct ResumedRows {
   std::vector<std::optional<SweepRow>> rows;  // per point of `points`
   std::size_t reused = 0;
   std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
 };
-// Throws std::invalid_argument if the file is not a sweep.csv (other columns). A table of the
-// earlier layout (with a wall_s column) is accepted and all its rows are dropped as
-// other_settings: they came from another build, which the settings fingerprint rejects anyway.
+// Throws std::invalid_argument if the file is not a sweep.csv (other columns). A table of an
+// earlier layout (without the tip's columns, or with a wall_s column) is accepted and all its
+// rows are dropped as other_settings: they came from another build, which the settings
+// fingerprint rejects anyway.
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
                         const std::string& settings);
 

@@ -66,7 +66,9 @@ std::string join_ids(const std::vector<int>& ids) {
 }
 
 // tau_x / tau_max over the contact with the lines on top: segments split by character into
-// screw (< 30 deg from b), mixed and edge (> 60 deg).
+// screw (< 30 deg from b), mixed and edge (> 60 deg). Under a tip lattice out of registry the
+// stress along the tip's first axis, tau_1 = cos theta tau_x + sin theta tau_y, whose sign
+// changes the lines are traced on (tracking/lines.hpp).
 void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::FrameLines& f,
                 const std::string& title) {
   const auto& blk = s.block;
@@ -75,9 +77,12 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
     x.push_back(blk.x(i0, f.d));
   for (int i1 = 0; i1 < blk.shape.n1; ++i1)
     y.push_back(blk.y(i1, f.d));
+  const interface::TipFrame frame(s.tip, f.d);
   for (std::size_t i = 0; i < map.size(); ++i) {
     const bool contact = s.in_contact.empty() || s.in_contact[i] != 0;
-    if (contact && s.tau_max[i] > 0.0) map[i] = s.tau_x[i] / s.tau_max[i];
+    double tau1 = s.tau_x[i], tau2 = 0.0;
+    if (!frame.aligned()) frame.to_tip(s.tau_x[i], s.tau_y[i], tau1, tau2);
+    if (contact && s.tau_max[i] > 0.0) map[i] = tau1 / s.tau_max[i];
   }
   // One series per run of segments of one class: gnuplot's splot joins points across gaps.
   const std::array<std::string, 3> titles = {"screw (< 30 deg)", "mixed", "edge (> 60 deg)"};
@@ -128,7 +133,8 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
        .width = 800,
        .height = 720,
        .extra_commands = {"set size ratio -1", "set key outside top center horizontal"}},
-      "tau_x / tau_max", std::pair{-1.0, 1.0}, overlays);
+      frame.aligned() ? "tau_x / tau_max" : "tau_1 / tau_max (tip axis)", std::pair{-1.0, 1.0},
+      overlays);
 }
 
 // Local Peierls stress laws drawn beside the profiles (--peierls): edge and screw fits.
@@ -326,6 +332,8 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
           {"iteration", s.iteration},
           {"Dx", s.Dx},
           {"periodic", periodic},
+          {"tip_angle", s.tip.angle},
+          {"tip_mismatch", s.tip.mismatch},
           {"contact_sites", f.contact_sites},
           {"contact_centre", {f.contact_centre.x, f.contact_centre.y}},
           {"contact_radius", f.contact_radius},

@@ -35,6 +35,18 @@ void ExplicitScene::validate() const {
   require_positive("ExplicitScene.d", d);
   settings::validate(*this, settings());
   material.validate();
+  if (!tip.aligned()) {
+    const double rc = potential().cutoff(), gap = tip_spacing() / std::numbers::sqrt2;
+    if (!(rc >= 1.19 * gap)) {
+      throw std::invalid_argument(
+          "explicit model: tip lattice spacing (1 + contact.tip_mismatch) d = " +
+          settings::format_number(tip_spacing()) +
+          " d: allowed: hollow-site gap d_tip/sqrt(2) <= " + "r_c / 1.19 = " +
+          settings::format_number(rc / 1.19) +
+          " d (the margin sigma/d >= 0.75 keeps for the aligned tip), or tip atoms sink between "
+          "substrate atoms");
+    }
+  }
 }
 
 LennardJones ExplicitScene::potential() const {
@@ -49,10 +61,13 @@ double ExplicitScene::force_unit() const {
 }
 double ExplicitScene::contact_gap() const {
   const double rc = potential().cutoff();
-  return std::sqrt(std::max(0.0, rc * rc - 0.5 * d * d));
+  const double dt = tip.aligned() ? d : tip_spacing();
+  return std::sqrt(std::max(0.0, rc * rc - 0.5 * dt * dt));
 }
 double ExplicitScene::touch_height() const {
-  const double rho2 = 0.5 * d * d;
+  // The apex atom's tip neighbours are d_tip/sqrt(2) from the tip centre at any rotation.
+  const double dt = tip.aligned() ? d : tip_spacing();
+  const double rho2 = 0.5 * dt * dt;
   return contact_gap() - rho2 / (R + std::sqrt(R * R - rho2));
 }
 
@@ -126,7 +141,10 @@ class ExplicitContact::Problem final : public minimize::Problem {
 };
 
 ExplicitContact::ExplicitContact(const ExplicitScene& scene, const fft::FFTOptions& fft)
-    : scene_(scene), lj_((scene.validate(), scene.potential())), fft_(fft) {
+    : scene_(scene),
+      lj_((scene.validate(), scene.potential())),
+      fft_(fft),
+      frame_(scene.tip, scene.d) {
   rebuild(8);
 }
 
@@ -144,6 +162,7 @@ double ExplicitContact::site_interface(std::size_t i, const double u[3], double 
   const double px = block_.x(static_cast<int>(i / n1), d) + u[0] - Dx_;
   const double py = block_.y(static_cast<int>(i % n1), d) + u[1];
   const double pz = u[2];
+  if (!frame_.aligned()) return site_interface_tip(px, py, pz, f, h);
   // Tip atoms (k, l) at ((k + 1/2) d, (l + 1/2) d) within a lateral cutoff of (px, py).
   const int k_lo = static_cast<int>(std::ceil((px - rc) / d - 0.5));
   const int k_hi = static_cast<int>(std::floor((px + rc) / d - 0.5));
@@ -177,6 +196,57 @@ double ExplicitContact::site_interface(std::size_t i, const double u[3], double 
         h[2] += c * dz * dz + t.dv_r;
       }
     }
+  }
+  return v;
+}
+
+// site_interface() under a tip out of registry: the pair sums in the tip's frame, where tip
+// atom (k, l) is at ((k + 1/2) d_tip, (l + 1/2) d_tip); (px, py) the site's lateral position
+// relative to the tip centre in the substrate's frame.
+double ExplicitContact::site_interface_tip(double px, double py, double pz, double f[3],
+                                           double* h) const {
+  const double dt = frame_.spacing(), R = scene_.R, rc = lj_.cutoff(), rc2 = lj_.cutoff2();
+  double qx = 0.0, qy = 0.0;  // the position along the tip's axes
+  frame_.to_tip(px, py, qx, qy);
+  const int k_lo = static_cast<int>(std::ceil((qx - rc) / dt - 0.5));
+  const int k_hi = static_cast<int>(std::floor((qx + rc) / dt - 0.5));
+  const int l_lo = static_cast<int>(std::ceil((qy - rc) / dt - 0.5));
+  const int l_hi = static_cast<int>(std::floor((qy + rc) / dt - 0.5));
+  double v = 0.0, g1 = 0.0, g2 = 0.0, gz = 0.0;  // force along the tip's axes and z
+  double h11 = 0.0, h22 = 0.0, h12 = 0.0, hzz = 0.0;
+  for (int k = k_lo; k <= k_hi; ++k) {
+    const double tx = (k + 0.5) * dt, dx = qx - tx;
+    for (int l = l_lo; l <= l_hi; ++l) {
+      const double ty = (l + 0.5) * dt, dy = qy - ty;
+      const double rho2 = tx * tx + ty * ty;
+      if (rho2 >= R * R) continue;  // beyond the sphere's rim: no tip atom
+      const double tz = h_ + rho2 / (R + std::sqrt(R * R - rho2));
+      const double dz = pz - tz;
+      if (dz <= -rc) continue;
+      const double r2 = dx * dx + dy * dy + dz * dz;
+      if (r2 >= rc2) continue;
+      const PairTerms t = lj_.at(r2);
+      v += t.v;
+      g1 -= t.dv_r * dx;
+      g2 -= t.dv_r * dy;
+      gz -= t.dv_r * dz;
+      if (h) {
+        const double c = (t.d2v - t.dv_r) / r2;
+        h11 += c * dx * dx + t.dv_r;
+        h22 += c * dy * dy + t.dv_r;
+        h12 += c * dx * dy;
+        hzz += c * dz * dz + t.dv_r;
+      }
+    }
+  }
+  frame_.to_substrate(g1, g2, f[0], f[1]);
+  f[2] = gz;
+  if (h) {
+    // The diagonal of Q H Q^T: c^2 h11 - 2 c s h12 + s^2 h22 (x), s^2 h11 + 2 c s h12 + c^2 h22.
+    const double c = frame_.cos(), s = frame_.sin();
+    h[0] = c * c * h11 - 2.0 * c * s * h12 + s * s * h22;
+    h[1] = s * s * h11 + 2.0 * c * s * h12 + c * c * h22;
+    h[2] = hzz;
   }
   return v;
 }

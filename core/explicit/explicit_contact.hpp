@@ -28,8 +28,13 @@
 // (R - sqrt(R^2 - d^2/2)), g0 = sqrt(r_c^2 - d^2/2); delta = h_touch - h is the approach that
 // Hertz calls delta = a^2/R. The interface compliance (the LJ pairs compress under load) adds
 // to it, by about (g0 - g(p0 d^2)) at the centre.
-// Contact radius: from the loaded area, a = d sqrt(N/pi) over the atoms that feel a force, and
-// from the second moment of the load, a = sqrt(5/2 <r^2>) (<r^2> = 2 a^2/5 for Hertz).
+// A tip lattice out of registry (interface/tip_lattice.hpp; contact.tip_angle,
+// contact.tip_mismatch) puts tip atom (k, l) at (Dx, 0) + Q(theta) ((k + 1/2), (l + 1/2)) d_tip,
+// d_tip = (1 + m) d, on the same sphere: the pair sums run in the tip's frame (lateral offsets
+// Q(-theta)(P_i - (Dx, 0))), the forces are turned back by Q(theta). The apex atom's four tip
+// neighbours are then d_tip/sqrt(2) away (h_touch and g0 with d_tip). theta = m = 0 keeps the
+// arithmetic above. Contact radius: from the loaded area, a = d sqrt(N/pi) over the atoms that feel
+// a force, and from the second moment of the load, a = sqrt(5/2 <r^2>) (<r^2> = 2 a^2/5 for Hertz).
 #pragma once
 
 #include <cstddef>
@@ -47,6 +52,7 @@
 #include "asperity/core/elastic/surface_gf.hpp"
 #include "asperity/core/explicit/lennard_jones.hpp"
 #include "asperity/core/fft/fft_engine.hpp"
+#include "asperity/core/interface/tip_lattice.hpp"
 #include "asperity/core/minimize/minimizer.hpp"
 
 namespace asperity::explicit_model {
@@ -57,18 +63,21 @@ struct ExplicitScene {
   double sigma_over_d = 0.8908987181403393;  // LJ sigma in d (2^(-1/6): r_c = d)
   elastic::Material material{};              // G = 1 (the stress unit), nu
   double d = 1.0;                            // lattice spacing (unit of length)
+  interface::TipLattice tip {};              // the tip's lattice (aligned: hollow sites)
 
   // Throws std::invalid_argument naming the violated constraint. sigma/d in [0.75, 1.0]: below,
   // the cutoff barely exceeds the hollow-site gap d/sqrt(2) and tip atoms sink into the hollows;
-  // above, the neighbour windows grow beyond 3 x 3.
+  // above, the neighbour windows grow beyond 3 x 3. The same margin for a tip of another spacing:
+  // r_c >= 1.19 d_tip / sqrt(2) (sigma/d = 0.75 gives r_c = 1.1906 d / sqrt(2)).
   void validate() const;
   // The scene's own settings ("explicit.G", "explicit.sigma_over_d"; common/settings.hpp): R,
-  // material and d come from the contact (ContactScene) and are not repeated.
+  // material, d and the tip's lattice come from the contact (ContactScene) and are not repeated.
   static const settings::Table<ExplicitScene>& settings();
   [[nodiscard]] LennardJones potential() const;  // in G and d
   // One eps/sigma in G d^2 (forces) and one eps in G d^3 (energies).
   [[nodiscard]] double force_unit() const;
   [[nodiscard]] double energy_unit() const;
+  [[nodiscard]] double tip_spacing() const { return (1.0 + tip.mismatch) * d; }  // d_tip
   // Zero-force gap between the apex substrate atom and the plane of its four tip neighbours.
   [[nodiscard]] double contact_gap() const;
   // Apex height at which the undisplaced apex atom is first touched.
@@ -187,12 +196,15 @@ class ExplicitContact {
   void rebuild(int half_width);  // block of (2 half + 1)^2 sites around the tip's lattice column
   void select_active();
   void refresh_u();  // u = G f on the block
+  // site_interface() under a tip lattice out of registry (tip_lattice.hpp).
+  double site_interface_tip(double px, double py, double pz, double f[3], double* h) const;
 
   ExplicitScene scene_;
   LennardJones lj_;
   fft::FFTOptions fft_;
   double Dx_ = 0.0, h_ = 0.0, radius_ = 0.0;
   LatticeBlock block_;
+  interface::TipFrame frame_;             // the tip's lattice (explicit_contact.hpp header)
   elastic::FreeSurfaceGF* gf_ = nullptr;  // the GF of block_, from gf_cache_
   // GFs (and their FFT plans) by block half-width: a slide returns to the same few block
   // sizes at every step, and a plan is made once per size.

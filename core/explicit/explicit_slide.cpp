@@ -276,6 +276,7 @@ class ExplicitSlider {
     snap.uz.assign(u.begin() + static_cast<std::ptrdiff_t>(2 * n), u.end());
     snap.sx.resize(n), snap.sy.resize(n), snap.tau_x.resize(n), snap.tau_y.resize(n);
     snap.tau_max.resize(n), snap.pressure.resize(n), snap.in_contact.assign(n, 0);
+    snap.tip = scene_.tip;
     for (int i0 = 0; i0 < side; ++i0) {
       for (int i1 = 0; i1 < side; ++i1) {
         const std::size_t i = snap.block.shape.index(i0, i1);

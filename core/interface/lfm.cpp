@@ -9,6 +9,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -43,6 +44,20 @@ const settings::Table<ContactScene>& ContactScene::settings() {
             "--envelope")};
     settings::lift(
         t, elastic::Material::settings(), "material.", [](auto& c) -> auto& { return c.material; });
+    // The tip's lattice out of registry (tip_lattice.hpp, issue 27). A square lattice turned by
+    // 90 degrees is itself, and -theta is the mirror image of theta in y -> -y, which sliding
+    // along x respects: [-45, 45] degrees holds every orientation. The single-harmonic registry
+    // potential per substrate site models nearly commensurate lattices: |m| <= 0.2.
+    t.push_back(settings::number<ContactScene>(
+        "contact.tip_angle", [](auto& c) -> auto& { return c.tip.angle; }, R::closed(-45.0, 45.0),
+        "degrees",
+        "rotation of the tip's lattice about z against the substrate's (registry potential in "
+        "the tip's frame)",
+        "--tip-angle"));
+    t.push_back(settings::number<ContactScene>(
+        "contact.tip_mismatch", [](auto& c) -> auto& { return c.tip.mismatch; },
+        R::closed(-0.2, 0.2), "", "lattice mismatch m: the tip's lattice spacing is (1 + m) d",
+        "--tip-mismatch"));
     return t;
   }();
   return table;
@@ -140,7 +155,7 @@ double ContactScene::lambda() const {
 }
 
 LateralForceModel::LateralForceModel(const ContactScene& scene, LatticeBlock block)
-    : scene_(scene), block_(block) {
+    : scene_(scene), block_(block), frame_(scene.tip, scene.d) {
   scene.validate();
   envelope_ = make_envelope(scene);
   tau_max_.assign(block.shape.count(), 0.0);
@@ -153,6 +168,8 @@ void LateralForceModel::set_tip(double Dx) {
   sites_.clear();
   site_tau_.clear();
   site_phase_x_.clear();
+  site_rho1_.clear();
+  site_rho2_.clear();
   load_ = 0.0;
   const double d = scene_.d;
   for (int i0 = 0; i0 < block_.shape.n0; ++i0) {
@@ -169,6 +186,13 @@ void LateralForceModel::set_tip(double Dx) {
         site_tau_.push_back(tau_max_[i]);
         // (X - Dx)/d reduced to [-1/2, 1/2]: only the registry phase matters.
         site_phase_x_.push_back(x / d - std::round(x / d));
+        if (!frame_.aligned()) {
+          // rho at u = 0 reduced to [-1/2, 1/2]: the cosines need rho mod 1 only.
+          double r1 = 0.0, r2 = 0.0;
+          frame_.registry(x, y, r1, r2);
+          site_rho1_.push_back(r1 - std::round(r1));
+          site_rho2_.push_back(r2 - std::round(r2));
+        }
         load_ += p * d * d;
       }
     }
@@ -182,6 +206,11 @@ double LateralForceModel::sx(std::size_t i, double ux) const {
 }
 double LateralForceModel::sy(std::size_t i, double uy) const {
   return block_.y(static_cast<int>(i % static_cast<std::size_t>(block_.shape.n1)), scene_.d) + uy;
+}
+
+void LateralForceModel::registry(std::size_t i, double ux, double uy, double& rho1,
+                                 double& rho2) const {
+  frame_.registry(sx(i, ux), sy(i, uy), rho1, rho2);
 }
 
 namespace {
@@ -206,6 +235,25 @@ void lfm_site_terms(std::size_t len, double d, const double* __restrict tau,
   }
 }
 
+// The same out of registry (tip_lattice.hpp): rho = rho(u = 0) + Q(-theta) u / d_tip, the force
+// -tau_max d^2 Q(theta) [sin(2 pi rho1), sin(2 pi rho2)]; ct, st: cos and sin of theta.
+void lfm_site_terms_tip(std::size_t len, double d, double d_tip, double ct, double st,
+                        const double* __restrict tau, const double* __restrict rho1,
+                        const double* __restrict rho2, const double* __restrict ux,
+                        const double* __restrict uy, double* __restrict terms,
+                        double* __restrict fx, double* __restrict fy) {
+  for (std::size_t k = 0; k < len; ++k) {
+    const double t = tau[k];
+    double s1 = 0.0, c1 = 0.0, s2 = 0.0, c2 = 0.0;
+    sincos_2pi(rho1[k] + (ct * ux[k] + st * uy[k]) / d_tip, s1, c1);
+    sincos_2pi(rho2[k] + (ct * uy[k] - st * ux[k]) / d_tip, s2, c2);
+    terms[k] = t * (2.0 - c1 - c2);
+    const double g1 = t * d * d * s1, g2 = t * d * d * s2;
+    fx[k] = -(ct * g1 - st * g2);
+    fy[k] = -(st * g1 + ct * g2);
+  }
+}
+
 }  // namespace
 
 double LateralForceModel::energy_and_force(std::span<const double> u, std::span<double> f_int,
@@ -213,9 +261,17 @@ double LateralForceModel::energy_and_force(std::span<const double> u, std::span<
   const std::size_t m = sites_.size();
   assert(u.size() == 2 * m && f_int.size() == 2 * m);
   const double d = scene_.d;
+  const bool aligned = frame_.aligned();
   const auto site_terms = [&](std::size_t j0, std::size_t len, double* terms) {
-    lfm_site_terms(len, d, site_tau_.data() + j0, site_phase_x_.data() + j0, u.data() + j0,
-                   u.data() + m + j0, terms, f_int.data() + j0, f_int.data() + m + j0);
+    if (aligned) {
+      lfm_site_terms(len, d, site_tau_.data() + j0, site_phase_x_.data() + j0, u.data() + j0,
+                     u.data() + m + j0, terms, f_int.data() + j0, f_int.data() + m + j0);
+    } else {
+      lfm_site_terms_tip(len, d, frame_.spacing(), frame_.cos(), frame_.sin(),
+                         site_tau_.data() + j0, site_rho1_.data() + j0, site_rho2_.data() + j0,
+                         u.data() + j0, u.data() + m + j0, terms, f_int.data() + j0,
+                         f_int.data() + m + j0);
+    }
   };
   // V sums the terms in site order whatever the threads, so it is bit for bit the plain loop's.
   double v = 0.0;
@@ -241,12 +297,26 @@ double LateralForceModel::energy_and_force(std::span<const double> u, std::span<
     for (std::size_t j = 0; j < m; ++j)
       v += buffer[j];
   }
+  if (!aligned) return v * d * d * frame_.spacing() / (2.0 * std::numbers::pi);
   return v * d * d * d / (2.0 * std::numbers::pi);
 }
 
 void LateralForceModel::curvature(std::span<const double> u, std::span<double> h) const {
   const std::size_t m = sites_.size();
   const double d = scene_.d;
+  if (!frame_.aligned()) {
+    const double dt = frame_.spacing(), ct = frame_.cos(), st = frame_.sin();
+    const double k = 2.0 * std::numbers::pi / dt;
+    for (std::size_t j = 0; j < m; ++j) {
+      double sn = 0.0, c1 = 0.0, c2 = 0.0;
+      sincos_2pi(site_rho1_[j] + (ct * u[j] + st * u[m + j]) / dt, sn, c1);
+      sincos_2pi(site_rho2_[j] + (ct * u[m + j] - st * u[j]) / dt, sn, c2);
+      const double k1 = site_tau_[j] * d * d * k * c1, k2 = site_tau_[j] * d * d * k * c2;
+      h[j] = ct * ct * k1 + st * st * k2;
+      h[m + j] = st * st * k1 + ct * ct * k2;
+    }
+    return;
+  }
   const double k = 2.0 * std::numbers::pi / d;
   for (std::size_t j = 0; j < m; ++j) {
     const double c = site_tau_[j] * d * d * k;
@@ -256,6 +326,74 @@ void LateralForceModel::curvature(std::span<const double> u, std::span<double> h
     h[j] = c * cx;
     h[m + j] = c * cy;
   }
+}
+
+bool LateralForceModel::curvature_coupling(std::span<const double> u, std::span<double> hxy) const {
+  if (frame_.sin() == 0.0) return false;
+  const std::size_t m = sites_.size();
+  const double d = scene_.d, dt = frame_.spacing(), ct = frame_.cos(), st = frame_.sin();
+  const double k = 2.0 * std::numbers::pi / dt;
+  for (std::size_t j = 0; j < m; ++j) {
+    double sn = 0.0, c1 = 0.0, c2 = 0.0;
+    sincos_2pi(site_rho1_[j] + (ct * u[j] + st * u[m + j]) / dt, sn, c1);
+    sincos_2pi(site_rho2_[j] + (ct * u[m + j] - st * u[j]) / dt, sn, c2);
+    hxy[j] = ct * st * site_tau_[j] * d * d * k * (c1 - c2);
+  }
+  return true;
+}
+
+RigidTipFriction rigid_tip_friction(const ContactScene& scene, int samples) {
+  scene.validate();
+  if (samples < 4) {
+    throw std::invalid_argument("rigid_tip_friction: samples = " + std::to_string(samples) +
+                                ": allowed: >= 4");
+  }
+  const double d = scene.d;
+  // Sites up to a + d from the tip centre at any Dx in [0, d).
+  const int half = static_cast<int>(std::ceil(scene.a / d)) + 2;
+  LateralForceModel lfm(scene, LatticeBlock{Shape2{2 * half + 2, 2 * half + 1}, -half, -half});
+  std::vector<double> u, f;
+  const auto at = [&](double Dx) {
+    lfm.set_tip(Dx);
+    const std::size_t m = lfm.contact_sites().size();
+    u.assign(2 * m, 0.0);
+    f.assign(2 * m, 0.0);
+    lfm.energy_and_force(u, f);
+    RigidTipFriction r{.Dx = Dx, .Fz = lfm.load()};
+    for (std::size_t j = 0; j < m; ++j) {
+      r.Fx += f[j];
+      r.F_I += lfm.tau_max()[lfm.contact_sites()[j]] * d * d;
+    }
+    r.over_regime_one = r.Fx / r.F_I;
+    r.mu = r.Fz > 0.0 ? r.Fx / r.Fz : std::numeric_limits<double>::quiet_NaN();
+    return r;
+  };
+  RigidTipFriction best = at(0.0);
+  for (int k = 1; k < samples; ++k) {
+    const RigidTipFriction r = at(d * k / samples);
+    if (r.over_regime_one > best.over_regime_one) best = r;
+  }
+  // Golden-section search for the maximum within one sample of the best.
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double lo = best.Dx - d / samples, hi = best.Dx + d / samples;
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  RigidTipFriction f1 = at(x1), f2 = at(x2);
+  while (hi - lo > 1e-9 * d) {
+    if (f1.over_regime_one > f2.over_regime_one) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - g * (hi - lo);
+      f1 = at(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + g * (hi - lo);
+      f2 = at(x2);
+    }
+  }
+  for (const RigidTipFriction& r : {f1, f2}) {
+    if (r.over_regime_one > best.over_regime_one) best = r;
+  }
+  best.Dx -= d * std::floor(best.Dx / d);
+  return best;
 }
 
 }  // namespace asperity::interface

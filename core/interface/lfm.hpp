@@ -23,6 +23,7 @@
 #include "asperity/core/contact/hertz.hpp"
 #include "asperity/core/elastic/material.hpp"
 #include "asperity/core/interface/envelope.hpp"
+#include "asperity/core/interface/tip_lattice.hpp"
 
 namespace asperity::interface {
 
@@ -32,6 +33,7 @@ struct ContactScene {
   double alpha = 0.7;              // local friction coefficient: peak shear stress / pressure
   double tau0 = 0.0;               // shear strength without load (G): adhesive, mixed envelopes
   elastic::Material material{};    // substrate: G (unit of stress), nu
+  TipLattice tip{};                // the tip's lattice (tip_lattice.hpp): aligned by default
   double d = 1.0;                  // lattice spacing (unit of length)
   std::string envelope = "hertz";  // interface envelope (envelope.hpp): hertz, adhesive, mixed
 
@@ -67,6 +69,10 @@ struct ContactScene {
   [[nodiscard]] double lambda() const;             // 2 pi F_I / (d k), continuum F_I
 };
 
+// A tip lattice out of registry (rotated by contact.tip_angle, spacing (1 + contact.tip_mismatch)
+// d) replaces s / d by the registry coordinates rho = Q(-theta) s / d_tip in the cosines and the
+// amplitude d^3 by d^2 d_tip (tip_lattice.hpp); the aligned tip keeps the arithmetic of MODEL.md 3.
+
 // Per-site registry physics of the LFM at a tip position, for the sites of a block.
 class LateralForceModel {
  public:
@@ -91,14 +97,24 @@ class LateralForceModel {
   // Relative position s = X + u - (Dx, 0) of block site i.
   [[nodiscard]] double sx(std::size_t i, double ux) const;
   [[nodiscard]] double sy(std::size_t i, double uy) const;
+  // Registry coordinates rho = Q(-theta) s / d_tip of block site i (tip spacings; s / d for the
+  // aligned tip): round(rho) is the site's registry index along each tip axis.
+  void registry(std::size_t i, double ux, double uy, double& rho1, double& rho2) const;
+  [[nodiscard]] const TipFrame& tip_frame() const { return frame_; }
 
   // On the contact sites, with u and f_int component-major ([x of each contact site][y ...]):
   // returns V, writes the interface force. threads: for the per-site terms of large contacts
   // (V and f_int are bit for bit the same on any number; the sum runs in site order).
   double energy_and_force(std::span<const double> u, std::span<double> f_int,
                           int threads = 1) const;
-  // Interface Hessian diagonal d2V/du2 = tau_max d^2 (2 pi/d) cos(2 pi s/d).
+  // Interface Hessian diagonal d2V/du2 = tau_max d^2 (2 pi/d) cos(2 pi s/d); under a rotated
+  // tip c^2 k1 + s^2 k2 (x) and s^2 k1 + c^2 k2 (y), k_j = tau_max d^2 (2 pi/d_tip) cos(2 pi
+  // rho_j).
   void curvature(std::span<const double> u, std::span<double> h) const;
+  // The interface Hessian's coupling d2V/dux duy of each contact site, c s (k1 - k2), into hxy
+  // (one value per contact site). Returns false, writing nothing, when the tip's lattice is not
+  // rotated: the interface then couples no two unknowns.
+  bool curvature_coupling(std::span<const double> u, std::span<double> hxy) const;
 
  private:
   ContactScene scene_;
@@ -108,8 +124,34 @@ class LateralForceModel {
   std::vector<double> tau_max_, pressure_;
   std::vector<std::size_t> sites_;
   std::vector<double> site_tau_, site_phase_x_;  // per contact site: tau_max, (X - Dx)/d mod 1
+  TipFrame frame_;
+  // Out of registry, per contact site: rho at u = 0 mod 1 (tip_lattice.hpp); empty if aligned.
+  std::vector<double> site_rho1_, site_rho2_;
   double load_ = 0.0;
   double area_ = 0.0;
 };
+
+// Static friction of the tip on a rigid substrate (u = 0): the largest Fx(Dx) / F_I over one
+// period of the slide, Fx the sum of the site forces of MODEL.md 3 at u = 0 (Fx(Dx + d) = Fx(Dx):
+// the envelope moves with the tip). For the aligned tip Fx / F_I = 1 (MODEL.md 3, Regime I). Out of
+// registry (tip_lattice.hpp) the site forces are phase-shifted across the contact and cancel in
+// part: the Regime I limit of mu under a rotated or mismatched tip (a << b_core^0); beyond, the
+// substrate's elasticity pulls sites into registry (misfit dislocations). For many sites it tends
+// to cos(theta) |T(q)| / T(0), T the Fourier transform of tau_max(r) (the pressure's for Hertz) and
+// q = 2 pi |Q(theta) e_x / d_tip - e_x / d| the beat of the two lattices along the slide
+// (|3 (sin x - x cos x) / x^3| at x = q a for Hertz; q = (2 pi / d) sqrt(theta^2 + m^2) for small
+// theta and m); the tip's other axis adds nothing to Fx for a symmetric envelope.
+// The friction is taken relative to the aligned tip's Regime I force F_I = sum_i tau_max(r_i)
+// d^2 (alpha Fz for the Hertz envelope, so that over_regime_one = mu / alpha), which needs no
+// load: the measure of any envelope.
+struct RigidTipFriction {
+  double over_regime_one = 0.0;  // max Fx / F_I over the period
+  double mu = 0.0;               // Fx / Fz there (NaN without load)
+  double Dx = 0.0;               // where, in [0, d)
+  double Fx = 0.0, Fz = 0.0, F_I = 0.0;
+};
+// `samples` tip positions over [0, d), then a golden-section search around the best to 1e-9 d.
+// Throws std::invalid_argument for samples < 4 and for a scene validate() rejects.
+RigidTipFriction rigid_tip_friction(const ContactScene& scene, int samples = 64);
 
 }  // namespace asperity::interface

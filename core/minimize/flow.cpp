@@ -55,7 +55,6 @@ class Flow final : public MinimizerMethod {
         y2f_(run.n),
         gu_(run.n),
         gf_(run.n),
-        h_(run.n),
         v_(run.n),
         w_(run.n),
         z_(run.n) {
@@ -147,7 +146,8 @@ class Flow final : public MinimizerMethod {
   // warm-started from the last vector.
   void estimate_radius(const Point& x) {
     const std::size_t n = v_.size();
-    run_.problem.curvature(x.u, h_);
+    hessian_.at(run_.problem, x.u);
+    const std::vector<double>& h = hessian_.diagonal();
     if (!have_vector_) {
       for (std::size_t i = 0; i < n; ++i)
         v_[i] = 1.0 + 0.5 * std::sin(1.7 * static_cast<double>(i));  // not an eigenvector
@@ -159,8 +159,14 @@ class Flow final : public MinimizerMethod {
       if (!(norm > 0.0)) break;
       view(std::span<double>(v_)) /= norm;
       run_.problem.compliance(v_, gu_);
-      for (std::size_t i = 0; i < n; ++i)
-        z_[i] = v_[i] + h_[i] * gu_[i];
+      if (hessian_.coupled()) {
+        hessian_.apply(gu_, z_);
+        for (std::size_t i = 0; i < n; ++i)
+          z_[i] += v_[i];
+      } else {
+        for (std::size_t i = 0; i < n; ++i)
+          z_[i] = v_[i] + h[i] * gu_[i];
+      }
       if (filter_) {
         run_.filter(z_, w_);
       } else {
@@ -261,8 +267,9 @@ class Flow final : public MinimizerMethod {
   // -F at x and at the trial: (G P r, P r).
   std::vector<double> Fu_, Ff_, Fu_new_, Ff_new_;
   std::vector<double> y1u_, y1f_, y2u_, y2f_, gu_, gf_;  // RKC stages
-  std::vector<double> h_, v_, w_, z_;                    // power iteration
-  std::vector<double> T_, dT_, ddT_, b_;                 // Chebyshev coefficients
+  InterfaceHessian hessian_;                             // power iteration
+  std::vector<double> v_, w_, z_;
+  std::vector<double> T_, dT_, ddT_, b_;  // Chebyshev coefficients
   bool fresh_ = false, have_vector_ = false, rejected_last_ = false;
   double step_ = 0.0, radius_ = 0.0;
   int since_estimate_ = 0;

@@ -232,7 +232,8 @@ void Lbfgs::reset_on_curvature_change() {
 // consistent (u = G f). J v = v + H_int (G v). Returns true if it converged (x is then updated).
 bool newton_finish(Problem& problem, Point& x, const MinimizerOptions& options) {
   const std::size_t n = x.f.size();
-  std::vector<double> f = x.f, u(n), fint(n), h(n), gv(n), at(n);
+  std::vector<double> f = x.f, u(n), fint(n), gv(n), hgv(n), at(n);
+  InterfaceHessian hessian;
   bool have_h = false;
   const auto residual = [&](std::span<const double> fin, std::span<double> F) {
     problem.compliance(fin, u);
@@ -244,13 +245,20 @@ bool newton_finish(Problem& problem, Point& x, const MinimizerOptions& options) 
                           std::span<double> jv) {
     if (!have_h || !std::equal(fin.begin(), fin.end(), at.begin())) {  // new Newton iterate
       problem.compliance(fin, u);
-      problem.curvature(u, h);
+      hessian.at(problem, u);
       std::copy(fin.begin(), fin.end(), at.begin());
       have_h = true;
     }
     problem.compliance(v, gv);
-    for (std::size_t i = 0; i < n; ++i)
-      jv[i] = v[i] + h[i] * gv[i];
+    if (hessian.coupled()) {
+      hessian.apply(gv, hgv);
+      for (std::size_t i = 0; i < n; ++i)
+        jv[i] = v[i] + hgv[i];
+    } else {
+      const std::vector<double>& h = hessian.diagonal();
+      for (std::size_t i = 0; i < n; ++i)
+        jv[i] = v[i] + h[i] * gv[i];
+    }
   };
   const auto r = solve::newton_krylov(f, residual, jtimes,
                                       {.tolerance = options.force_tolerance, .max_iterations = 30});

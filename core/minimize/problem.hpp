@@ -7,8 +7,10 @@
 // and the G-preconditioned direction -G r costs one GF application, its K-image -r nothing.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
+#include <vector>
 
 namespace asperity::minimize {
 
@@ -25,8 +27,19 @@ class Problem {
   // Interface energy V(u); writes the interface force f_int = -dV/du.
   virtual double interface(std::span<const double> u, std::span<double> f_int) const = 0;
 
-  // Diagonal of the interface Hessian d2V/du2 (the interface couples no two unknowns).
+  // Diagonal of the interface Hessian d2V/du2 (the interface couples no two sites).
   virtual void curvature(std::span<const double> u, std::span<double> h) const = 0;
+
+  // Couplings of the interface Hessian between two components of one site, where the interface
+  // has them (the lateral force model under a rotated tip: interface/tip_lattice.hpp): unknowns
+  // j and j + stride, j < stride, are coupled by d2V/du_j du_(j+stride) = hxy[j]. Returns the
+  // stride, having written stride values to hxy (which has size() values); 0, writing nothing:
+  // the interface Hessian is the diagonal of curvature().
+  [[nodiscard]] virtual std::size_t curvature_coupling(std::span<const double> u,
+                                                       std::span<double> hxy) const {
+    (void)u, (void)hxy;
+    return 0;
+  }
 
   // Optional interface filter M, an approximation of (I + D G)^-1 with D the interface
   // stiffness: preconditioned directions become du = G M r, whose K-image is M r, so the pair
@@ -49,6 +62,44 @@ class Problem {
   // Threads the solver may use for its element-wise vector passes (those are bit for bit the
   // same on any number of threads; its sums stay serial): the threads of the problem's FFTs.
   [[nodiscard]] virtual int threads() const { return 1; }
+};
+
+// The interface Hessian of a problem at u (curvature() and curvature_coupling()), for the
+// stability checks, the Newton-Krylov finish and the flow's spectral radius. Without couplings
+// the callers keep their diagonal arithmetic (coupled() false), bit for bit as before.
+class InterfaceHessian {
+ public:
+  void at(const Problem& p, std::span<const double> u) {
+    h_.resize(p.size());
+    hxy_.resize(p.size());
+    p.curvature(u, h_);
+    stride_ = p.curvature_coupling(u, hxy_);
+  }
+  [[nodiscard]] bool coupled() const { return stride_ > 0; }
+  [[nodiscard]] const std::vector<double>& diagonal() const { return h_; }
+  // out = H v.
+  void apply(std::span<const double> v, std::span<double> out) const {
+    for (std::size_t i = 0; i < h_.size(); ++i)
+      out[i] = h_[i] * v[i];
+    for (std::size_t j = 0; j < stride_; ++j) {
+      out[j] += hxy_[j] * v[j + stride_];
+      out[j + stride_] += hxy_[j] * v[j];
+    }
+  }
+  // Whether H is positive semi-definite: every diagonal element and, where coupled, every
+  // 2 x 2 block (h_jj h_kk >= h_jk^2).
+  [[nodiscard]] bool positive_semidefinite() const {
+    if (h_.empty()) return true;
+    if (*std::min_element(h_.begin(), h_.end()) < 0.0) return false;
+    for (std::size_t j = 0; j < stride_; ++j) {
+      if (h_[j] * h_[j + stride_] < hxy_[j] * hxy_[j]) return false;
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> h_, hxy_;
+  std::size_t stride_ = 0;
 };
 
 }  // namespace asperity::minimize

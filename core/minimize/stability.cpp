@@ -22,14 +22,19 @@ namespace {
 class HessianOp {
  public:
   using Scalar = double;
-  HessianOp(Problem& p, std::span<const double> h) : p_(&p), h_(h), z_(p.size()), t_(p.size()) {}
+  HessianOp(Problem& p, const InterfaceHessian& hessian)
+      : p_(&p), hessian_(&hessian), h_(hessian.diagonal()), z_(p.size()), t_(p.size()) {}
   [[nodiscard]] Eigen::Index rows() const { return static_cast<Eigen::Index>(h_.size()); }
   [[nodiscard]] Eigen::Index cols() const { return rows(); }
   void perform_op(const double* x, double* y) const {
     const std::size_t n = h_.size();
     p_->compliance({x, n}, z_);
-    for (std::size_t i = 0; i < n; ++i)
-      t_[i] = h_[i] * z_[i];
+    if (hessian_->coupled()) {
+      hessian_->apply(z_, t_);
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        t_[i] = h_[i] * z_[i];
+    }
     p_->compliance(t_, {y, n});
     for (std::size_t i = 0; i < n; ++i)
       y[i] += z_[i];
@@ -37,6 +42,7 @@ class HessianOp {
 
  private:
   Problem* p_;
+  const InterfaceHessian* hessian_;
   std::span<const double> h_;
   mutable std::vector<double> z_, t_;
 };
@@ -46,9 +52,9 @@ class HessianOp {
 Stability lowest_mode(Problem& problem, std::span<const double> u) {
   const std::size_t n = problem.size();
   const std::size_t gf0 = problem.gf_applications();
-  std::vector<double> h(n);
-  problem.curvature(u, h);
-  HessianOp op(problem, h);
+  InterfaceHessian hessian;
+  hessian.at(problem, u);
+  HessianOp op(problem, hessian);
   Stability s;
   Eigen::VectorXd w;
   if (n <= 60) {  // small problems: the dense matrix, column by column
@@ -166,9 +172,9 @@ bool push_check(Relaxation& run, int& iteration) {
 
 Verdict check_minimum(Relaxation& run, int& iteration) {
   if (run.options.stability == StabilityCheck::none) return Verdict::minimum;
-  std::vector<double> h(run.n);
-  run.problem.curvature(run.x.u, h);
-  if (*std::min_element(h.begin(), h.end()) >= 0.0) return Verdict::minimum;  // K + H_int > 0
+  InterfaceHessian hessian;
+  hessian.at(run.problem, run.x.u);
+  if (hessian.positive_semidefinite()) return Verdict::minimum;  // K + H_int > 0
   run.result.stability_checked = true;
   std::optional<bool> unstable;
   if (run.options.stability == StabilityCheck::lanczos) unstable = lanczos_check(run);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "asperity/core/common/shape.hpp"
+#include "asperity/core/interface/tip_lattice.hpp"
 
 namespace asperity::slide {
 
@@ -40,6 +41,9 @@ struct Snapshot {
                                           // explicit model's alpha p and p = -f_z / d^2
   std::vector<double> uz;                 // explicit model: normal displacement (d); LFM: empty
   std::vector<std::uint8_t> in_contact;
+  // The tip's lattice (interface/tip_lattice.hpp): the registry of a site is
+  // rho = Q(-angle) (sx, sy) / ((1 + mismatch) d), which tracking follows (docs/tracking.md).
+  interface::TipLattice tip;
   // Of a slip's "before" and "after" states: the sites whose registry index changed in the slip
   // (TraceRow::slipped_sites); 0 for every other frame. Not stored in the NetCDF frames.
   int slipped_sites = 0;
@@ -53,7 +57,8 @@ struct Snapshot {
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
-  // A state: "peak" (at the end), "slip_NNN_before", "slip_NNN_after", "last_good".
+  // A state: "start" (the loaded contact at Dx = 0, before the slide), "peak" (at the end),
+  // "slip_NNN_before", "slip_NNN_after", "last_good".
   virtual void state(const Snapshot& frame) = 0;
   // A frame of the relaxation path of a computed slip ("slip_NNN_path"), in iteration order,
   // after the slip's "before" and "after" states.

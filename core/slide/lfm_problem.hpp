@@ -23,7 +23,8 @@ class LfmProblem final : public minimize::Problem {
   }
 
   // The interface filter M = (I + c G)^-1 (FreeSurfaceGF::apply_filter) with c half the mean
-  // in-registry stiffness of the contact sites, 2 pi tau_max d (MODEL.md 3: V_i'' at s = 0).
+  // in-registry stiffness of the contact sites, 2 pi tau_max d (MODEL.md 3: V_i'' at s = 0;
+  // 2 pi tau_max d^2 / d_tip under a tip of another spacing, interface/tip_lattice.hpp).
   // Half, because the stiffness a relaxation sees is lower than in registry (sites away from
   // their wells, and at a slip front negative): on a = 80 d, R = 535 d, fractions 0.25, 0.5, 1
   // and 2 of the in-registry mean took 331, 291, 291 and 324 iterations through the slip
@@ -49,8 +50,9 @@ class LfmProblem final : public minimize::Problem {
     for (std::size_t j = 0; j < m; ++j)
       tau += lfm_.tau_max()[sites[j]];
     const double d = lfm_.scene().d;
-    const double c =
+    double c =
         m > 0 ? filter_fraction * 2.0 * std::numbers::pi * d * tau / static_cast<double>(m) : 0.0;
+    if (!lfm_.tip_frame().aligned()) c *= d / lfm_.tip_frame().spacing();
     gf_.apply_filter(sites, r, w, c);
   }
 
@@ -59,6 +61,11 @@ class LfmProblem final : public minimize::Problem {
   }
   void curvature(std::span<const double> u, std::span<double> h) const override {
     lfm_.curvature(u, h);
+  }
+  // A rotated tip couples the x and y of a site (unknowns j and m + j).
+  [[nodiscard]] std::size_t curvature_coupling(std::span<const double> u,
+                                               std::span<double> hxy) const override {
+    return lfm_.curvature_coupling(u, hxy) ? lfm_.contact_sites().size() : 0;
   }
   [[nodiscard]] std::size_t gf_applications() const override { return gf_.applications(); }
   [[nodiscard]] int threads() const override { return gf_.threads(); }

@@ -2,7 +2,8 @@
 // against the reference path, the overdamped gradient flow (minimize::Method::flow).
 //
 // The reference path fixes "the next minimum" after an instability: the same registry index
-// round(s/d) on every contact site as the flow's end state, and the same friction force
+// round(s/d) on every contact site (round(rho) per tip axis under a tip out of registry,
+// interface/tip_lattice.hpp) as the flow's end state, and the same friction force
 // (|dFx| / Fx <= 1e-4: the force tolerance of a slide, 1e-5 G d^2 per site, moves Fx by far
 // less). A solver that ends elsewhere took another path, however small its residual. And at a
 // fold, a trial step a solver calls a slip must be one the flow calls a slip from the same state.

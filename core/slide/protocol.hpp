@@ -469,7 +469,12 @@ class ProtocolRun {
       res_.failed = true;  // no good state yet to keep
       res_.stop_reason = why;
       stopped_ = true;
+      return;
     }
+    // The loaded contact before the slide: what exists without nucleation, e.g. the misfit
+    // dislocations under a tip lattice out of registry (interface/tip_lattice.hpp). A resumed
+    // slide has handed it over already.
+    sink_->state(model_.snapshot(state_, "start"));
   }
 
   // The state at the top of the stepping loop (or after it), for checkpoints. Its cost is the

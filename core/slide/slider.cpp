@@ -250,14 +250,25 @@ class Slider {
     snap.tau_max = lfm_.tau_max();
     snap.pressure = lfm_.pressure();
     snap.in_contact.assign(n, 0);
+    snap.tip = scene_.tip;
     const double k = 2.0 * std::numbers::pi / scene_.d;
+    const interface::TipFrame& frame = lfm_.tip_frame();
     for (std::size_t i = 0; i < n; ++i) {
       snap.sx[i] = lfm_.sx(i, snap.ux[i]);
       snap.sy[i] = lfm_.sy(i, snap.uy[i]);
       if (snap.tau_max[i] > 0.0) {
         snap.in_contact[i] = 1;
-        snap.tau_x[i] = -snap.tau_max[i] * std::sin(k * snap.sx[i]);
-        snap.tau_y[i] = -snap.tau_max[i] * std::sin(k * snap.sy[i]);
+        if (frame.aligned()) {
+          snap.tau_x[i] = -snap.tau_max[i] * std::sin(k * snap.sx[i]);
+          snap.tau_y[i] = -snap.tau_max[i] * std::sin(k * snap.sy[i]);
+        } else {
+          // f / d^2 = -tau_max Q(theta) [sin(2 pi rho1), sin(2 pi rho2)] (tip_lattice.hpp).
+          double rho1 = 0.0, rho2 = 0.0;
+          frame.registry(snap.sx[i], snap.sy[i], rho1, rho2);
+          frame.to_substrate(-snap.tau_max[i] * std::sin(2.0 * std::numbers::pi * rho1),
+                             -snap.tau_max[i] * std::sin(2.0 * std::numbers::pi * rho2),
+                             snap.tau_x[i], snap.tau_y[i]);
+        }
       }
     }
     return snap;
@@ -469,12 +480,27 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
   const auto jumped = [&](double s_before, double s_after, double du) {
     return std::lround(s_before / d) != std::lround(s_after / d) && std::abs(du) >= 0.25 * d;
   };
+  // Out of registry the index is round(rho) per tip axis (tip_lattice.hpp) and the jump the
+  // displacement along that axis.
+  const interface::TipFrame& frame = at_after.tip_frame();
+  const auto jumped_tip = [&](std::size_t i) {
+    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0, du1 = 0.0, du2 = 0.0;
+    at_before.registry(i, u_before[i], u_before[n + i], b1, b2);
+    at_after.registry(i, u_after[i], u_after[n + i], a1, a2);
+    frame.to_tip(u_after[i] - u_before[i], u_after[n + i] - u_before[n + i], du1, du2);
+    return (std::lround(b1) != std::lround(a1) && std::abs(du1) >= 0.25 * d) ||
+           (std::lround(b2) != std::lround(a2) && std::abs(du2) >= 0.25 * d);
+  };
   const std::size_t first_new_row =
       static_cast<std::size_t>(block.shape.n0 - std::clamp(entered_rows, 0, block.shape.n0));
   int count = 0;
   for (std::size_t i : at_after.contact_sites()) {
     if (i / static_cast<std::size_t>(block.shape.n1) >= first_new_row) continue;
     if (at_before.tau_max()[i] <= 0.0) continue;  // entered the contact in this step
+    if (!frame.aligned()) {
+      if (jumped_tip(i)) ++count;
+      continue;
+    }
     if (jumped(at_before.sx(i, u_before[i]), at_after.sx(i, u_after[i]),
                u_after[i] - u_before[i]) ||
         jumped(at_before.sy(i, u_before[n + i]), at_after.sy(i, u_after[n + i]),

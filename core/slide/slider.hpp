@@ -76,7 +76,9 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
 
 // Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
 // positions whose registry index round(s/d) (x or y) changed between the two displacement fields
-// (2 per block site, x then y, both on this block) by a jump of at least d/4 in that component.
+// (2 per block site, x then y, both on this block) by a jump of at least d/4 in that component;
+// under a tip out of registry the index round(rho) and the component along each tip axis
+// (interface/tip_lattice.hpp).
 // The last `entered_rows` rows along x came into the block between the two states (no
 // displacement before) and are skipped. Throws std::invalid_argument on fields of another size.
 int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& block,

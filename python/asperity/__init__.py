@@ -110,6 +110,9 @@ def snapshot_dataset(frames, attributes=None):
     }
     ds = xr.Dataset(data, coords=coords, attrs=dict(attributes or {}))
     ds.attrs["label"] = first["label"]
+    # The tip's lattice, as the files carry it (alike in every frame of a file).
+    ds.attrs["tip_angle"] = float(first.get("tip_angle", 0.0))
+    ds.attrs["tip_mismatch"] = float(first.get("tip_mismatch", 0.0))
     return ds
 
 
@@ -189,7 +192,8 @@ def _frame_fields(frame, index):
     origin_x = int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0])
     origin_y = int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0])
     contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
-    return block("sx"), block("tau_x"), block("tau_max"), contact, origin_x, origin_y
+    return (block("sx"), block("tau_x"), block("tau_max"), contact, origin_x, origin_y,
+            block("sy"), block("tau_y"))
 
 
 def find_lines(frame, index=0, periodic=None, **options):
@@ -201,11 +205,15 @@ def find_lines(frame, index=0, periodic=None, **options):
     Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order) and the
     frame's counts (contact_sites, contact_radius, core_crossings, ...).
     """
-    sx, tau_x, tau_max, contact, ox, oy = _frame_fields(frame, index)
+    sx, tau_x, tau_max, contact, ox, oy, sy, tau_y = _frame_fields(frame, index)
     if periodic is None:
         periodic = bool(frame.attrs.get("periodic", False))
+    # A tip out of registry (the files' attributes): lines along the tip's lattice.
     return _asperity.find_lines(sx, tau_x, tau_max, contact, origin_x=ox, origin_y=oy,
-                                periodic=periodic, **options)
+                                periodic=periodic, sy=sy, tau_y=tau_y,
+                                tip_angle=float(frame.attrs.get("tip_angle", 0.0)),
+                                tip_mismatch=float(frame.attrs.get("tip_mismatch", 0.0)),
+                                **options)
 
 
 from . import tools  # noqa: E402  (the tools need the names above)

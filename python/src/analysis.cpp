@@ -38,7 +38,9 @@ py::object json_to_python(const nlohmann::json& j) {
 py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
                     const Array<double>& tau_max, const py::object& in_contact, int origin_x,
                     int origin_y, double d, bool periodic, double min_length, int slip_sign,
-                    int tangent_half_window, double screw_angle_deg, double centre_fraction) {
+                    int tangent_half_window, double screw_angle_deg, double centre_fraction,
+                    const py::object& sy, const py::object& tau_y, double tip_angle,
+                    double tip_mismatch) {
   if (sx.ndim() != 2) throw py::value_error("find_lines: sx must be 2D, (n0, n1) block-major");
   tracking::FieldView view;
   view.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
@@ -52,6 +54,17 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
     contact = in_contact.cast<Array<std::uint8_t>>();
     view.in_contact = {contact.data(), static_cast<std::size_t>(contact.size())};
   }
+  // A tip out of registry: the registry along the tip's first axis needs sy and tau_y too.
+  Array<double> sy_values, tau_y_values;
+  if (!sy.is_none()) {
+    sy_values = sy.cast<Array<double>>();
+    view.sy = {sy_values.data(), static_cast<std::size_t>(sy_values.size())};
+  }
+  if (!tau_y.is_none()) {
+    tau_y_values = tau_y.cast<Array<double>>();
+    view.tau_y = {tau_y_values.data(), static_cast<std::size_t>(tau_y_values.size())};
+  }
+  view.tip = {.angle = tip_angle, .mismatch = tip_mismatch};
   tracking::DetectOptions o;
   o.min_length = min_length;
   o.slip_sign = slip_sign;
@@ -139,8 +152,11 @@ void bind_analysis(py::module_& m) {
         py::arg("d") = 1.0, py::arg("periodic") = false, py::arg("min_length") = 2.0,
         py::arg("slip_sign") = -1, py::arg("tangent_half_window") = 1,
         py::arg("screw_angle_deg") = 45.0, py::arg("centre_fraction") = 0.5,
-        "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; returns "
-        "the lines as lines.json records and the frame's counts");
+        py::arg("sy") = py::none(), py::arg("tau_y") = py::none(), py::arg("tip_angle") = 0.0,
+        py::arg("tip_mismatch") = 0.0,
+        "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; a tip out of "
+        "registry (tip_angle, tip_mismatch) needs sy and tau_y too; returns the lines as "
+        "lines.json records and the frame's counts");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),

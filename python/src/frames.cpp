@@ -44,11 +44,12 @@ py::list frames_to_python(std::vector<slide::Snapshot>&& frames) {
     fields["pressure"] = adopt(std::move(f.pressure), shape);
     if (!f.uz.empty()) fields["uz"] = adopt(std::move(f.uz), shape);
     fields["in_contact"] = adopt(std::move(f.in_contact), shape);
-    out.append(py::dict(py::arg("label") = f.label, py::arg("iteration") = f.iteration,
-                        py::arg("Dx") = f.Dx, py::arg("Fx") = f.Fx, py::arg("Fz") = f.Fz,
-                        py::arg("energy") = f.energy, py::arg("origin_x") = f.block.origin0,
-                        py::arg("origin_y") = f.block.origin1,
-                        py::arg("slipped_sites") = f.slipped_sites, py::arg("fields") = fields));
+    out.append(py::dict(
+        py::arg("label") = f.label, py::arg("iteration") = f.iteration, py::arg("Dx") = f.Dx,
+        py::arg("Fx") = f.Fx, py::arg("Fz") = f.Fz, py::arg("energy") = f.energy,
+        py::arg("origin_x") = f.block.origin0, py::arg("origin_y") = f.block.origin1,
+        py::arg("slipped_sites") = f.slipped_sites, py::arg("tip_angle") = f.tip.angle,
+        py::arg("tip_mismatch") = f.tip.mismatch, py::arg("fields") = fields));
   }
   frames.clear();
   return out;

@@ -93,3 +93,20 @@ def test_ctrl_c_stops_the_slide_with_keyboard_interrupt():
         asperity.slide(scene, progress=lambda r: cut.append(r["phase"]))
     timer.join()
     assert cut.count("accepted") < full.count("accepted")
+
+
+def test_tip_lattice_keys_are_the_tools(tmp_path):
+    # The tip's lattice out of registry (issue 27): rows of the same settings table, so a dict
+    # takes them nested or dotted, and the slide is the tool's to the bit.
+    scene = {"contact": {"a": 12, "R": 535, "tip_angle": 2.0, "tip_mismatch": 0.01}}
+    dotted = {"contact.a": 12, "contact.R": 535, "contact.tip_angle": 2.0,
+              "contact.tip_mismatch": 0.01}
+    assert asperity.Scene(scene).settings == asperity.Scene(dotted).settings
+    result = asperity.slide(scene)
+    subprocess.run([BIN / "contact_slide", "--a", "12", "--R", "535", "--tip-angle", "2",
+                    "--tip-mismatch", "0.01", "--out", tmp_path], check=True, capture_output=True)
+    tool = json.loads((tmp_path / "summary.json").read_text())
+    assert result.mu == tool["mu"]
+    assert result.mu_over_alpha < 1.0  # Regime I out of registry
+    with pytest.raises(ValueError, match="contact.tip_angle"):
+        asperity.Scene({"contact": {"tip_angle": 60}})

@@ -95,6 +95,12 @@ check $cs "--distance" --distance -1
 check $cs "--bogus" --bogus
 check $cs "scene" "$work/no_such_scene.toml"
 check $cs "contact.R" --R 1e10
+# The tip's lattice (issue 27): ranges, flags, and the explicit tip's spacing against the cutoff.
+check $cs "contact.tip_angle" "$(scene t1 <<<$'[contact]\ntip_angle = 50')"
+check $cs "contact.tip_mismatch" "$(scene t2 <<<$'[contact]\ntip_mismatch = -0.3')"
+check $cs "--tip-angle" --tip-angle nan
+check $cs "--tip-mismatch" --tip-mismatch 0.5
+check $cs "tip lattice spacing" --model explicit --tip-mismatch 0.19
 # Memory: the checks plan with ASPERITY_MEMORY_GIB (1 GiB here), so that the cases do not depend
 # on the machine: a = 1000 d needs about 4 GiB, two contacts of 600-700 d at once about 3.6 GiB.
 ASPERITY_MEMORY_GIB=1 check $cs "contact.a = 1000 d needs about" --a 1000 --R 1e6
@@ -132,6 +138,10 @@ check $fs "raise R" "$(scene w8 <<<$'[sweep]\nR = [100]\na_over_bcore0 = [10]\nm
 check $fs 'sweep.model = "both": allowed: "lfm"' "$(scene w10 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "both"\n[contact]\nenvelope = "adhesive"\ntau0 = 0.1')"
 check $fs "sweep.a_over_bcore0[0] = 1000 needs a = 5000 d: allowed: [0.2, 819.2] (a in [1, 4096] d)" "$(scene w11 <<<$'[sweep]\na_over_bcore0 = [1000]\n[contact]\nenvelope = "adhesive"\ntau0 = 0.2')"
 check $fs "explicit.sigma_over_d" "$(scene w9 <<<$'[sweep]\nR = [535]\na = [5]\n[explicit]\nsigma_over_d = 2')"
+check $fs "sweep.tip_angle" "$(scene wt1 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [0, 60]')"
+check $fs "sweep.tip_mismatch" "$(scene wt2 <<<$'[sweep]\nR = [535]\na = [5]\ntip_mismatch = [0.3]')"
+check $fs "contact.tip_angle and sweep.tip_angle" "$(scene wt3 <<<$'[sweep]\nR = [535]\na = [5]\ntip_angle = [1, 2]\n[contact]\ntip_angle = 1')"
+check $fs "tip lattice spacing" "$(scene wt4 <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "explicit"\ntip_mismatch = [0.19]')"
 
 gv=gf_validate
 check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"

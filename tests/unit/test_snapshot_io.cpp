@@ -293,6 +293,41 @@ TEST_F(SnapshotIo, ReadsAndAppendsTheOlderXYLayout) {
   }
 }
 
+// The tip's lattice (slide::Snapshot::tip) is the file's: global attributes tip_angle and
+// tip_mismatch, read back into every frame; absent (files written before them): aligned. A
+// frame of another tip does not go into the file.
+TEST_F(SnapshotIo, TipLatticeIsAGlobalAttribute) {
+  std::vector<Snapshot> rotated = frames();
+  for (Snapshot& f : rotated)
+    f.tip = {.angle = 2.5, .mismatch = -0.01};
+  const fs::path nc = dir_ / "tip.nc";
+  write_snapshots(nc, rotated, {{"tip_angle", "ignored: the frames' tip is written"}});
+  for (const Snapshot& f : read_snapshots(nc)) {
+    EXPECT_EQ(f.tip.angle, 2.5);
+    EXPECT_EQ(f.tip.mismatch, -0.01);
+  }
+  SnapshotAppender more = SnapshotAppender::open(nc);
+  EXPECT_EQ(more.read(0).tip.angle, 2.5);
+  more.close();
+  // A file without the attributes: drop them (as written before issue 27).
+  int id = -1;
+  ASSERT_EQ(nc_open(nc.c_str(), NC_WRITE, &id), NC_NOERR);
+  ASSERT_EQ(nc_redef(id), NC_NOERR);
+  ASSERT_EQ(nc_del_att(id, NC_GLOBAL, "tip_angle"), NC_NOERR);
+  ASSERT_EQ(nc_del_att(id, NC_GLOBAL, "tip_mismatch"), NC_NOERR);
+  ASSERT_EQ(nc_close(id), NC_NOERR);
+  EXPECT_TRUE(read_snapshots(nc).front().tip.aligned());
+  // Frames of two tips in one file.
+  rotated[1].tip.angle = 3.0;
+  EXPECT_NE(invalid_argument_message([&] {
+              write_snapshots(dir_ / "two.nc", rotated, {});
+            }).find("tip lattice differs"),
+            std::string::npos);
+  SnapshotAppender appender(dir_ / "grow.nc", {}, {});
+  appender.append(rotated[0]);
+  EXPECT_THROW(appender.append(rotated[1]), std::invalid_argument);
+}
+
 TEST_F(SnapshotIo, InvalidInputThrowsAndWritesNothing) {
   const fs::path nc = dir_ / "s.nc";
   EXPECT_THROW(write_snapshots(nc, {}, {}), std::invalid_argument);

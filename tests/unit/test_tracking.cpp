@@ -84,6 +84,45 @@ TEST(Lines, LoopSenseAndOrientation) {
   EXPECT_GT(g.regions[0].size(), 64u * 64u / 2);
 }
 
+// A tip lattice out of registry (FieldView::tip): the lines follow the registry along the tip's
+// first axis. A loop written in that registry (rho_1 = the aligned field's s_x / d, the stress
+// along the axis its tau_x, rho_2 = Y / d_tip) and turned into the substrate's frame is found
+// as the aligned field's loop: the same vertices and Burgers index.
+TEST(Lines, LoopInTheFrameOfARotatedTip) {
+  const SyntheticField a = synthetic_field(SyntheticOptions{}, {{0, 0, 12, 8}});
+  const FrameLines fa = find_lines(a.view());
+  ASSERT_EQ(fa.lines.size(), 1u);
+  const interface::TipLattice tip { .angle = 3.0, .mismatch = 0.02 };
+  const interface::TipFrame frame(tip, 1.0);
+  const std::size_t n = a.sx.size();
+  std::vector<double> sx(n), sy(n), tau_x(n), tau_y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double Y = a.block.y(static_cast<int>(i % 64), 1.0);
+    frame.to_substrate(a.sx[i] * frame.spacing(), Y, sx[i], sy[i]);
+    frame.to_substrate(a.tau_x[i], 0.0, tau_x[i], tau_y[i]);
+  }
+  FieldView v = a.view();
+  v.sx = sx;
+  v.tau_x = tau_x;
+  v.sy = sy;
+  v.tau_y = tau_y;
+  v.tip = tip;
+  const FrameLines fr = find_lines(v);
+  ASSERT_EQ(fr.lines.size(), 1u);
+  const Line &la = fa.lines[0], &lr = fr.lines[0];
+  EXPECT_EQ(lr.kind, LineKind::loop);
+  EXPECT_EQ(lr.burgers, la.burgers);
+  ASSERT_EQ(lr.points.size(), la.points.size());
+  for (std::size_t k = 0; k < la.points.size(); ++k) {
+    EXPECT_NEAR(lr.points[k].x, la.points[k].x, 1e-9);
+    EXPECT_NEAR(lr.points[k].y, la.points[k].y, 1e-9);
+  }
+  EXPECT_NEAR(lr.area, la.area, 1e-6);
+  // Without sy and tau_y a rotated tip's view is refused.
+  v.sy = {};
+  EXPECT_THROW((void)find_lines(v), std::invalid_argument);
+}
+
 TEST(Lines, BandInPeriodicCellGivesTwoWrappingScrewLines) {
   SyntheticOptions o;
   o.block = LatticeBlock{.shape = {48, 64}, .origin0 = 0, .origin1 = 0};
