@@ -103,3 +103,29 @@ def test_find_lines_reads_a_tools_file_opened_with_xarray(runs):
     with xr.open_dataset(files / "slip_001_after.nc") as ds:
         from_file = asperity.find_lines(ds)
     assert from_file == asperity.find_lines(result.snapshots["slip_001_after"])
+
+
+def test_find_lines_follows_a_rotated_tip(tmp_path):
+    # A tip rotated by 2 degrees at a = 43 d (a/b_core^0 = 2.4 > 1): misfit dislocations exist in
+    # the loaded state before any sliding (docs/tips.md); find_lines on the Python "start" state
+    # finds what track_loops finds in the tool's start.nc, in the tip's frame.
+    scene = {"contact": {"a": 43, "R": 535, "tip_angle": 2.0},
+             "output": {"precision": "double"}, "slide": {"max_slips": 1}}
+    result = asperity.slide(scene)
+    start = result.snapshots["start"]
+    assert start.attrs["tip_angle"] == 2.0
+    ours = asperity.find_lines(start)["lines"]
+    (tmp_path / "scene.toml").write_text(
+        "[contact]\na = 43.0\nR = 535.0\ntip_angle = 2.0\n[output]\nprecision = \"double\"\n"
+        "[slide]\nmax_slips = 1\n")
+    subprocess.run([BIN / "contact_slide", tmp_path / "scene.toml", "--out", tmp_path / "o"],
+                   check=True, capture_output=True)
+    subprocess.run([BIN / "track_loops", tmp_path / "o" / "snapshots" / "start.nc",
+                    "--plot-every", "0", "--out", tmp_path / "t"], check=True,
+                   capture_output=True)
+    theirs = json.loads((tmp_path / "t" / "lines.json").read_text())["frames"][0]["lines"]
+    assert len(ours) == len(theirs) >= 2
+    key = lambda line: (line["kind"], round(line["length"], 9))
+    for a, b in zip(sorted(ours, key=key), sorted(theirs, key=key)):
+        for field in ("kind", "burgers_x", "length", "points", "angle_deg"):
+            assert a[field] == b[field], field
