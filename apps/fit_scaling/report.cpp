@@ -170,37 +170,12 @@ nlohmann::json mixed_json(const std::vector<DataPoint>& pts, const MixedAnalysis
 }
 
 nlohmann::json regime_two_json(const Analysis& an, const Options& o) {
-  const nuc::RegimeTwoFit& fit = an.fit;
+  nlohmann::json j = fit_json(an.fit, nuc::hertz_law(), o);
   nlohmann::json window_R = nlohmann::json::array();
   for (double R : an.window_R)
     window_R.push_back(R);
-  return {{"law", "mu/alpha = 3 (2 c0)^(2/3) (a/b_core^0)^(-2/3)"},
-          {"c0", fit.c0},
-          {"c0_error", fit.c0_error},
-          {"error_kind",
-           "bootstrap over points of ln(2 c0), x sqrt(n/(n-1)) x t_{n-1}(Phi(2))/2: +-2 errors "
-           "is the 95.45% interval"},
-          {"c0_se_bootstrap", fit.c0_se_bootstrap},
-          {"c0_interval_2_errors", {fit.c0_lo, fit.c0_hi}},
-          {"prefactor", fit.prefactor},
-          {"prefactor_error", fit.prefactor_error},
-          {"window_a_over_bcore0", {fit.window_lo, fit.window_hi}},
-          {"window_automatic", fit.window_automatic},
-          {"window_R", window_R},
-          {"points", fit.points},
-          {"dof", fit.dof},
-          {"t_factor", fit.t_factor},
-          {"points_trimmed", fit.trimmed},
-          {"max_relative_deviation", fit.max_relative_deviation},
-          {"within_max_deviation", fit.within_max_deviation},
-          {"rms_log_residual", fit.rms_log_residual},
-          {"free_slope", fit.free_slope},
-          {"free_slope_error", fit.free_slope_error},
-          {"c0_lower_half", fit.c0_lower_half},
-          {"c0_upper_half", fit.c0_upper_half},
-          {"c0_window_spread", fit.c0_window_spread},
-          {"bootstrap_samples", o.bootstrap},
-          {"seed", o.seed}};
+  j["window_R"] = window_R;
+  return j;
 }
 
 // II -> III per R of the data, with the Regime I contact radius at that R.
