@@ -465,6 +465,14 @@ double relative_friction(const interface::ContactScene& c, const slide::SlideRes
 
 }  // namespace
 
+namespace {
+// The first cells of a row, in sweep_columns() order: the point's parameters (a .. lambda).
+std::vector<CsvTable::Cell> parameter_cells(const interface::ContactScene& c) {
+  return {c.a,    c.R,         c.alpha,        c.material.nu,     c.material.G, c.envelope,
+          c.tau0, c.tip.angle, c.tip.mismatch, c.a_over_bcore0(), c.lambda()};
+}
+}  // namespace
+
 SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                    const std::string& settings) {
   const auto& c = scene.contact;
@@ -481,33 +489,15 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
                .stop_reason = r.stop_reason,
                .wall_s = r.wall_s};
   row.point.tip = c.tip;
-  row.cells = {c.a,
-               c.R,
-               c.alpha,
-               c.material.nu,
-               c.material.G,
-               c.envelope,
-               c.tau0,
-               c.tip.angle,
-               c.tip.mismatch,
-               c.a_over_bcore0(),
-               c.lambda(),
-               r.mu,
-               r.mu_over_alpha,
-               r.tau_fric,
-               c.uses_tau0() ? r.tau_fric / c.tau0 : nan,
-               slide::friction_over_regime_one(c, r),
-               r.area,
-               static_cast<long long>(r.mu_is_lower_bound),
-               c.carries_load() ? r.kinetic / c.alpha : nan,
-               r.kinetic_over_static,
-               static_cast<long long>(r.slip_events),
-               r.distance,
-               r.stop_reason,
-               static_cast<long long>(r.failed),
-               static_cast<long long>(r.steps),
-               static_cast<long long>(r.gf_applications),
-               settings};
+  row.cells = parameter_cells(c);
+  row.cells.insert(
+      row.cells.end(),
+      {r.mu, r.mu_over_alpha, r.tau_fric, c.uses_tau0() ? r.tau_fric / c.tau0 : nan,
+       slide::friction_over_regime_one(c, r), r.area, static_cast<long long>(r.mu_is_lower_bound),
+       c.carries_load() ? r.kinetic / c.alpha : nan, r.kinetic_over_static,
+       static_cast<long long>(r.slip_events), r.distance, r.stop_reason,
+       static_cast<long long>(r.failed), static_cast<long long>(r.steps),
+       static_cast<long long>(r.gf_applications), settings});
   return row;
 }
 
@@ -530,33 +520,9 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
                .wall_s = wall_s};
   // In sweep_columns() order: the parameters, then no results.
   row.point.tip = c.tip;
-  row.cells = {c.a,
-               c.R,
-               c.alpha,
-               c.material.nu,
-               c.material.G,
-               c.envelope,
-               c.tau0,
-               c.tip.angle,
-               c.tip.mismatch,
-               c.a_over_bcore0(),
-               c.lambda(),
-               nan,
-               nan,
-               nan,
-               nan,
-               nan,
-               nan,
-               0LL,
-               nan,
-               nan,
-               0LL,
-               nan,
-               reason,
-               1LL,
-               0LL,
-               0LL,
-               settings};
+  row.cells = parameter_cells(c);
+  row.cells.insert(row.cells.end(), {nan, nan, nan, nan, nan, nan, 0LL, nan, nan, 0LL, nan, reason,
+                                     1LL, 0LL, 0LL, settings});
   return row;
 }
 
