@@ -3,8 +3,10 @@
 
 #include <fftw3.h>
 
+#include <complex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "asperity/core/fft/fft_engine.hpp"
 
@@ -20,6 +22,19 @@ inline unsigned planner_flag(Planner p) {
       return FFTW_PATIENT;
   }
   return FFTW_ESTIMATE;
+}
+
+// std::complex<double> and fftw_complex share their layout (FFTW's documented guarantee).
+inline fftw_complex* as_fftw(std::complex<double>* p) {
+  return reinterpret_cast<fftw_complex*>(p);
+}
+
+// Frees buffers from fftw_alloc_* and empties the list.
+template <class T>
+void free_buffers(std::vector<T*>& buffers) {
+  for (T* p : buffers)
+    fftw_free(p);
+  buffers.clear();
 }
 
 // The arguments every engine factory takes; throws std::invalid_argument naming `who` and the

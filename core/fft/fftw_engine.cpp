@@ -37,9 +37,7 @@ std::mutex& planner_mutex() {
   return m;
 }
 
-fftw_complex* as_fftw(std::complex<double>* p) {
-  return reinterpret_cast<fftw_complex*>(p);
-}
+using detail::as_fftw;
 
 // Columns per block in convolve(): even, so every block starts on the alignment of the buffer
 // (plans made for one aligned block run on all); 8 columns of 1024 complex values per field
@@ -316,18 +314,10 @@ class FFTWEngine final : public Engine {
         *p = nullptr;
       }
     }
-    for (double* p : input_)
-      fftw_free(p);
-    for (double* p : output_)
-      fftw_free(p);
-    for (auto* p : fourier_)
-      fftw_free(p);
-    for (auto* p : scratch_)
-      fftw_free(p);
-    input_.clear();
-    output_.clear();
-    fourier_.clear();
-    scratch_.clear();
+    detail::free_buffers(input_);
+    detail::free_buffers(output_);
+    detail::free_buffers(fourier_);
+    detail::free_buffers(scratch_);
   }
 
   int threads_;

@@ -65,9 +65,9 @@ class FFTWMpiEngine final : public Engine {
       // the buffers come from one allocator and have its alignment).
       fftw_plan_with_nthreads(options.threads);
       const unsigned flags = detail::planner_flag(options.planner);
-      r2c_ = fftw_mpi_plan_dft_r2c_2d(n0, n1, padded_[0], as_fftw(fourier_[0]), comm_,
+      r2c_ = fftw_mpi_plan_dft_r2c_2d(n0, n1, padded_[0], detail::as_fftw(fourier_[0]), comm_,
                                       flags | FFTW_MPI_TRANSPOSED_OUT);
-      c2r_ = fftw_mpi_plan_dft_c2r_2d(n0, n1, as_fftw(fourier_[0]), padded_[0], comm_,
+      c2r_ = fftw_mpi_plan_dft_c2r_2d(n0, n1, detail::as_fftw(fourier_[0]), padded_[0], comm_,
                                       flags | FFTW_MPI_TRANSPOSED_IN);
       if (r2c_ == nullptr || c2r_ == nullptr)
         throw std::runtime_error("fft: FFTW-MPI could not plan a " + std::to_string(n0) + " x " +
@@ -84,14 +84,14 @@ class FFTWMpiEngine final : public Engine {
     for (int f = 0; f < fields(); ++f) {
       for (int r = 0; r < rows_; ++r)
         std::copy_n(input_[f] + r * n1, n1, padded_[f] + r * stride);
-      fftw_mpi_execute_dft_r2c(r2c_, padded_[f], as_fftw(fourier_[f]));
+      fftw_mpi_execute_dft_r2c(r2c_, padded_[f], detail::as_fftw(fourier_[f]));
     }
   }
 
   void inverse() override {
     const std::size_t n1 = static_cast<std::size_t>(real_shape().n1), stride = 2 * (n1 / 2 + 1);
     for (int f = 0; f < fields(); ++f) {
-      fftw_mpi_execute_dft_c2r(c2r_, as_fftw(fourier_[f]), padded_[f]);
+      fftw_mpi_execute_dft_c2r(c2r_, detail::as_fftw(fourier_[f]), padded_[f]);
       for (int r = 0; r < rows_; ++r)
         std::copy_n(padded_[f] + r * stride, n1, output_[f] + r * n1);
     }
@@ -151,25 +151,14 @@ class FFTWMpiEngine final : public Engine {
   }
 
  private:
-  static fftw_complex* as_fftw(std::complex<double>* p) {
-    return reinterpret_cast<fftw_complex*>(p);
-  }
   void release() {
     if (r2c_) fftw_destroy_plan(r2c_);
     if (c2r_) fftw_destroy_plan(c2r_);
     r2c_ = c2r_ = nullptr;
-    for (double* p : input_)
-      fftw_free(p);
-    for (double* p : output_)
-      fftw_free(p);
-    for (double* p : padded_)
-      fftw_free(p);
-    for (std::complex<double>* p : fourier_)
-      fftw_free(p);
-    input_.clear();
-    output_.clear();
-    padded_.clear();
-    fourier_.clear();
+    detail::free_buffers(input_);
+    detail::free_buffers(output_);
+    detail::free_buffers(padded_);
+    detail::free_buffers(fourier_);
   }
 
   MPI_Comm comm_;
