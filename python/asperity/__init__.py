@@ -181,21 +181,6 @@ def slide(scene, progress=None, snapshots=True):
     return SlideResult(json.loads(summary), columns, frames, scene.snapshot_attributes)
 
 
-def _frame_fields(frame, index):
-    """sx, tau_x, tau_max, in_contact (block-major, x slow) and the block origin of one frame of
-    an xarray Dataset in the snapshot layout (or a Dataset without a frame dimension)."""
-    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
-
-    def block(name):
-        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
-
-    origin_x = int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0])
-    origin_y = int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0])
-    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
-    return (block("sx"), block("tau_x"), block("tau_max"), contact, origin_x, origin_y,
-            block("sy"), block("tau_y"))
-
-
 def find_lines(frame, index=0, periodic=None, **options):
     """Dislocation lines in one snapshot frame (MODEL.md 7), as track_loops finds them.
 
@@ -205,15 +190,26 @@ def find_lines(frame, index=0, periodic=None, **options):
     Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order) and the
     frame's counts (contact_sites, contact_radius, core_crossings, ...).
     """
-    sx, tau_x, tau_max, contact, ox, oy, sy, tau_y = _frame_fields(frame, index)
-    if periodic is None:
-        periodic = bool(frame.attrs.get("periodic", False))
-    # A tip out of registry (the files' attributes): lines along the tip's lattice.
-    return _asperity.find_lines(sx, tau_x, tau_max, contact, origin_x=ox, origin_y=oy,
-                                periodic=periodic, sy=sy, tau_y=tau_y,
-                                tip_angle=float(frame.attrs.get("tip_angle", 0.0)),
-                                tip_mismatch=float(frame.attrs.get("tip_mismatch", 0.0)),
-                                **options)
+    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
+
+    def block(name):
+        """The field in the tools' block order (x slow), contiguous."""
+        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
+
+    fields = {
+        "origin_x": int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0]),
+        "origin_y": int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0]),
+        "tip_angle": float(frame.attrs.get("tip_angle", 0.0)),
+        "tip_mismatch": float(frame.attrs.get("tip_mismatch", 0.0)),
+        "periodic": bool(frame.attrs.get("periodic", False)) if periodic is None else periodic,
+    }
+    # A tip out of registry (the files' attributes): the registry along the tip's first axis
+    # needs sy and tau_y too; the aligned tip's does not.
+    if fields["tip_angle"] != 0.0 or fields["tip_mismatch"] != 0.0:
+        fields.update(sy=block("sy"), tau_y=block("tau_y"))
+    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
+    return _asperity.find_lines(block("sx"), block("tau_x"), block("tau_max"), contact,
+                                **fields, **options)
 
 
 from . import tools  # noqa: E402  (the tools need the names above)
