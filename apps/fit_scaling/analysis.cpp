@@ -18,6 +18,31 @@ namespace asperity::app::fit_scaling {
 
 namespace nuc = asperity::nucleation;
 
+namespace {
+
+// The data as the fits' points, each in the series `series(p)` says: the automatic window
+// follows each branch (falling, then rising) per series and R.
+template <class Series>
+std::vector<nuc::ScalingPoint> scaling_points(const std::vector<DataPoint>& pts, Series series) {
+  std::vector<nuc::ScalingPoint> out;
+  for (const auto& p : pts)
+    out.push_back(
+        {.a_over_bcore0 = p.x, .mu_over_alpha = p.mu, .a = p.a, .R = p.R, .series = series(p)});
+  return out;
+}
+
+// The fit of c0 to `law` as the options ask: bootstrap, seed, the rise that ends a branch, and
+// a window if one is given.
+nuc::RegimeTwoFitOptions fit_options(const nuc::RegimeTwoLaw& law, const Options& o) {
+  nuc::RegimeTwoFitOptions f{
+      .law = law, .bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
+  f.automatic.rise_tolerance = o.rise_tolerance;
+  if (!o.window.empty()) f.window = std::pair{o.window[0], o.window[1]};
+  return f;
+}
+
+}  // namespace
+
 Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const Options& o) {
   Analysis an;
   an.map_alpha = common_alpha(pts);
@@ -32,17 +57,10 @@ Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const 
   an.series_names.resize(series_of.size());
   for (const auto& [name, series] : series_of)
     an.series_names[static_cast<std::size_t>(series)] = name;
-  for (const auto& p : pts)
-    an.points.push_back({.a_over_bcore0 = p.x,
-                         .mu_over_alpha = p.mu,
-                         .a = p.a,
-                         .R = p.R,
-                         .series = series_of.at(p.model)});
+  an.points = scaling_points(pts, [&](const DataPoint& p) { return series_of.at(p.model); });
 
   // Regime II fit.
-  an.fit_options = {.bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
-  an.fit_options.automatic.rise_tolerance = o.rise_tolerance;
-  if (!o.window.empty()) an.fit_options.window = std::pair{o.window[0], o.window[1]};
+  an.fit_options = fit_options(nuc::hertz_law(), o);
   an.fit = nuc::fit_regime_two(an.points, an.fit_options);
   if (!an.fit.valid)
     throw std::invalid_argument("no Regime II fit: " + an.fit.reason +
@@ -92,16 +110,8 @@ AdhesiveAnalysis analyse_adhesive(const std::vector<DataPoint>& pts, const Optio
   std::map<double, int> series_of;
   for (const auto& p : pts)
     series_of.emplace(p.tau0, static_cast<int>(series_of.size()));
-  for (const auto& p : pts)
-    an.points.push_back({.a_over_bcore0 = p.x,
-                         .mu_over_alpha = p.mu,
-                         .a = p.a,
-                         .R = p.R,
-                         .series = series_of.at(p.tau0)});
-  an.fit_options = {
-      .law = an.law, .bootstrap_samples = o.bootstrap, .seed = static_cast<std::uint64_t>(o.seed)};
-  an.fit_options.automatic.rise_tolerance = o.rise_tolerance;
-  if (!o.window.empty()) an.fit_options.window = std::pair{o.window[0], o.window[1]};
+  an.points = scaling_points(pts, [&](const DataPoint& p) { return series_of.at(p.tau0); });
+  an.fit_options = fit_options(an.law, o);
   an.fit = nuc::fit_regime_two(an.points, an.fit_options);
   if (!an.fit.valid)
     throw std::invalid_argument("no Regime II fit of the adhesive law: " + an.fit.reason +
