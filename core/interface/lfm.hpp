@@ -107,6 +107,12 @@ class LateralForceModel {
   // (V and f_int are bit for bit the same on any number; the sum runs in site order).
   double energy_and_force(std::span<const double> u, std::span<double> f_int,
                           int threads = 1) const;
+  // The same, with V made row by row: rows[r] (block().shape.n0 values) is the energy of the
+  // contact sites in block row r, their terms added in site order. For sums that must not depend
+  // on how the rows are spread over processes (Comm::ordered_sum of the rows: slide/
+  // lfm_problem.hpp). f_int is bit for bit energy_and_force's.
+  void energy_and_force_rows(std::span<const double> u, std::span<double> f_int,
+                             std::span<double> rows, int threads = 1) const;
   // Interface Hessian diagonal d2V/du2 = tau_max d^2 (2 pi/d) cos(2 pi s/d); under a rotated
   // tip c^2 k1 + s^2 k2 (x) and s^2 k1 + c^2 k2 (y), k_j = tau_max d^2 (2 pi/d_tip) cos(2 pi
   // rho_j).

@@ -73,9 +73,9 @@ void Cg::conjugate_direction() {
   const double rz = dot(x.r, z_);
   double beta = 0.0;
   if (!restart_ && rz_prev_ > 0.0) {
-    double num = 0.0;
-    for (std::size_t i = 0; i < n; ++i)
-      num += x.r[i] * (z_[i] - z_prev_[i]);
+    // r.(z - z_prev) as a dot product (kernels.hpp: the same sums on any number of processes).
+    each(n, [&](std::size_t i) { z_prev_[i] = z_[i] - z_prev_[i]; });
+    const double num = dot(x.r, z_prev_);
     beta = std::max(0.0, num / rz_prev_);  // Polak-Ribiere+
   }
   each(n, [&](std::size_t i) {

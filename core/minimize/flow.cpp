@@ -119,7 +119,7 @@ class Flow final : public MinimizerMethod {
     double err = 0.0;
     for (std::size_t i = 0; i < n; ++i)
       err = std::max(err, std::abs(Fu_new_[i] - Fu_[i]));
-    err *= 0.5 * h;
+    err = reduce_max(err) * 0.5 * h;
     // A finite state with a non-finite energy or slope is a fault of the problem.
     if (!std::isfinite(trial.e) || !std::isfinite(err)) return Step::diverged;
     const bool overshoot = dot(trial.r, Fu_) < 0.0;
@@ -149,8 +149,10 @@ class Flow final : public MinimizerMethod {
     hessian_.at(run_.problem, x.u);
     const std::vector<double>& h = hessian_.diagonal();
     if (!have_vector_) {
-      for (std::size_t i = 0; i < n; ++i)
-        v_[i] = 1.0 + 0.5 * std::sin(1.7 * static_cast<double>(i));  // not an eigenvector
+      // Of the global index, so that every number of processes starts from the same vector.
+      const Share share = run_.problem.share();
+      for (std::size_t i = 0; i < n; ++i)  // not an eigenvector
+        v_[i] = 1.0 + 0.5 * std::sin(1.7 * static_cast<double>(share.global_index(i)));
       have_vector_ = true;
     }
     double est = 0.0;
@@ -239,7 +241,7 @@ class Flow final : public MinimizerMethod {
       // y_n - y_n+1 + h/2 (F_n + F_n+1), with F = -(G P r).
       err = std::max(err, std::abs(12.0 * (x.u[i] - trial.u[i]) - 6.0 * h * (Fu_[i] + Fu_new_[i])));
     }
-    err /= 15.0;
+    err = reduce_max(err) / 15.0;
     // A non-finite stage is most likely an underestimated spectral radius (the stages then grow
     // without bound): a rejected step, with rho estimated again.
     if (!std::isfinite(trial.e) || !std::isfinite(err)) err = 1e300;

@@ -264,15 +264,32 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                                 " at iteration " + std::to_string(resume->iteration));
   }
   const detail::PassThreads pass_threads_guard(problem.threads());
+  const detail::Reduction reduction{
+      .comm = &problem.comm(), .runs = problem.runs(), .blocks = problem.share().blocks};
+  const detail::PassReduction pass_reduction_guard(reduction);
+  // Newton's KINSOL vectors and the Lanczos check's eigensolver are serial (their own dot
+  // products); the other methods reduce theirs over the processes (kernels.hpp).
+  if (problem.comm().distributed() &&
+      (options.method == Method::newton || options.stability == StabilityCheck::lanczos)) {
+    throw std::invalid_argument(
+        "minimize: method newton and the lanczos stability check run on one process only; "
+        "over " +
+        std::to_string(problem.comm().size()) +
+        " processes use lbfgs, cg, fire or flow with the perturb check");
+  }
   detail::Relaxation run(problem, options, u, f, resume);
   const std::unique_ptr<detail::MinimizerMethod> method = detail::make_method(options.method, run);
   MinimizeResult& res = run.result;
   int it = resume ? resume->iteration : 0;
   // Every exit from the loop sets its termination; running out of iterations leaves this one.
-  res.termination = n == 0 ? Termination::converged : Termination::max_iterations;
-  for (; n > 0 && it < options.max_iterations; ++it) {
+  // Of every process (a process may hold no unknowns of a distributed problem, and still takes
+  // part in every reduction).
+  const std::size_t n_all = problem.share().global_size();
+  res.termination = n_all == 0 ? Termination::converged : Termination::max_iterations;
+  for (; n_all > 0 && it < options.max_iterations; ++it) {
     const auto finite = [](double v) { return std::isfinite(v); };
-    if (!std::isfinite(run.x.e) || !std::all_of(run.x.r.begin(), run.x.r.end(), finite)) {
+    if (!std::isfinite(run.x.e) ||
+        detail::reduce_any(!std::all_of(run.x.r.begin(), run.x.r.end(), finite))) {
       res.termination = Termination::diverged;
       break;
     }

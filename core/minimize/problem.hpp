@@ -12,7 +12,22 @@
 #include <span>
 #include <vector>
 
+#include "asperity/core/common/comm.hpp"
+
 namespace asperity::minimize {
+
+// Where a process's unknowns sit among those of every process (issue 26: a problem distributed
+// over ranks). The unknowns come in `blocks` equal blocks (the components of the sites: x of
+// every site, then y), and each process holds a contiguous run of every block: its unknown
+// b * per_block + j is the global unknown b * global_per_block + offset + j. One process holds
+// everything: blocks = 1, per_block = global_per_block = size(), offset = 0.
+struct Share {
+  std::size_t blocks = 1, per_block = 0, offset = 0, global_per_block = 0;
+  [[nodiscard]] std::size_t global_size() const { return blocks * global_per_block; }
+  [[nodiscard]] std::size_t global_index(std::size_t i) const {
+    return (i / per_block) * global_per_block + offset + i % per_block;
+  }
+};
 
 class Problem {
  public:
@@ -59,6 +74,23 @@ class Problem {
   // Green's function applications so far (the unit of cost).
   [[nodiscard]] virtual std::size_t gf_applications() const = 0;
 
+  // The processes the unknowns are spread over (issue 26): the minimisers reduce their dot
+  // products, norms and maxima over them, and interface() returns the energy of every
+  // process's sites. Serial: one process.
+  [[nodiscard]] virtual const par::Comm& comm() const { return par::serial(); }
+  // This process's part of the unknowns (see Share); what makes the minimisers' index-dependent
+  // start vectors and random pushes the same on any number of processes.
+  [[nodiscard]] virtual Share share() const {
+    return {.blocks = 1, .per_block = size(), .offset = 0, .global_per_block = size()};
+  }
+
+  // Where each run of unknowns starts within one block of them (Share), and, last, the size of
+  // a block: the rows of a problem on a block of lattice sites (the unknowns of each row are
+  // contiguous). The minimisers' sums are made run by run and the partials added in order
+  // (minimize/kernels.hpp), so that they do not depend on how the rows are spread over
+  // processes. Empty: no runs (one sum per process).
+  [[nodiscard]] virtual std::vector<std::size_t> runs() const { return {}; }
+
   // Threads the solver may use for its element-wise vector passes (those are bit for bit the
   // same on any number of threads; its sums stay serial): the threads of the problem's FFTs.
   [[nodiscard]] virtual int threads() const { return 1; }
@@ -87,7 +119,8 @@ class InterfaceHessian {
     }
   }
   // Whether H is positive semi-definite: every diagonal element and, where coupled, every
-  // 2 x 2 block (h_jj h_kk >= h_jk^2).
+  // 2 x 2 block (h_jj h_kk >= h_jk^2). This process's part (a distributed problem's caller
+  // combines the processes' answers).
   [[nodiscard]] bool positive_semidefinite() const {
     if (h_.empty()) return true;
     if (*std::min_element(h_.begin(), h_.end()) < 0.0) return false;

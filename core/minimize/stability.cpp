@@ -133,10 +133,22 @@ bool push_check(Relaxation& run, int& iteration) {
   const MinimizerOptions& options = run.options;
   Point& x = run.x;
   std::vector<double> q(n), z(n);
-  std::mt19937 gen(static_cast<unsigned>(n + static_cast<std::size_t>(iteration)));
+  // The push of every unknown of every process, drawn in the global order (each process keeps
+  // its own): the same push on any number of processes.
+  const Share share = run.problem.share();
+  std::mt19937 gen(
+      static_cast<unsigned>(share.global_size() + static_cast<std::size_t>(iteration)));
   std::uniform_real_distribution<double> dist(-1.0, 1.0);
-  for (double& v : q)
-    v = dist(gen);
+  const auto skip = [&](std::size_t k) {  // draws, not engine steps: a draw may take several
+    for (; k > 0; --k)
+      (void)dist(gen);
+  };
+  for (std::size_t b = 0, i = 0; b < share.blocks; ++b) {
+    skip(share.offset);
+    for (std::size_t j = 0; j < share.per_block; ++j)
+      q[i++] = dist(gen);
+    skip(share.global_per_block - share.offset - share.per_block);
+  }
   run.problem.compliance(q, z);
   // The push must also unbalance the state by more than the tolerance (10x), or the
   // relaxation after it would stop at once and the check would be blind at loose
@@ -157,6 +169,7 @@ bool push_check(Relaxation& run, int& iteration) {
   double moved = 0.0;
   for (std::size_t i = 0; i < n; ++i)
     moved = std::max(moved, std::abs(pu[i] - x.u[i]));
+  moved = reduce_max(moved);
   const bool lower = std::isfinite(again.energy) && again.energy < x.e - energy_slack(x.e);
   const bool unstable =
       lower && (moved > 10.0 * pushed || again.termination != Termination::converged);
@@ -174,7 +187,7 @@ Verdict check_minimum(Relaxation& run, int& iteration) {
   if (run.options.stability == StabilityCheck::none) return Verdict::minimum;
   InterfaceHessian hessian;
   hessian.at(run.problem, run.x.u);
-  if (hessian.positive_semidefinite()) return Verdict::minimum;  // K + H_int > 0
+  if (!reduce_any(!hessian.positive_semidefinite())) return Verdict::minimum;  // K + H_int > 0
   run.result.stability_checked = true;
   std::optional<bool> unstable;
   if (run.options.stability == StabilityCheck::lanczos) unstable = lanczos_check(run);
