@@ -351,6 +351,12 @@ slide::SlideResult slide_explicit(const ExplicitScene& scene, const ExplicitSlid
   eo.validate();
   options.validate();
   control.validate();
+  if (control.parallel.comm && control.parallel.comm->distributed()) {
+    throw std::invalid_argument(
+        "explicit slide: the explicit tip runs on one process (SlideControl::parallel over " +
+        std::to_string(control.parallel.comm->size()) +
+        " processes is for the lateral force model)");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   ExplicitSlider model(scene, eo, options);
   require_small_slope(model.hertz().a, scene.R);

@@ -43,6 +43,7 @@
 #include <utility>
 #include <vector>
 
+#include "asperity/core/common/comm.hpp"
 #include "asperity/core/common/validate.hpp"
 #include "asperity/core/slide/trace.hpp"
 #include "asperity/core/slide/types.hpp"
@@ -233,6 +234,11 @@ class ProtocolRun {
     // Of the earlier sessions of a resumed slide (counted in the start state).
     if (control_.start) {
       check_start(*control_.start, model_);
+      // A distributed model keeps its rows of the start state's fields (which hold every row).
+      if constexpr (distributed_model) {
+        local_start_ = *control_.start;
+        model_.localize(*local_start_);
+      }
       res_ = control_.start->partial;
       gf_before_ = res_.gf_applications;
       wall_before_ = res_.wall_s;
@@ -265,6 +271,13 @@ class ProtocolRun {
   static constexpr bool comparable = requires(const Model& m, const State& a) {
     m.period_mismatch(a, a);
   };
+  // A model whose fields are spread over processes (the lateral force model over MPI ranks,
+  // issue 26) says over which, and turns states between its rows and every row.
+  static constexpr bool distributed_model = requires(Model & m, SlideState& st) {
+    { m.comm() } -> std::convertible_to<const par::Comm&>;
+    m.localize(st);
+    m.globalize(st);
+  };
   // Only models whose relax() takes a RelaxPausing can pause a slip relaxation.
   static constexpr bool pausable = requires(Model & m, State& s, std::vector<PathFrame>* frames,
                                             const minimize::MinimizerOptions* o, RelaxPausing* p) {
@@ -289,7 +302,35 @@ class ProtocolRun {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   }
   std::size_t gf_total(std::size_t model_gf) const { return gf_before_ + model_gf - gf_unused_; }
-  bool stop_requested() const { return control_.stop_requested && control_.stop_requested(); }
+  // A stop request or a due checkpoint, decided by every process of a distributed model
+  // together (each asks its own clock and signal flag; one that says yes decides for all).
+  bool agree(bool local) const {
+    if constexpr (distributed_model) {
+      return model_.comm().any(local);
+    } else {
+      return local;
+    }
+  }
+  bool stop_requested() const {
+    return agree(control_.stop_requested && control_.stop_requested());
+  }
+  bool checkpoint_due() const {
+    return agree(std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_)
+                     .count() >= control_.checkpoint_every_s);
+  }
+  // Hands a state to SlideControl::checkpoint; a distributed model's fields are gathered first
+  // (its checkpoint holds every row, so that it resumes on any number of processes), and every
+  // process calls this together.
+  void checkpoint(const SlideState& st) const {
+    if (!control_.checkpoint) return;
+    if constexpr (distributed_model) {
+      SlideState whole = st;
+      model_.globalize(whole);
+      control_.checkpoint(whole);
+    } else {
+      control_.checkpoint(st);
+    }
+  }
 
   // Progress report: what starts now (or was just accepted), with the cost so far; a model that
   // can (one with a `heartbeat` slot) also reports while it relaxes, so that a relaxation of
@@ -424,7 +465,7 @@ class ProtocolRun {
   // against this slide's settings), or the first relaxation at Dx = 0.
   void start() {
     if (control_.start) {
-      const SlideState& st = *control_.start;
+      const SlideState& st = local_start_ ? *local_start_ : *control_.start;
       state_ = st.current;
       previous_ = st.previous;
       earlier_ = st.earlier;
@@ -508,7 +549,7 @@ class ProtocolRun {
   // A state with a pending slip relaxation (st.pending) was paused within it instead.
   SlideResult interrupt(const SlideState& st,
                         double abandoned_to = std::numeric_limits<double>::quiet_NaN()) const {
-    if (control_.checkpoint) control_.checkpoint(st);
+    checkpoint(st);
     SlideResult out = st.partial;
     out.interrupted = true;
     char buf[240];
@@ -716,11 +757,9 @@ class ProtocolRun {
   // Checkpoints at the top of the stepping loop, when one is due.
   void checkpoint_if_due() {
     if (!control_.checkpoint) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_checkpoint_).count() >=
-        control_.checkpoint_every_s) {
-      control_.checkpoint(capture(false));
-      last_checkpoint_ = now;
+    if (checkpoint_due()) {
+      checkpoint(capture(false));
+      last_checkpoint_ = std::chrono::steady_clock::now();
     }
   }
 
@@ -844,8 +883,7 @@ class ProtocolRun {
         pausing.pauses.due = [&](int) {
           if (pause_requested_) return true;
           if (!control_.checkpoint || !(control_.checkpoint_every_s > 0.0)) return false;
-          return std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_)
-                     .count() >= control_.checkpoint_every_s;
+          return checkpoint_due();
         };
         pausing.pauses.pause = [&](const minimize::FlowPause& at) {
           SlideState st = capture(false);
@@ -858,7 +896,7 @@ class ProtocolRun {
             paused = std::move(st);
             return true;
           }
-          control_.checkpoint(st);
+          checkpoint(st);
           last_checkpoint_ = std::chrono::steady_clock::now();
           return false;
         };
@@ -889,7 +927,7 @@ class ProtocolRun {
     if (const std::string why = failure(r, trial, p.Dx, state_.Dx, solver); !why.empty()) {
       // The trial is dropped; the last accepted state is kept as a checkpoint (resumable) and
       // as snapshot "last_good".
-      if (control_.checkpoint) control_.checkpoint(capture(false));
+      checkpoint(capture(false));
       res_.failed = true;
       res_.stop_reason = why;
       sink_->state(model_.snapshot(state_, "last_good"));
@@ -1137,6 +1175,7 @@ class ProtocolRun {
   bool cycle_check_due_ = false;
   // A slip relaxation paused in the slide this one continues.
   std::optional<PendingSlip> pending_;
+  std::optional<SlideState> local_start_;   // a distributed model's rows of the start state
   std::optional<SlideState> stepping_end_;  // refine_peak(): the state a stop hands over
   std::chrono::steady_clock::time_point last_checkpoint_;
   // The heartbeat's view: the relaxation running, and what a stop request does within it.

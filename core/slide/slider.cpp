@@ -32,18 +32,45 @@ using State = SlideFields;
 
 class Slider {
  public:
-  Slider(const interface::ContactScene& scene, const SlideOptions& options)
+  Slider(const interface::ContactScene& scene, const SlideOptions& options,
+         const SlideParallel& parallel = {})
       : scene_(scene),
         options_(options),
+        comm_(parallel.comm ? *parallel.comm : par::serial()),
         half_(block_half(scene)),
         block_shape_{2 * half_ + 1, 2 * half_ + 1},
-        gf_(scene.material, elastic::Components::in_plane, block_shape_, scene.d, options.fft),
-        lfm_(scene, block_at(0)),
-        problem_(gf_, lfm_) {}
+        gf_(scene.material, elastic::Components::in_plane, block_shape_, scene.d, options.fft,
+            parallel.engine),
+        row0_(gf_.local_row_begin()),
+        rows_(gf_.local_rows()),
+        lfm_(scene, local_block_at(0)),
+        problem_(gf_, lfm_, comm_) {
+    // Every process's rows, for the rolls and gathers of fields across processes; they follow
+    // each other in rank order (the slabs of the padded grid do).
+    const auto begins = comm_.all_gather(row0_), counts = comm_.all_gather(rows_);
+    int next = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      rank_rows_.push_back(static_cast<int>(counts[r]));
+      if (counts[r] > 0 && begins[r] != next) break;
+      next += static_cast<int>(counts[r]);
+    }
+    if (next != block_shape_.n0 || rank_rows_.size() != counts.size()) {
+      throw std::invalid_argument(
+          "slide: the Green's function's rows are not spread over the " +
+          std::to_string(comm_.size()) +
+          " processes of SlideParallel::comm in rank order (the engine and comm must be over "
+          "the same processes)");
+    }
+  }
 
+  // The whole block at a block offset, and this process's rows of it.
   [[nodiscard]] LatticeBlock block_at(int shift) const {
     return LatticeBlock{block_shape_, shift - half_, -half_};
   }
+  [[nodiscard]] LatticeBlock local_block_at(int shift) const {
+    return LatticeBlock{Shape2{rows_, block_shape_.n1}, shift - half_ + row0_, -half_};
+  }
+  [[nodiscard]] const par::Comm& comm() const { return comm_; }
   elastic::FreeSurfaceGF& gf() { return gf_; }
   interface::LateralForceModel& lfm() {
     return lfm_;
@@ -73,11 +100,12 @@ class Slider {
     const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
     // Rolled rows come in without displacements; u = G f below recomputes them.
     if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
-    lfm_ = interface::LateralForceModel(scene_, block_at(s.shift));
+    lfm_ = interface::LateralForceModel(scene_, local_block_at(s.shift));
     lfm_.set_tip(Dx);
+    problem_.distribute();
     s.Dx = Dx;
     // Sites that left the contact carry no force; u = G f also refreshes the pair.
-    const std::size_t n = block_shape_.count();
+    const std::size_t n = local_count();
     std::vector<std::uint8_t> in(n, 0);
     for (std::size_t i : lfm_.contact_sites())
       in[i] = 1;
@@ -125,25 +153,15 @@ class Slider {
                             .fields = {.Dx = s.Dx, .shift = s.shift, .f = {}, .u = s.u}};
             scatter(uu, frame.fields.u);
             std::vector<double> fint(uu.size());
-            const double v = lfm_.energy_and_force(uu, fint);
-            double fu = 0.0;
-            for (std::size_t j = 0; j < m; ++j)
-              frame.fields.Fx += fint[j];
-            for (std::size_t j = 0; j < uu.size(); ++j)
-              fu += ff[j] * uu[j];
-            frame.fields.Fz = lfm_.load();
-            frame.fields.area = lfm_.area();
-            frame.fields.energy = 0.5 * fu + v;
+            summarise(uu, ff, frame.fields);
             frames->push_back(std::move(frame));
           }
         }
         if (!stop_on_slip) return false;
-        for (std::size_t j = 0; j < m; ++j) {
-          if (std::abs(uu[j] - u_start[j]) > 0.75 * scene_.d) {
-            return true;
-          }
-        }
-        return false;
+        bool moved = false;
+        for (std::size_t j = 0; j < m && !moved; ++j)
+          moved = std::abs(uu[j] - u_start[j]) > 0.75 * scene_.d;
+        return comm_.any(moved);
       };
     }
     const auto r = minimize::minimize(problem_, u, f, solver ? *solver : options_.minimizer,
@@ -153,26 +171,43 @@ class Slider {
     // snapshots compare it between states); on the contact it is the minimiser's.
     gf_.apply(s.f, s.u);
     scatter(u, s.u);
-    std::vector<double> fint(2 * m);
-    const double v = lfm_.energy_and_force(u, fint);
-    s.Fx = 0.0;
-    for (std::size_t j = 0; j < m; ++j)
-      s.Fx += fint[j];
-    s.Fz = lfm_.load();
-    s.area = lfm_.area();
-    double fu = 0.0;
-    for (std::size_t j = 0; j < 2 * m; ++j)
-      fu += f[j] * u[j];
-    s.energy = 0.5 * fu + v;
+    summarise(u, f, s);
     return r;
+  }
+
+  // Fx, Fz, the contact-site area and the energy of the pair (u, f) on the contact sites, into
+  // `s`: sums over the sites of every process, made row by row and added in row order
+  // (Comm::ordered_sum), the same bits on any number of processes.
+  void summarise(std::span<const double> u, std::span<const double> f, SlideFields& s) const {
+    const auto& sites = lfm_.contact_sites();
+    const std::size_t m = sites.size(), n1 = static_cast<std::size_t>(block_shape_.n1);
+    const auto rows = static_cast<std::size_t>(rows_);
+    std::vector<double> fint(2 * m), energy(rows), fx(rows, 0.0), fu(rows, 0.0), load(rows, 0.0);
+    lfm_.energy_and_force_rows(u, fint, energy);
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t r = sites[j] / n1;
+      fx[r] += fint[j];
+      fu[r] += f[j] * u[j] + f[m + j] * u[m + j];
+    }
+    const double d2 = scene_.d * scene_.d;
+    const std::vector<double>& p = lfm_.pressure();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      load[i / n1] += p[i] * d2;
+    for (std::size_t r = 0; r < rows; ++r)
+      energy[r] += 0.5 * fu[r];
+    s.Fx = comm_.ordered_sum(fx);
+    s.Fz = comm_.ordered_sum(load);
+    s.area = static_cast<double>(comm_.sum(static_cast<long long>(m))) * d2;
+    s.energy = comm_.ordered_sum(energy);
   }
 
   // Brings a state's fields onto the block alignment of `like` (no GF application: f only).
   void align(State& s, const State& like) const {
     if (s.shift != like.shift) roll_fields(s, like.shift - s.shift);
   }
-  // The rest of the model interface of protocol.hpp.
-  [[nodiscard]] std::size_t field_size() const { return gf_.size(); }
+  // The rest of the model interface of protocol.hpp. field_size() and check_fields() describe
+  // whole states (every row: start states and checkpoints); a process holds its rows.
+  [[nodiscard]] std::size_t field_size() const { return 2 * block_shape_.count(); }
   [[nodiscard]] std::string check_fields(const State& s) const {
     // |shift| bounded so that rolling a start state cannot overflow the index arithmetic.
     constexpr int kMaxShift = 1 << 20;
@@ -181,7 +216,9 @@ class Slider {
     return std::to_string(field_size()) +
            " (2 per site of this scene's block), |shift| <= " + std::to_string(kMaxShift);
   }
-  [[nodiscard]] std::size_t contact_sites() const { return lfm_.contact_sites().size(); }
+  [[nodiscard]] std::size_t contact_sites() const {
+    return static_cast<std::size_t>(comm_.sum(static_cast<long long>(lfm_.contact_sites().size())));
+  }
   [[nodiscard]] std::size_t gf_applications() const { return gf_.applications() - uncounted_gf_; }
   [[nodiscard]] Shape2 block_shape() const { return gf_.region(); }
   [[nodiscard]] Shape2 fft_grid() const { return gf_.fft_shape(); }
@@ -201,7 +238,7 @@ class Slider {
     double worst = 0.0;
     for (std::size_t i = 0; i < later.f.size(); ++i)
       worst = std::max(worst, std::abs(later.f[i] - earlier.f[i]));
-    return worst;
+    return comm_.max(worst);
   }
 
   // Sites that slipped between `before` and `after` (MODEL.md 5): a site slipped if its
@@ -220,10 +257,11 @@ class Slider {
     State b = before;
     const int k = after.shift - b.shift;
     if (k != 0) roll_fields(b, k);
-    // Rows that entered the block with the roll have no displacement in `before`.
-    const int entered_rows = std::max(k, 0);
-    return registry_jumps(scene_, block_at(after.shift), b.Dx, b.u, after.Dx, after.u,
-                          entered_rows);
+    // Rows that entered the block with the roll have no displacement in `before`: the last k
+    // of the block, which are the last of this process's rows that lie among them.
+    const int entered = std::clamp(row0_ + rows_ - (block_shape_.n0 - std::max(k, 0)), 0, rows_);
+    return static_cast<int>(comm_.sum(static_cast<long long>(registry_jumps(
+        scene_, local_block_at(after.shift), b.Dx, b.u, after.Dx, after.u, entered))));
   }
 
   Snapshot snapshot(const State& s, std::string label, int iteration = -1) {
@@ -235,12 +273,14 @@ class Slider {
     snap.Fz = s.Fz;
     snap.energy = s.energy;
     snap.block = block_at(s.shift);
-    // The LFM must describe this state's tip position and block.
-    if (lfm_.tip() != s.Dx || lfm_.block().origin0 != snap.block.origin0) {
-      lfm_ = interface::LateralForceModel(scene_, snap.block);
+    // The LFM must describe this state's tip position and block (this process's rows of it).
+    const LatticeBlock local = local_block_at(s.shift);
+    if (lfm_.tip() != s.Dx || lfm_.block().origin0 != local.origin0) {
+      lfm_ = interface::LateralForceModel(scene_, local);
       lfm_.set_tip(s.Dx);
+      problem_.distribute();
     }
-    const std::size_t n = block_shape_.count();
+    const std::size_t n = local_count();
     snap.ux.assign(s.u.begin(), s.u.begin() + static_cast<std::ptrdiff_t>(n));
     snap.uy.assign(s.u.begin() + static_cast<std::ptrdiff_t>(n), s.u.end());
     snap.sx.resize(n);
@@ -271,13 +311,43 @@ class Slider {
         }
       }
     }
+    if (comm_.distributed()) gather_snapshot(snap);
     return snap;
   }
 
+  // Every row of a state, on the root process (the others keep no field values): what
+  // checkpoints hold, so that they resume on any number of processes. Every process calls it.
+  void globalize(SlideState& st) const {
+    if (!comm_.distributed()) return;
+    for_each_fields(st, [&](SlideFields& f) { whole_rows(f); });
+    if (st.pending) {
+      const Cut cut = cut_at(st.pending->Dx);
+      minimize::FlowPause& p = st.pending->flow;
+      for (std::vector<double>* v : {&p.u, &p.f, &p.velocity_u, &p.velocity_f, &p.power})
+        *v = whole_sites(*v, cut);
+    }
+  }
+  // This process's rows of a whole state (a start state): the inverse of globalize().
+  void localize(SlideState& st) const {
+    if (!comm_.distributed()) return;
+    for_each_fields(st, [&](SlideFields& f) { own_rows(f); });
+    if (st.pending) {
+      const Cut cut = cut_at(st.pending->Dx);
+      minimize::FlowPause& p = st.pending->flow;
+      for (std::vector<double>* v : {&p.u, &p.f, &p.velocity_u, &p.velocity_f, &p.power})
+        *v = own_sites(*v, cut);
+    }
+  }
+
  private:
+  // Sites of this process's rows of the block.
+  [[nodiscard]] std::size_t local_count() const {
+    return static_cast<std::size_t>(rows_) * static_cast<std::size_t>(block_shape_.n1);
+  }
+
   void gather(const std::vector<double>& full, std::vector<double>& part) const {
     const auto& sites = lfm_.contact_sites();
-    const std::size_t m = sites.size(), n = block_shape_.count();
+    const std::size_t m = sites.size(), n = local_count();
     for (std::size_t j = 0; j < m; ++j) {
       part[j] = full[sites[j]];
       part[m + j] = full[n + sites[j]];
@@ -285,7 +355,7 @@ class Slider {
   }
   void scatter(std::span<const double> part, std::vector<double>& full) const {
     const auto& sites = lfm_.contact_sites();
-    const std::size_t m = sites.size(), n = block_shape_.count();
+    const std::size_t m = sites.size(), n = local_count();
     for (std::size_t j = 0; j < m; ++j) {
       full[sites[j]] = part[j];
       full[n + sites[j]] = part[m + j];
@@ -293,7 +363,13 @@ class Slider {
   }
 
   // Shifts the block by k lattice rows along +x: site rows move down by k, new rows are empty.
+  // Over several processes the rows that cross to another process's part are exchanged.
   void roll_fields(State& s, int k) const {
+    if (comm_.distributed()) {
+      roll_across(s, k);
+      s.shift += k;
+      return;
+    }
     const std::size_t n1 = static_cast<std::size_t>(block_shape_.n1);
     const int n0 = block_shape_.n0;
     for (std::vector<double>* field : {&s.f, &s.u}) {
@@ -313,11 +389,167 @@ class Slider {
     s.shift += k;
   }
 
+  // The process holding block row i0.
+  [[nodiscard]] int owner(int i0) const {
+    int begin = 0;
+    for (std::size_t r = 0; r < rank_rows_.size(); ++r) {
+      if (i0 < begin + rank_rows_[r]) return static_cast<int>(r);
+      begin += rank_rows_[r];
+    }
+    return static_cast<int>(rank_rows_.size()) - 1;
+  }
+
+  // roll_fields over processes: global row i0 takes row i0 + k; each row travels as its four
+  // pieces (f and u, x and y), to the process that holds its new place.
+  void roll_across(State& s, int k) const {
+    const int n0 = block_shape_.n0;
+    const std::size_t n1 = static_cast<std::size_t>(block_shape_.n1), n = local_count();
+    const auto ranks = static_cast<std::size_t>(comm_.size());
+    const int per_row = 4 * block_shape_.n1;
+    std::vector<int> send_counts(ranks, 0), recv_counts(ranks, 0);
+    std::vector<double> send, recv;
+    for (int g = row0_; g < row0_ + rows_; ++g) {  // rows leaving: to the holder of g - k
+      if (g - k < 0 || g - k >= n0) continue;
+      send_counts[static_cast<std::size_t>(owner(g - k))] += per_row;
+      const std::size_t at = static_cast<std::size_t>(g - row0_) * n1;
+      for (const std::vector<double>* field : {&s.f, &s.u}) {
+        for (std::size_t c = 0; c < 2; ++c)
+          send.insert(send.end(), field->begin() + static_cast<std::ptrdiff_t>(c * n + at),
+                      field->begin() + static_cast<std::ptrdiff_t>(c * n + at + n1));
+      }
+    }
+    for (int d = row0_; d < row0_ + rows_; ++d) {  // rows arriving: from the holder of d + k
+      if (d + k >= 0 && d + k < n0) recv_counts[static_cast<std::size_t>(owner(d + k))] += per_row;
+    }
+    std::size_t total = 0;
+    for (int c : recv_counts)
+      total += static_cast<std::size_t>(c);
+    recv.resize(total);
+    comm_.exchange(send, send_counts, recv, recv_counts);
+    // Received in rank order, which is row order: the arriving rows in increasing d.
+    std::size_t next = 0;
+    for (int d = row0_; d < row0_ + rows_; ++d) {
+      const std::size_t at = static_cast<std::size_t>(d - row0_) * n1;
+      const bool arrives = d + k >= 0 && d + k < n0;
+      for (std::vector<double>* field : {&s.f, &s.u}) {
+        for (std::size_t c = 0; c < 2; ++c) {
+          double* row = field->data() + c * n + at;
+          if (arrives) {
+            std::copy_n(recv.data() + next, n1, row);
+            next += n1;
+          } else {
+            std::fill_n(row, n1, 0.0);
+          }
+        }
+      }
+    }
+  }
+
+  // A snapshot of this process's rows made whole on the root.
+  void gather_snapshot(Snapshot& snap) const {
+    for (std::vector<double>* v : {&snap.ux, &snap.uy, &snap.sx, &snap.sy, &snap.tau_x, &snap.tau_y,
+                                   &snap.tau_max, &snap.pressure})
+      *v = comm_.gather(*v);
+    const std::vector<double> in(snap.in_contact.begin(), snap.in_contact.end());
+    const std::vector<double> all = comm_.gather(in);
+    snap.in_contact.assign(all.size(), 0);
+    for (std::size_t i = 0; i < all.size(); ++i)
+      snap.in_contact[i] = all[i] != 0.0 ? 1 : 0;
+  }
+
+  template <class F>
+  static void for_each_fields(SlideState& st, F&& f) {
+    f(st.current);
+    f(st.peak);
+    for (std::optional<SlideFields>* o : {&st.previous, &st.earlier, &st.runner_up})
+      if (*o) f(**o);
+    for (SlideFields& w : st.window)
+      f(w);
+    if (st.pending) {
+      for (PathFrame& frame : st.pending->frames)
+        f(frame.fields);
+    }
+  }
+  // A field of this process's rows (x then y) made whole on the root, and the reverse.
+  void whole_rows(SlideFields& fields) const {
+    const std::size_t n = local_count();
+    for (std::vector<double>* v : {&fields.f, &fields.u}) {
+      // Path frames carry no force (a process without rows holds no values either way).
+      if (!comm_.any(!v->empty())) continue;
+      std::vector<double> whole;
+      for (std::size_t c = 0; c < 2; ++c) {
+        const std::vector<double> part =
+            comm_.gather(std::span<const double>(v->data() + c * n, n));
+        whole.insert(whole.end(), part.begin(), part.end());
+      }
+      *v = std::move(whole);
+    }
+  }
+  void own_rows(SlideFields& fields) const {
+    const std::size_t n = local_count(), all = block_shape_.count();
+    const std::size_t begin = static_cast<std::size_t>(row0_) * block_shape_.n1;
+    for (std::vector<double>* v : {&fields.f, &fields.u}) {
+      if (v->empty()) continue;
+      std::vector<double> part(2 * n);
+      for (std::size_t c = 0; c < 2; ++c)
+        std::copy_n(v->begin() + static_cast<std::ptrdiff_t>(c * all + begin), n,
+                    part.begin() + static_cast<std::ptrdiff_t>(c * n));
+      *v = std::move(part);
+    }
+  }
+
+  // Where this process's contact sites sit among every process's at tip position Dx (the
+  // block there): their count, the count before them and the total.
+  struct Cut {
+    std::size_t m = 0, offset = 0, total = 0;
+  };
+  [[nodiscard]] Cut cut_at(double Dx) const {
+    const int shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
+    interface::LateralForceModel at(scene_, local_block_at(shift));
+    at.set_tip(Dx);
+    Cut cut{.m = at.contact_sites().size()};
+    const auto counts = comm_.all_gather(static_cast<long long>(cut.m));
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      if (static_cast<int>(r) < comm_.rank()) cut.offset += static_cast<std::size_t>(counts[r]);
+      cut.total += static_cast<std::size_t>(counts[r]);
+    }
+    return cut;
+  }
+  // A vector on the contact sites (x of each, then y; empty stays empty) made whole on the
+  // root, and the reverse.
+  [[nodiscard]] std::vector<double> whole_sites(const std::vector<double>& v, Cut cut) const {
+    // Present on every process or on none (a process without contact sites holds none of it).
+    if (!comm_.any(!v.empty())) return {};
+    std::vector<double> whole;
+    for (std::size_t c = 0; c < 2; ++c) {
+      const std::vector<double> part =
+          comm_.gather(std::span<const double>(v).subspan(c * cut.m, cut.m));
+      whole.insert(whole.end(), part.begin(), part.end());
+    }
+    return whole;
+  }
+  [[nodiscard]] std::vector<double> own_sites(const std::vector<double>& v, Cut cut) const {
+    if (v.empty()) return {};
+    if (v.size() != 2 * cut.total) {
+      throw std::invalid_argument("slide: the start state's paused flow has " +
+                                  std::to_string(v.size()) + " values for " +
+                                  std::to_string(2 * cut.total) + " (2 per contact site)");
+    }
+    std::vector<double> part(2 * cut.m);
+    for (std::size_t c = 0; c < 2; ++c)
+      std::copy_n(v.begin() + static_cast<std::ptrdiff_t>(c * cut.total + cut.offset), cut.m,
+                  part.begin() + static_cast<std::ptrdiff_t>(c * cut.m));
+    return part;
+  }
+
   interface::ContactScene scene_;
   SlideOptions options_;
+  const par::Comm& comm_;
   int half_;
   Shape2 block_shape_;
   elastic::FreeSurfaceGF gf_;
+  int row0_, rows_;             // this process's rows of the block: [row0_, row0_ + rows_)
+  std::vector<int> rank_rows_;  // every process's count of rows, in rank order
   interface::LateralForceModel lfm_;
   LfmProblem problem_;
   std::size_t uncounted_gf_ = 0;  // GF applications repeated by continued pauses
@@ -446,7 +678,7 @@ SlideResult slide(const interface::ContactScene& scene, const SlideOptions& opti
   options.validate();
   control.validate();
   const auto t0 = std::chrono::steady_clock::now();
-  Slider slider(scene, options);
+  Slider slider(scene, options, control.parallel);
   // The loading ramp to the Regime I force, F_I / k (alpha Fz / k for the Hertz envelope).
   const double ramp = scene.regime_one_force() / scene.lateral_stiffness();
   const detail::ProtocolParams params{
@@ -546,7 +778,10 @@ int block_side(const interface::ContactScene& scene) {
   return 2 * block_half(scene) + 1;
 }
 
-double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options) {
+double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options,
+                             int ranks) {
+  if (ranks < 1)
+    throw std::invalid_argument("estimated_slide_bytes: ranks " + std::to_string(ranks));
   const double n = block_side(scene);
   // Past int range next_fft_size cannot answer; 2n - 1 is then close enough for a refusal.
   const double grid =
@@ -572,8 +807,14 @@ double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOp
   const double pending = pauses ? 4.0 * 5.0 * 16.0 * contact + 4.0 * path * n * n : 0.0;
   // The program and its libraries (36 MB resident before the first relaxation of a = 50 d).
   constexpr double kProcess = 32e6;
-  return kProcess + 260.0 * grid * grid + minimiser + pending +
-         (2.0 * static_cast<double>(kCycleWindow) * 32.0 + path + 2.0 * 65.0) * n * n;
+  // The root's slab of the grid and its share of the block's rows (1 on one process).
+  const double slab = std::ceil(grid / ranks);
+  const double share = std::min(1.0, slab / n);
+  const double window = static_cast<double>(kCycleWindow) * 32.0 * n * n;
+  const double live = 260.0 * grid * slab + share * (minimiser + window + path * n * n);
+  // Copies made whole on the root: a checkpoint's (the window again, the pending flow), two
+  // snapshots in flight.
+  return kProcess + live + window + pending + 2.0 * 65.0 * n * n;
 }
 
 }  // namespace asperity::slide

@@ -96,6 +96,11 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
 // sites (the L-BFGS pairs and about 18 working vectors), with the flow as slip minimiser the
 // copies of a paused flow and its path frames that a checkpoint inside it makes (PendingSlip),
 // and 32 MB for the program itself. Independent of the number of slips.
-double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options);
+// Over `ranks` processes (SlideParallel): the fullest rank's share, rank 0's, which holds a slab
+// of ceil(N / ranks) of the N grid rows, the block rows and contact sites within it (at most
+// all: the block fills the first half of the padded rows), and the whole-block copies the root
+// makes of snapshots and checkpoints.
+double estimated_slide_bytes(const interface::ContactScene& scene, const SlideOptions& options,
+                             int ranks = 1);
 
 }  // namespace asperity::slide

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "asperity/core/common/comm.hpp"
 #include "asperity/core/common/settings.hpp"
 #include "asperity/core/common/shape.hpp"
 #include "asperity/core/fft/fft_engine.hpp"
@@ -259,6 +260,18 @@ struct SlideState {
 // force model): it is paused instead, at the next accepted step, and checkpoints are also taken
 // inside it when they are due; the state handed over holds it (SlideState::pending), and a
 // resumed slide continues it bit for bit.
+// The processes one slide is spread over (issue 26; the lateral force model): each holds the
+// rows of the block that its slab of the Green's function's padded grid covers, with their
+// contact sites. engine: the GF's FFT backend (fft::mpi_engine_factory(comm) over MPI); comm: the
+// same processes (par::MpiComm); both empty or null: one process. Every process calls slide()
+// with the same scene, options and control (each callback set on every process or on none);
+// frames and checkpoints carry every row on the root process (rank 0) and no field values on the
+// others, which should write nothing; a checkpoint resumes on any number of processes.
+struct SlideParallel {
+  fft::EngineFactory engine;
+  const par::Comm* comm = nullptr;  // not owned
+};
+
 struct SlideControl {
   SlideProgress progress;  // after every accepted step and before every relaxation
   // Receives the state: every checkpoint_every_s of wall time, on a stop request (before slide()
@@ -273,6 +286,7 @@ struct SlideControl {
   // Takes the frames as they are made (not owned); null: they are collected in
   // SlideResult::snapshots (and in the checkpoints' partial result).
   FrameSink* frames = nullptr;
+  SlideParallel parallel;  // one process unless set (see SlideParallel)
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
