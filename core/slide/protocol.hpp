@@ -838,7 +838,14 @@ class ProtocolRun {
     } else {
       r = relax_abandonable(trial, p.Dx, want_frames ? &frames : nullptr,
                             p.may_undo || slip_goes_to_flow);
-      if (abandoned_) return interrupt(capture(false, gf_at_top), p.Dx);
+      if (abandoned_) {
+        // plan() took the due probe of the cycle for this relaxation: the resumed slide is to
+        // make it again (without, it would never probe, and its path would leave the
+        // uninterrupted one's).
+        SlideState st = capture(false, gf_at_top);
+        if (p.cycle_of) st.cycle_check_due = true;
+        return interrupt(st, p.Dx);
+      }
     }
     const bool stopped_at_slip = r.termination == Termination::interrupted;
     if (resuming ||
