@@ -7,9 +7,12 @@
 // state at Dx + d equals the state at Dx, every later state is the one a period earlier carried
 // on by d, and the replayed rows must equal the computed ones wherever both sample the same Dx.
 // Tolerances, and why:
-// - mu, stopping at the second slip: the peak lies in the computed first cycle, and without the
-//   replay the second cycle is bisected at the same points, so mu is the same number (1e-12
-//   relative: the same arithmetic). Through four slips see below.
+// - mu, stopping at the second slip: the replayed slide takes its peak from the computed first
+//   cycle; the slide without the replay also computes the second cycle, bisected at the same
+//   points, whose peak is the first's up to N tol in Fx (the same minimum reached from another
+//   start, below). Which of the two nearly equal peaks is the larger is round-off's choice (the
+//   row-ordered sums of issue 26 made it the second: 2e-6 relative), so mu agrees to N tol / Fx
+//   relative, 8e-4 here. Through four slips see below.
 // - Fx of a replayed row against the computed row at the same Dx: N tol, N the contact sites
 //   and tol = 1e-5 G d^2 the force tolerance per site. Both rows are the same minimum reached
 //   from different starting points, each converged until no site's residual force exceeds
@@ -57,7 +60,9 @@ TEST(SlideReplay, RegimeTwoReplayEqualsComputedCycle) {
   EXPECT_GT(replayed.cycle_verified_at, 1.0);
   EXPECT_LE(replayed.cycle_mismatch, slide::SlideOptions{}.cycle_tolerance);
 
-  EXPECT_NEAR(replayed.mu / computed.mu, 1.0, 1e-12);
+  const double sites_tol =
+      static_cast<double>(computed.contact_sites) * slide::SlideOptions{}.minimizer.force_tolerance;
+  EXPECT_NEAR(replayed.mu / computed.mu, 1.0, sites_tol / (computed.mu * computed.Fz));
   EXPECT_EQ(replayed.slip_events, computed.slip_events);
   EXPECT_EQ(replayed.stop_reason, computed.stop_reason);
   EXPECT_NEAR(replayed.distance, computed.distance, slide::SlideOptions{}.min_step);
