@@ -11,6 +11,12 @@
 // data/scenes/explicit_default.toml): normal loading to the Hertz load of contact.a (outputs of
 // app::write_explicit_load_outputs); with --slide, then sliding at fixed Fz with the same
 // protocols and outputs as the LFM (the loading's outputs then go to <out>/loading).
+//
+// Over MPI (issue 26): `mpirun -np N contact_slide ...` spreads one LFM contact over N ranks
+// (slabs of the FFT grid, each rank the block rows and contact sites of its slab); rank 0 reads
+// and writes everything and prints, the other ranks compute their part silently. Checkpoints
+// hold every row, so a run resumes on any number of ranks. The explicit model runs on one
+// process.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -24,6 +30,7 @@
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/cli_checks.hpp"
 #include "asperity/apps/common/memory.hpp"
+#include "asperity/apps/common/mpi_session.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/slide_checkpoint.hpp"
@@ -50,8 +57,8 @@ struct CheckpointedSlide {
 CheckpointedSlide run_checkpointed(
     const std::string& out, const std::string& settings, bool resume, double checkpoint_every,
     app::SnapshotSink& frames,
-    const std::function<slide::SlideResult(const slide::SlideControl&)>& run, int argc,
-    char** argv) {
+    const std::function<slide::SlideResult(const slide::SlideControl&)>& run, int argc, char** argv,
+    const slide::SlideParallel& parallel = {}) {
   CheckpointedSlide c;
   c.checkpoint_file = std::filesystem::path(out) / "checkpoint.cbor";
   std::optional<app::SlideCheckpoint> start;
@@ -105,7 +112,8 @@ CheckpointedSlide run_checkpointed(
       .checkpoint_every_s = checkpoint_every,
       .stop_requested = app::stop_requested,
       .start = start ? &start->state : nullptr,
-      .frames = &frames};
+      .frames = &frames,
+      .parallel = parallel};
   c.result = run(control);
   if (tty) std::fprintf(stderr, "\n");
   if (c.result.interrupted) {
@@ -137,6 +145,22 @@ void finish_checkpoints(const CheckpointedSlide& c) {
   }
 }
 
+// The frames of a rank other than the root of a distributed slide: it hands its rows to the
+// root inside the slide and keeps nothing, but wants paths exactly when the root's sink does
+// (the slide makes path frames collectively).
+class FollowerFrames final : public slide::FrameSink {
+ public:
+  explicit FollowerFrames(bool wants_paths) : wants_paths_(wants_paths) {}
+  void state(const slide::Snapshot& /*frame*/) override {}
+  void path_frame(const slide::Snapshot& /*frame*/) override {}
+  void replayed_path(const std::string& /*source*/, int /*periods*/, double /*period*/,
+                     const std::string& /*label*/) override {}
+  [[nodiscard]] bool wants_paths() const override { return wants_paths_; }
+
+ private:
+  bool wants_paths_;
+};
+
 // What every kind of run of contact_slide takes from its command line.
 struct Run {
   std::string scene_path, out;
@@ -146,6 +170,7 @@ struct Run {
   const app::SettingFlags* flags = nullptr;
   int argc = 0;
   char** argv = nullptr;
+  const app::MpiSession* mpi = nullptr;
 };
 
 // --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
@@ -310,6 +335,26 @@ int explicit_sliding(Run run) {
   return r.failed ? 1 : 0;
 }
 
+// A rank other than the root of a distributed LFM slide: the same slide with the same control
+// (every callback set, as on the root: the slide decides stops and checkpoints together), and
+// nothing read but the checkpoint to resume from, nothing written.
+int follow_lfm_slide(const Run& run, const app::SlideScene& s,
+                     const slide::SlideParallel& parallel) {
+  std::optional<app::SlideCheckpoint> start;
+  if (run.resume) start = app::read_checkpoint(std::filesystem::path(run.out) / "checkpoint.cbor");
+  // The root's sink (app::SnapshotSink) wants paths.
+  FollowerFrames frames(true);
+  const slide::SlideControl control{.progress = [](const slide::SlideProgressInfo&) {},
+                                    .checkpoint = [](const slide::SlideState&) {},
+                                    .checkpoint_every_s = run.checkpoint_every,
+                                    .stop_requested = app::stop_requested,
+                                    .start = start ? &start->state : nullptr,
+                                    .frames = &frames,
+                                    .parallel = parallel};
+  const slide::SlideResult r = slide::slide(s.contact, s.options, control);
+  return r.interrupted ? app::kInterrupted : r.failed ? 1 : 0;
+}
+
 // The lateral force model's slide (MODEL.md 3, 5).
 int lfm_sliding(const Run& run) {
   app::SlideScene s = app::read_slide_scene(run.scene_path, false);
@@ -327,11 +372,19 @@ int lfm_sliding(const Run& run) {
   s.options.validate();
   char a_text[64];
   std::snprintf(a_text, sizeof a_text, "contact.a = %g d", s.contact.a);
-  const double memory = slide::estimated_slide_bytes(s.contact, s.options);
-  app::check_fits_in_memory(a_text, memory,
-                            "estimate: 260 bytes per point of the padded FFT grid of the block, "
-                            "the minimiser's vectors on the contact and the frames of one "
-                            "relaxation path");
+  const int ranks = run.mpi->size();
+  const double memory = slide::estimated_slide_bytes(s.contact, s.options, ranks);
+  // The ranks on this machine share its memory.
+  app::check_fits_in_memory(a_text, memory * app::launcher_local_ranks(),
+                            ranks > 1 ? "estimate per rank times the ranks on this machine: 260 "
+                                        "bytes per point of the rank's slab of the padded FFT "
+                                        "grid, the minimiser's vectors on its contact sites and "
+                                        "the frames of one relaxation path"
+                                      : "estimate: 260 bytes per point of the padded FFT grid of "
+                                        "the block, the minimiser's vectors on the contact and "
+                                        "the frames of one relaxation path");
+  const slide::SlideParallel parallel{.engine = run.mpi->engine(), .comm = &run.mpi->comm()};
+  if (!run.mpi->root()) return follow_lfm_slide(run, s, parallel);
   const std::string output_line = app::check_output_fits(s, run.out);
 
   std::fprintf(stderr,
@@ -344,8 +397,15 @@ int lfm_sliding(const Run& run) {
                minimize::to_string(s.options.minimizer.method).c_str(),
                minimize::to_string(s.options.minimizer.preconditioner).c_str(),
                s.options.minimizer.force_tolerance);
-  std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
-               memory / 1e6, output_line.c_str());
+  if (ranks > 1) {
+    std::fprintf(stderr,
+                 "contact_slide: over %d MPI ranks: memory about %.3g MB on the fullest rank, "
+                 "whatever the number of slips; %s\n",
+                 ranks, memory / 1e6, output_line.c_str());
+  } else {
+    std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
+                 memory / 1e6, output_line.c_str());
+  }
   app::SnapshotSink frames(std::filesystem::path(run.out) / "snapshots",
                            app::snapshot_attributes(s, nullptr), s.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
@@ -353,7 +413,7 @@ int lfm_sliding(const Run& run) {
       [&](const slide::SlideControl& control) {
         return slide::slide(s.contact, s.options, control);
       },
-      run.argc, run.argv);
+      run.argc, run.argv, parallel);
   const slide::SlideResult& r = slid.result;
   if (r.interrupted) return app::kInterrupted;
   const auto files = app::write_slide_outputs(run.out, s, r);
@@ -404,7 +464,9 @@ int lfm_sliding(const Run& run) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+  std::unique_ptr<app::MpiSession> mpi;
+  const int code = app::run_main(argc, argv, [&mpi](int argc_, char** argv_) {
+    mpi = std::make_unique<app::MpiSession>(argc_, argv_);
     CLI::App cli{"Quasi-static sliding of a sphere on a crystalline flat (lateral force model)"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/contact_slide";
@@ -447,8 +509,15 @@ int main(int argc, char** argv) {
     if (explicit_slide && model != "explicit") {
       throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
     }
-    // One run per output directory, for the whole run (its checkpoint is read under the lock).
-    const app::DirectoryLock dir_lock(app::ensure_directory(out));
+    if (mpi->distributed() && model == "explicit") {
+      throw std::invalid_argument("--model explicit runs on one process (started on " +
+                                  std::to_string(mpi->size()) +
+                                  " MPI ranks; the lateral force model runs over ranks)");
+    }
+    // One run per output directory, for the whole run (its checkpoint is read under the lock);
+    // over MPI the root's, which writes.
+    std::optional<app::DirectoryLock> dir_lock;
+    if (mpi->root()) dir_lock.emplace(app::ensure_directory(out));
     const Run run{.scene_path = scene_path,
                   .out = out,
                   .scene_given = cli.count("scene") > 0,
@@ -456,7 +525,8 @@ int main(int argc, char** argv) {
                   .checkpoint_every = checkpoint_every,
                   .flags = &flags,
                   .argc = argc_,
-                  .argv = argv_};
+                  .argv = argv_,
+                  .mpi = mpi.get()};
 
     if (model == "explicit" && flags.given("solver.preconditioner")) {
       throw std::invalid_argument(
@@ -498,4 +568,5 @@ int main(int argc, char** argv) {
     }
     return lfm_sliding(run);
   });
+  return mpi ? mpi->finish(code) : code;
 }
