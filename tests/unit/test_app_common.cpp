@@ -283,6 +283,24 @@ TEST_F(FilesTest, DirectoryLockCoversTheFoldersBelowIt) {
   EXPECT_NO_THROW(DirectoryLock after(point)) << "a killed holder still guards its folders";
 }
 
+// Over MPI ranks, rank 0 holds the sweep's directory and the other ranks lock its point folders
+// (mpi_points.hpp): the run's own directory, held by another of its processes, is not in the way;
+// a directory further up that another run holds still is.
+TEST_F(FilesTest, DirectoryLockLetsTheRunsOwnDirectoryPass) {
+  const fs::path point = ensure_directory(dir_ / "points" / "a250_R1700");
+  {
+    LockHeldByChild rank0(dir_);
+    EXPECT_THROW(DirectoryLock refused(point), std::invalid_argument);
+    EXPECT_NO_THROW(DirectoryLock mine(point, dir_));
+    // The run's directory itself stays rank 0's.
+    EXPECT_THROW(DirectoryLock again(dir_, dir_), std::invalid_argument);
+  }
+  const fs::path sweep = ensure_directory(dir_ / "sweep");
+  const fs::path inner = ensure_directory(sweep / "points" / "a6_R535");
+  LockHeldByChild other_run(dir_);
+  EXPECT_THROW(DirectoryLock mine(inner, sweep), std::invalid_argument);
+}
+
 TEST_F(FilesTest, CsvRoundTripIsBitIdentical) {
   const std::vector<double> values = {0.1,
                                       1.0 / 3.0,
