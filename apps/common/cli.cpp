@@ -53,21 +53,32 @@ bool parse_command_line(CLI::App& app, int argc, char** argv) {
   }
 }
 
+int describe_error(const std::string& program, const std::exception_ptr& error,
+                   std::string& lines) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const CLI::ParseError& e) {
+    lines = program + ": error: " + e.what() + "\n" + program + ": run with --help for usage\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    lines = program + ": error: " + e.what() + "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    lines = program + ": error: " + e.what() + "\n";
+    return 1;
+  }
+}
+
 int run_main(int argc, char** argv, const std::function<int(int, char**)>& body) {
   const std::string program =
       argc > 0 ? std::filesystem::path(argv[0]).filename().string() : "asperity";
   try {
     return body(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << program << ": error: " << e.what() << "\n"
-              << program << ": run with --help for usage\n";
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
-    return 1;
+  } catch (const std::exception&) {
+    std::string lines;
+    const int status = describe_error(program, std::current_exception(), lines);
+    std::cerr << lines;
+    return status;
   }
 }
 
@@ -122,20 +133,28 @@ namespace {
 std::atomic<bool> g_stop{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
-extern "C" void request_stop(int) {
+extern "C" void on_stop_signal(int) {
   g_stop.store(true);
 }
 }  // namespace
 
-void install_stop_handlers() {
+void install_stop_handler(int signal) {
   struct sigaction action {};
-  action.sa_handler = request_stop;
+  action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   // System calls in flight (file writes) just go on; a second signal, while the run finishes
   // what is in flight, ends it at once (the default action).
   action.sa_flags = SA_RESTART | SA_RESETHAND;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  sigaction(signal, &action, nullptr);
+}
+
+void install_stop_handlers() {
+  install_stop_handler(SIGINT);
+  install_stop_handler(SIGTERM);
+}
+
+void request_stop() {
+  g_stop.store(true);
 }
 
 bool stop_requested() {

@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <iosfwd>
 #include <mutex>
@@ -57,6 +58,12 @@ bool parse_command_line(CLI::App& app, int argc, char** argv);
 // at run time (any other std::exception).
 int run_main(int argc, char** argv, const std::function<int(int, char**)>& body);
 
+// What run_main makes of an exception: its exit status (2 for bad input: CLI::ParseError,
+// std::invalid_argument; 1 for any other std::exception) and the lines it prints on stderr,
+// "program: error: message" (and the usage hint of a malformed command line). An exception that
+// is no std::exception is rethrown.
+int describe_error(const std::string& program, const std::exception_ptr& error, std::string& lines);
+
 // Exit status of a run stopped by SIGINT or SIGTERM after saving what it had (0: done,
 // 1: failed, 2: bad input).
 constexpr int kInterrupted = 3;
@@ -65,6 +72,11 @@ constexpr int kInterrupted = 3;
 // poll stop_requested() between steps (slides also inside relaxations), save their state and
 // return kInterrupted.
 void install_stop_handlers();
+// The same handler for one more signal: SIGUSR1 under mpirun, which forwards it to every rank
+// (SIGINT and SIGTERM it answers by killing the ranks a second later; mpi_points.hpp).
+void install_stop_handler(int signal);
+// Sets the flag as a signal would: another rank of the run was stopped (mpi_points.hpp).
+void request_stop();
 bool stop_requested();
 
 // The command line as typed, quoted for a POSIX shell, with `extra` appended unless an argument

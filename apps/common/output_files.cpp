@@ -360,15 +360,24 @@ std::string lock_holder(int fd) {
 
 }  // namespace
 
-DirectoryLock::DirectoryLock(const std::filesystem::path& dir) {
+namespace {
+std::filesystem::path canonical_or_absolute(const std::filesystem::path& dir) {
   std::error_code ec;
-  dir_ = std::filesystem::weakly_canonical(dir, ec);
-  if (ec) dir_ = std::filesystem::absolute(dir);
+  std::filesystem::path p = std::filesystem::weakly_canonical(dir, ec);
+  return ec ? std::filesystem::absolute(dir) : p;
+}
+}  // namespace
+
+DirectoryLock::DirectoryLock(const std::filesystem::path& dir,
+                             const std::filesystem::path& run_dir) {
+  dir_ = canonical_or_absolute(dir);
+  const std::filesystem::path held_by_run =
+      run_dir.empty() ? std::filesystem::path() : canonical_or_absolute(run_dir);
   const std::lock_guard held_lock(held_mutex());
   // A directory inside one another run holds is written by that run too (a sweep's point
   // folders), so an ancestor's lock refuses this one. Probed with a shared lock, dropped at once.
   for (std::filesystem::path p = dir_.parent_path();; p = p.parent_path()) {
-    if (!held_here().contains(p)) {
+    if (!held_here().contains(p) && p != held_by_run) {
       const std::filesystem::path file = p / kFileName;
       if (const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC); fd >= 0) {
         const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;

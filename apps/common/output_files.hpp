@@ -60,12 +60,16 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 // pid into it, for the message. A directory inside one that another run holds is refused too
 // (that run writes below its directory: a sweep's point folders, which the sweep also locks one
 // by one while it runs them); directories this process locked itself are not in the way.
+// `run_dir`, if given, is a directory that this run holds through another of its processes (the
+// sweep's directory, which rank 0 of a sweep over MPI ranks holds while the other ranks lock its
+// point folders, mpi_points.hpp): its lock is not in the way either.
 // Throws std::invalid_argument (exit status 2: a command-line problem) naming the locked
 // directory and the holder's pid if another run holds the lock, and std::runtime_error if the
 // lock file cannot be opened.
 class DirectoryLock {
  public:
-  explicit DirectoryLock(const std::filesystem::path& dir);
+  explicit DirectoryLock(const std::filesystem::path& dir,
+                         const std::filesystem::path& run_dir = {});
   ~DirectoryLock();
   DirectoryLock(const DirectoryLock&) = delete;
   DirectoryLock& operator=(const DirectoryLock&) = delete;

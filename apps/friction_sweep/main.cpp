@@ -15,6 +15,8 @@
 //   collapse.png (mu/alpha of both models against a/b_core^0) and, in summary.json,
 //   "explicit_vs_lfm" (the ratio at each explicit point, the largest deviation in
 //   a/b_core^0 in [0.1, 10]).
+// Under mpirun the points run over the ranks, one point per rank at a time (or --jobs per rank),
+// and rank 0 writes the same files (apps/common/mpi_points.hpp).
 // The points run in runner.cpp, the report is written by report.cpp; this file wires the flags.
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -24,6 +26,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/mpi_points.hpp"
 #include "asperity/apps/common/settings_cli.hpp"
 #include "runner.hpp"
 #include "sweep.hpp"
@@ -31,7 +34,7 @@
 using namespace asperity;
 
 int main(int argc, char** argv) {
-  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+  return app::run_main_over_ranks(argc, argv, [](int argc_, char** argv_, app::Ranks& ranks) {
     CLI::App cli{"Static friction of the lateral force model over many (a, R) points"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/sweep_default.toml";
     app::SweepRunOptions o{.out = "results/friction_sweep"};
@@ -75,6 +78,9 @@ int main(int argc, char** argv) {
     s.base.options.validate();
     o.out = out;
     o.command_line = app::command_line(argc_, argv_);
-    return app::run_sweep(s, o);
+    if (ranks.distributed()) {
+      o.command_line = "mpirun -np " + std::to_string(ranks.size()) + " " + o.command_line;
+    }
+    return app::run_sweep(s, o, ranks);
   });
 }

@@ -508,6 +508,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                                {"tip_angle", r.point.tip.angle},
                                {"tip_mismatch", r.point.tip.mismatch},
                                {"wall_s", r.wall_s}});
+        if (n.ranks > 1) point_times.back()["rank"] = r.rank;
       }
     }
   }
@@ -529,7 +530,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
   if (s.runs_lfm()) tables.push_back("sweep.csv");
   if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
   nlohmann::json summary = {{"tool", "friction_sweep"},
-                            {"scene", scene_json(s, s.effective_jobs())},
+                            {"scene", scene_json(s, n.jobs)},
                             {"points", n.points + n.explicit_points},
                             {"explicit_points", n.explicit_points},
                             {"computed", n.computed},
@@ -543,6 +544,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                             {"run",
                              {{"provenance", provenance_json()},
                               {"wall_s", wall},
+                              {"ranks", n.ranks},
                               {"points_wall_s", points_wall},
                               {"point_wall_s", point_times}}}};
   if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;

@@ -12,9 +12,11 @@
 
 namespace asperity::app {
 
-// How many points a sweep had, and how many it computed and reused.
+// How many points a sweep had, and how many it computed and reused; how many it ran at once on
+// each of how many MPI ranks (1: one process).
 struct SweepCounts {
   std::size_t points = 0, explicit_points = 0, computed = 0, reused = 0;
+  int jobs = 1, ranks = 1;
 };
 
 // The end of a sweep whose points are all in. Returns the exit status (1 if a point failed).

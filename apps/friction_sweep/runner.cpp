@@ -14,7 +14,6 @@
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/memory.hpp"
 #include "asperity/apps/common/output_files.hpp"
-#include "asperity/apps/common/point_runner.hpp"
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/apps/common/slide_io.hpp"
 #include "asperity/apps/common/snapshot_sink.hpp"
@@ -67,9 +66,10 @@ struct PointSinks {
 
 class SweepRunner {
  public:
-  SweepRunner(const SweepScene& s, const SweepRunOptions& o)
+  SweepRunner(const SweepScene& s, const SweepRunOptions& o, Ranks& ranks)
       : s_(s),
         o_(o),
+        ranks_(ranks),
         points_(sweep_points(s)),  // validates s
         xpoints_(explicit_sweep_points(s)) {}
 
@@ -79,25 +79,51 @@ class SweepRunner {
     settings_ = settings_fingerprint(s_.base);
     settings_x_ = explicit_settings_fingerprint(s_);
     const auto t0 = std::chrono::steady_clock::now();
-    dir_ = ensure_directory(o_.out);
-    // One sweep per output directory: its table and point folders (with their checkpoints)
-    // would interleave with another's.
-    const DirectoryLock dir_lock(dir_);
-    if (const std::size_t n = remove_stale_temporaries(dir_)) {
-      std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n", n,
-                   n > 1 ? "s" : "");
+    jobs_ = s_.effective_jobs(ranks_.hardware_threads());
+    n_jobs_ = jobs_;
+    // Over MPI ranks, rank 0 alone locks, resumes, plans and writes the tables; the others only
+    // run the points it hands them, each in its point folder.
+    std::optional<DirectoryLock> dir_lock;
+    ResumedRows resumed, resumed_x;
+    dir_ = o_.out;
+    if (ranks_.leader()) {
+      dir_ = ensure_directory(o_.out);
+      // One sweep per output directory: its table and point folders (with their checkpoints)
+      // would interleave with another's.
+      dir_lock.emplace(dir_);
+      if (const std::size_t n = remove_stale_temporaries(dir_)) {
+        std::fprintf(stderr, "friction_sweep: removed %zu temporary file%s left by a killed run\n",
+                     n, n > 1 ? "s" : "");
+      }
+      csv_ = dir_ / "sweep.csv";
+      csv_x_ = dir_ / "sweep_explicit.csv";
+      resumed = resume_rows(csv_, points_, settings_);
+      resumed_x = resume_rows(csv_x_, xpoints_, settings_x_);
+      rows_ = std::move(resumed.rows);
+      rows_x_ = std::move(resumed_x.rows);
+      plan();
+      check_resources();
+      announce(resumed, resumed_x);
     }
-    csv_ = dir_ / "sweep.csv";
-    csv_x_ = dir_ / "sweep_explicit.csv";
-    ResumedRows resumed = resume_rows(csv_, points_, settings_);
-    ResumedRows resumed_x = resume_rows(csv_x_, xpoints_, settings_x_);
-    rows_ = std::move(resumed.rows);
-    rows_x_ = std::move(resumed_x.rows);
-    plan();
-    check_resources();
-    announce(resumed, resumed_x);
-    run_points(
-        order_.size(), n_jobs_, [&](std::size_t i) { run_point(order_[i]); }, stop_);
+    ranks_.start(settings_ + "\n" + settings_x_ + "\n" + std::to_string(points_.size()) + " " +
+                 std::to_string(xpoints_.size()));
+    std::vector<std::size_t> ids;
+    for (const Job& job : order_)
+      ids.push_back(job.x ? points_.size() + job.k : job.k);
+    const std::size_t interrupted = ranks_.run_points(
+        ids, n_jobs_,
+        [&](std::size_t id) -> std::optional<std::string> {
+          auto row = run_point(job_of(id));
+          if (!row) return std::nullopt;
+          return encode_row(*row);
+        },
+        [&](std::size_t id, std::string_view row, int rank) {
+          SweepRow r = decode_row(row);
+          r.rank = rank;
+          record(job_of(id), std::move(r));
+        },
+        stop_);
+    if (!ranks_.leader()) return 0;
     if (fatal_) std::rethrow_exception(fatal_);
     const auto missing = [](const auto& r) { return !r.has_value(); };
     if (stop_requested() && (std::any_of(rows_.begin(), rows_.end(), missing) ||
@@ -105,7 +131,7 @@ class SweepRunner {
       std::fprintf(stderr,
                    "friction_sweep: stopped; %zu point%s finished in this run (kept in %s), %zu "
                    "in flight saved to points/*/checkpoint.cbor\ncontinue with:\n  %s\n",
-                   finished_, finished_ == 1 ? "" : "s", csv_.c_str(), interrupted_.load(),
+                   finished_, finished_ == 1 ? "" : "s", csv_.c_str(), interrupted,
                    o_.command_line.c_str());
       return kInterrupted;
     }
@@ -118,12 +144,19 @@ class SweepRunner {
                         {.points = points_.size(),
                          .explicit_points = xpoints_.size(),
                          .computed = order_.size(),
-                         .reused = resumed.reused + resumed_x.reused},
+                         .reused = resumed.reused + resumed_x.reused,
+                         .jobs = jobs_,
+                         .ranks = ranks_.size()},
                         t0);
   }
 
  private:
   const SweepPoint& point_of(const Job& j) const { return j.x ? xpoints_[j.k] : points_[j.k]; }
+  // A job by the number that ranks send: the LFM's points first, then the explicit model's.
+  Job job_of(std::size_t id) const {
+    if (id < points_.size()) return {false, id};
+    return {true, id - points_.size()};
+  }
   // The fingerprint of the table a job's row goes to.
   const std::string& row_settings(const Job& j) const { return j.x ? settings_x_ : settings_; }
 
@@ -138,13 +171,14 @@ class SweepRunner {
     }
     std::stable_sort(order_.begin(), order_.end(),
                      [&](const Job& i, const Job& j) { return point_of(i).a < point_of(j).a; });
-    n_jobs_ = std::min(s_.effective_jobs(), static_cast<int>(order_.size()));
+    n_jobs_ = std::min(n_jobs_, static_cast<int>(order_.size()));
   }
 
-  // The largest contacts still to run, as many at once as run in parallel, must fit together
-  // (explicit points are not estimated: a = 43 d takes 50 MiB, docs/benchmarks.md; a/R < 0.1
-  // does not bound a, so a large explicit sweep is the user's to size); with --figures, every
-  // point's snapshots (and a checkpoint) on disk, as contact_slide writes them.
+  // The largest contacts still to run, as many at once as run in parallel on this host (over MPI
+  // ranks: its ranks' threads), must fit together (explicit points are not estimated: a = 43 d
+  // takes 50 MiB, docs/benchmarks.md; a/R < 0.1 does not bound a, so a large explicit sweep is
+  // the user's to size); with --figures, every point's snapshots (and a checkpoint) on disk, as
+  // contact_slide writes them.
   void check_resources() const {
     std::vector<double> bytes;
     double a_max = 0.0;
@@ -160,7 +194,8 @@ class SweepRunner {
       a_max = std::max(a_max, c.a);
     }
     std::sort(bytes.rbegin(), bytes.rend());
-    const auto at_once = std::min(bytes.size(), static_cast<std::size_t>(std::max(n_jobs_, 1)));
+    const auto at_once = std::min(
+        bytes.size(), static_cast<std::size_t>(std::max(n_jobs_, 1) * ranks_.ranks_on_host()));
     const double total = std::accumulate(bytes.begin(), bytes.begin() + at_once, 0.0);
     char what[160];
     std::snprintf(what, sizeof what,
@@ -224,9 +259,11 @@ class SweepRunner {
     if (s_.runs_lfm()) write_table(csv_, rows_);
     if (s_.runs_explicit()) write_table(csv_x_, rows_x_);
     if (!order_.empty()) {
+      std::string where;
+      if (ranks_.distributed()) where = " on each of " + std::to_string(ranks_.size()) + " ranks";
       std::fprintf(stderr,
-                   "friction_sweep: running %zu point%s, %d at once, %d FFT thread%s each\n",
-                   order_.size(), order_.size() > 1 ? "s" : "", n_jobs_,
+                   "friction_sweep: running %zu point%s, %d at once%s, %d FFT thread%s each\n",
+                   order_.size(), order_.size() > 1 ? "s" : "", n_jobs_, where.c_str(),
                    s_.base.options.fft.threads, s_.base.options.fft.threads > 1 ? "s" : "");
     }
   }
@@ -235,13 +272,15 @@ class SweepRunner {
   void record(const Job& job, SweepRow row) {
     const std::lock_guard lock(table_mutex_);
     ++finished_;
+    const std::string where =
+        ranks_.distributed() ? " on rank " + std::to_string(row.rank) : std::string();
     std::fprintf(stderr,
                  "friction_sweep: [%zu/%zu] %s%s, a/b_core^0 = %.4g: "
-                 "%s = %.5f%s, %.1f s%s%s\n",
+                 "%s = %.5f%s, %.1f s%s%s%s\n",
                  finished_, order_.size(), job.x ? "explicit " : "",
                  describe_point(row.point).c_str(), row.a_over_bcore0,
                  relative_friction_name(row.envelope).c_str(), row.relative_friction,
-                 row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s,
+                 row.mu_is_lower_bound ? " (lower bound)" : "", row.wall_s, where.c_str(),
                  row.failed ? ": FAILED: " : "", row.failed ? row.stop_reason.c_str() : "");
     (job.x ? rows_x_ : rows_)[job.k] = std::move(row);
     try {
@@ -326,9 +365,9 @@ class SweepRunner {
     }
   }
 
-  // One point: its scene, checkpoint, sinks, slide and outputs; its row (failed if anything
-  // in it throws: the other points go on).
-  void run_point(const Job& job) {
+  // One point, on the rank that took it: its scene, checkpoint, sinks, slide and outputs; its
+  // row (failed if anything in it throws: the other points go on), none if it was interrupted.
+  std::optional<SweepRow> run_point(const Job& job) {
     const auto started = std::chrono::steady_clock::now();
     const SweepPoint& point = point_of(job);
     SlideScene ps = s_.base;
@@ -336,11 +375,11 @@ class SweepRunner {
     ps.contact.R = point.R;
     ps.contact.tip = point.tip;
     try {
-      if (auto row = slide_point(job, point, ps)) record(job, std::move(*row));
+      return slide_point(job, point, ps);
     } catch (const std::exception& e) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      record(job, error_row(ps, e.what(), seconds, row_settings(job)));
+      return error_row(ps, e.what(), seconds, row_settings(job));
     }
   }
 
@@ -360,8 +399,9 @@ class SweepRunner {
     // result bit for bit. A checkpoint of other settings is replaced (and kept aside).
     const fs::path point_dir = dir_ / "points" / point_folder(point, job.x);
     // Held while the point runs: a contact_slide started into this folder is refused, and so is
-    // this point (failed, the sweep goes on) if a contact_slide already writes there.
-    const DirectoryLock point_lock(ensure_directory(point_dir));
+    // this point (failed, the sweep goes on) if a contact_slide already writes there. The
+    // sweep's own lock on dir_ (rank 0's, over MPI ranks) is not in the way.
+    const DirectoryLock point_lock(ensure_directory(point_dir), dir_);
     const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
     // With --figures the point writes snapshots as it goes: a checkpoint of a run without them
     // cannot continue one with them (the frames before it would be missing).
@@ -395,8 +435,7 @@ class SweepRunner {
                                             : slide::slide(ps.contact, ps.options, control);
     if (result.interrupted) {
       if (frames) frames->flush();
-      ++interrupted_;  // no row: the next run continues from the checkpoint
-      return std::nullopt;
+      return std::nullopt;  // no row: the next run continues from the checkpoint
     }
     if (frames) frames->finish();
     {
@@ -413,24 +452,25 @@ class SweepRunner {
 
   const SweepScene& s_;
   const SweepRunOptions& o_;
+  Ranks& ranks_;
   const std::vector<SweepPoint> points_, xpoints_;
   std::string settings_, settings_x_;  // the rows' fingerprints
   fs::path dir_, csv_, csv_x_;
   std::vector<std::optional<SweepRow>> rows_, rows_x_;
   std::vector<Job> order_;
-  int n_jobs_ = 0;
+  int jobs_ = 1;             // points at once (on each rank), as asked or by default
+  int n_jobs_ = 0;           // threads: jobs_, or fewer for fewer points
   std::mutex table_mutex_;   // rows, sweep.csv and the progress lines
   std::mutex output_mutex_;  // the NetCDF library is not thread-safe
   std::atomic<bool> stop_{false};
   std::exception_ptr fatal_;  // failure to write sweep.csv: ends the sweep
   std::size_t finished_ = 0;
-  std::atomic<std::size_t> interrupted_{0};
 };
 
 }  // namespace
 
-int run_sweep(const SweepScene& s, const SweepRunOptions& options) {
-  SweepRunner runner(s, options);
+int run_sweep(const SweepScene& s, const SweepRunOptions& options, Ranks& ranks) {
+  SweepRunner runner(s, options, ranks);
   return runner.run();
 }
 

@@ -1,14 +1,15 @@
 // friction_sweep's point runner: plans the points still to run (cheapest first), checks that
 // the largest of them fit in memory (and their snapshots on disk), runs them through
-// app::run_points with checkpoints, progress lines and frame sinks, and records each finished
-// point's row in its table as it comes in (runner.cpp). main.cpp wires the options to it;
-// report.cpp writes what the sweep found once every point is in.
+// Ranks::run_points (threads, and MPI ranks under mpirun) with checkpoints, progress lines and
+// frame sinks, and records each finished point's row in its table as it comes in (runner.cpp).
+// main.cpp wires the options to it; report.cpp writes what the sweep found once every point is in.
 #pragma once
 
 #include <chrono>
 #include <filesystem>
 #include <string>
 
+#include "asperity/apps/common/mpi_points.hpp"
 #include "sweep.hpp"
 
 namespace asperity::app {
@@ -23,7 +24,9 @@ struct SweepRunOptions {
 };
 
 // Runs the sweep of scene `s` (validated) into options.out and writes its results; returns the
-// exit status (kInterrupted if stopped with points left, 1 if a point failed).
-int run_sweep(const SweepScene& s, const SweepRunOptions& options);
+// exit status (kInterrupted if stopped with points left, 1 if a point failed). Over MPI ranks
+// (mpi_points.hpp) rank 0 plans, records and reports, and every rank runs points; the other
+// ranks return 0 once the points are done (their exit status is rank 0's).
+int run_sweep(const SweepScene& s, const SweepRunOptions& options, Ranks& ranks);
 
 }  // namespace asperity::app

@@ -10,10 +10,10 @@
 #include <numbers>
 #include <set>
 #include <stdexcept>
-#include <thread>
 #include <tuple>
 
 #include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/mpi_points.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/common/line_fit.hpp"
 #include "asperity/core/contact/hertz.hpp"
@@ -100,7 +100,9 @@ const settings::Table<SweepScene>& SweepScene::settings() {
             "targets of the control parameter a/b_core^0 (instead of sweep.a)", "--a-over-bcore0"),
         settings::neutral(settings::integer<SweepScene>(
             "sweep.jobs", [](auto& s) -> auto& { return s.jobs; }, Range::closed(0, 1024), "",
-            "points run at once (0: hardware threads / fft.threads)", "--jobs")),
+            "points run at once, on each MPI rank (0: hardware threads / fft.threads, a host's "
+            "shared among its ranks)",
+            "--jobs")),
         settings::choice<SweepScene>(
             "sweep.model", [](auto& s) -> auto& { return s.model; }, {"lfm", "explicit", "both"},
             "which models run the points: the lateral force model (sweep.csv), the explicit "
@@ -152,11 +154,10 @@ std::vector<double> SweepScene::radii() const {
   return {interface::ContactScene{}.R};
 }
 
-int SweepScene::effective_jobs() const {
+int SweepScene::effective_jobs(int hardware_threads) const {
   if (jobs > 0) return jobs;
   // hardware_concurrency() may be 0 when unknown.
-  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-  return std::max(1, hardware / base.options.fft.threads);
+  return std::max(1, hardware_threads / base.options.fft.threads);
 }
 
 SweepScene read_sweep_scene(const std::string& path) {
@@ -499,6 +500,46 @@ SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& r,
        static_cast<long long>(r.failed), static_cast<long long>(r.steps),
        static_cast<long long>(r.gf_applications), settings});
   return row;
+}
+
+std::string encode_row(const SweepRow& r) {
+  ByteWriter out;
+  out.real(r.point.a).real(r.point.R).real(r.point.tip.angle).real(r.point.tip.mismatch);
+  out.text(r.envelope).real(r.a_over_bcore0).real(r.mu_over_alpha).real(r.relative_friction);
+  out.real(r.kinetic_over_static).integer(r.slip_events).integer(r.mu_is_lower_bound);
+  out.integer(r.failed).text(r.stop_reason).real(r.wall_s);
+  out.integer(static_cast<std::int64_t>(r.cells.size()));
+  for (const auto& c : r.cells)
+    out.cell(c);
+  return out.bytes();
+}
+
+SweepRow decode_row(std::string_view bytes) {
+  ByteReader in(bytes);
+  SweepRow r;
+  r.point.a = in.real();
+  r.point.R = in.real();
+  r.point.tip.angle = in.real();
+  r.point.tip.mismatch = in.real();
+  r.envelope = in.text();
+  r.a_over_bcore0 = in.real();
+  r.mu_over_alpha = in.real();
+  r.relative_friction = in.real();
+  r.kinetic_over_static = in.real();
+  r.slip_events = static_cast<int>(in.integer());
+  r.mu_is_lower_bound = in.integer() != 0;
+  r.failed = in.integer() != 0;
+  r.stop_reason = in.text();
+  r.wall_s = in.real();
+  const std::int64_t n = in.integer();
+  if (n != static_cast<std::int64_t>(sweep_columns().size())) {
+    throw std::runtime_error("a sweep row from another rank has " + std::to_string(n) +
+                             " cells, not " + std::to_string(sweep_columns().size()));
+  }
+  for (std::int64_t i = 0; i < n; ++i)
+    r.cells.push_back(in.cell());
+  in.finish();
+  return r;
 }
 
 SweepRow error_row(const SlideScene& scene, const std::string& message, double wall_s,

@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -50,7 +51,7 @@ struct SweepScene {
   std::optional<ValueList> tip_angle;      // the tip lattice's rotations (degrees); absent:
                                            // base.contact.tip.angle
   std::optional<ValueList> tip_mismatch;   // its mismatches; absent: base.contact.tip.mismatch
-  int jobs = 0;               // points run at once; 0: max(1, hardware threads / fft.threads)
+  int jobs = 0;  // points run at once (on each rank); 0: max(1, hardware threads / fft.threads)
   std::string model = "lfm";  // lfm | explicit | both
   // The explicit model's potential and substrate: G in eps/sigma^3 and sigma/d ([explicit]);
   // R, material and d are set per point.
@@ -67,8 +68,9 @@ struct SweepScene {
   // The sphere radii of the points: sweep.R, or for an adhesive sweep without it contact.R's
   // default.
   [[nodiscard]] std::vector<double> radii() const;
-  // jobs, or its default on this machine.
-  [[nodiscard]] int effective_jobs() const;
+  // jobs, or its default for `hardware_threads` (Ranks::hardware_threads(): this machine's, or
+  // over MPI ranks its share of its host's).
+  [[nodiscard]] int effective_jobs(int hardware_threads) const;
   [[nodiscard]] bool runs_lfm() const { return model != "explicit"; }
   [[nodiscard]] bool runs_explicit() const { return model != "lfm"; }
 };
@@ -146,8 +148,14 @@ struct SweepRow {
   bool failed = false;
   std::string stop_reason;
   double wall_s = 0.0;  // run time of the point; NaN for a reused row (not in the table)
+  int rank = 0;         // the MPI rank that computed it (mpi_points.hpp; not in the table)
   std::vector<CsvTable::Cell> cells;  // the row as written, in sweep_columns() order
 };
+
+// A row as bytes, for rank 0 of a sweep over MPI ranks (mpi_points.hpp), and back: every field
+// bit for bit, so that rank 0 writes the row as the rank that computed it would.
+std::string encode_row(const SweepRow& row);
+SweepRow decode_row(std::string_view bytes);
 
 // Row of a finished point.
 SweepRow sweep_row(const SlideScene& scene, const slide::SlideResult& result,

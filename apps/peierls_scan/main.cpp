@@ -9,6 +9,8 @@
 //   tau_P_vs_theta.png (one curve per b_core), core_width.png (against the continuum width);
 // - with snapshots on: points/<point>/cell.nc, the relaxed and the last stable loaded state of
 //   the whole L x L cell in the contact simulator's snapshot layout (global attribute periodic).
+// Under mpirun the points run over the ranks and rank 0 writes the same files
+// (apps/common/mpi_points.hpp).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -16,11 +18,11 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/cli_checks.hpp"
+#include "asperity/apps/common/mpi_points.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/peierls/scan.hpp"
@@ -31,7 +33,7 @@ using namespace asperity::app::peierls_scan;
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
-  return app::run_main(argc, argv, [](int argc_, char** argv_) {
+  return app::run_main_over_ranks(argc, argv, [](int argc_, char** argv_, app::Ranks& ranks) {
     CLI::App cli{"Peierls stress of an interfacial dislocation versus core width and line angle"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
     std::string out = "results/peierls_scan";
@@ -68,34 +70,39 @@ int main(int argc, char** argv) {
     // SIGINT/SIGTERM from here on: no new point starts; the points in flight (seconds each)
     // finish and are kept, and the same command continues with the rest.
     app::install_stop_handlers();
-    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int n_jobs_wanted = s.jobs > 0 ? s.jobs : hardware;
+    const int n_jobs_wanted = s.jobs > 0 ? s.jobs : std::max(1, ranks.hardware_threads());
 
     const auto t0 = std::chrono::steady_clock::now();
-    const fs::path dir = app::ensure_directory(out);
-    const app::DirectoryLock dir_lock(dir);  // one scan per output directory
-    app::remove_stale_temporaries(dir);
+    // Over MPI ranks, rank 0 alone locks, resumes, plans and writes; every rank runs points.
+    fs::path dir = out;
+    std::optional<app::DirectoryLock> dir_lock;
     const fs::path csv = dir / "peierls.csv";
     std::vector<std::optional<Row>> rows(points.size());
-    const std::size_t reused = resume(csv, points, settings, rows);
-    write_table(csv, rows, s);
-    ScanRun run{.scene = s,
-                .points = points,
-                .order = pending_points(points, rows),
-                .settings = settings,
-                .dir = dir,
-                .csv = csv};
-    run.jobs = std::max(1, std::min(n_jobs_wanted, static_cast<int>(run.order.size())));
-    check_memory(s, run.jobs);
-    print_plan(s, points.size(), reused, csv, orientations, run.jobs);
-    const std::size_t finished = run_scan(run, rows);
+    std::size_t reused = 0;
+    ScanRun run{.scene = s, .points = points, .settings = settings, .dir = dir, .csv = csv};
+    run.jobs = n_jobs_wanted;
+    if (ranks.leader()) {
+      app::ensure_directory(dir);
+      dir_lock.emplace(dir);  // one scan per output directory
+      app::remove_stale_temporaries(dir);
+      reused = resume(csv, points, settings, rows);
+      write_table(csv, rows, s);
+      run.order = pending_points(points, rows);
+      run.jobs = std::max(1, std::min(n_jobs_wanted, static_cast<int>(run.order.size())));
+      check_memory(s, run.jobs * ranks.ranks_on_host());
+      print_plan(s, points.size(), reused, csv, orientations, run.jobs, ranks.size());
+    }
+    ranks.start(settings + " " + std::to_string(points.size()));
+    const std::size_t finished = run_scan(run, rows, ranks);
+    if (!ranks.leader()) return 0;
     if (app::stop_requested() &&
         std::any_of(rows.begin(), rows.end(), [](const auto& r) { return !r.has_value(); })) {
+      std::string again = app::command_line(argc_, argv_);
+      if (ranks.distributed()) again = "mpirun -np " + std::to_string(ranks.size()) + " " + again;
       std::fprintf(stderr,
                    "peierls_scan: stopped; %zu point%s finished in this run (kept in %s)\n"
                    "continue with:\n  %s\n",
-                   finished, finished == 1 ? "" : "s", csv.c_str(),
-                   app::command_line(argc_, argv_).c_str());
+                   finished, finished == 1 ? "" : "s", csv.c_str(), again.c_str());
       return app::kInterrupted;
     }
 
@@ -105,7 +112,8 @@ int main(int argc, char** argv) {
                     .points = points.size(),
                     .computed = run.order.size(),
                     .reused = reused,
-                    .jobs = run.jobs};
+                    .jobs = run.jobs,
+                    .ranks = ranks.size()};
     for (auto& r : rows)
       sum.rows.push_back(*r);
     // Fits per angle over the resolved points in the window (the rows' results, without the

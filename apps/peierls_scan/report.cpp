@@ -86,14 +86,16 @@ void print_angles(const Scene& s) {
 }
 
 void print_plan(const Scene& s, std::size_t points, std::size_t reused, const fs::path& csv,
-                const std::vector<peierls::Orientation>& orientations, int jobs) {
+                const std::vector<peierls::Orientation>& orientations, int jobs, int ranks) {
+  const std::string where = ranks > 1 ? " on each of " + std::to_string(ranks) + " ranks" : "";
   std::fprintf(stderr,
                "peierls_scan: %zu points (%zu reused from %s), L = %d (doubled up to %d until "
                "tau_P changes by less than %g), %s cell, nu = %g, precision %g, tolerance %g x "
-               "tau; %d at once\n",
+               "tau; %d at once%s\n",
                points, reused, csv.c_str(), s.options.cell.L, s.cell_size.max_L,
                s.cell_size.tolerance, peierls::to_string(s.options.cell.model).c_str(),
-               s.options.cell.material.nu, s.options.precision, s.options.tolerance, jobs);
+               s.options.cell.material.nu, s.options.precision, s.options.tolerance, jobs,
+               where.c_str());
   for (const auto& o : orientations)
     std::fprintf(stderr, "peierls_scan: theta = %.4f deg from (m_x, m_y) = (%d, %d)\n", o.theta_deg,
                  o.mx, o.my);
@@ -119,6 +121,7 @@ void write_summary(const fs::path& json, const ScanSummary& sum) {
                           {{"wall_s", sum.wall_s},
                            {"points_wall_s", points_wall},
                            {"jobs", sum.jobs},
+                           {"ranks", sum.ranks},
                            {"provenance", app::provenance_json()}}}});
 }
 

@@ -14,7 +14,6 @@
 
 #include "asperity/apps/common/memory.hpp"
 #include "asperity/apps/common/output_files.hpp"
-#include "asperity/apps/common/point_runner.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
 #include "scan_io.hpp"
 
@@ -70,8 +69,9 @@ void write_cell_snapshots(const ScanRun& run, const peierls::ScanPoint& p,
                        frames, attributes);
 }
 
-// "[k/n] b_core = ..., theta = ...: tau_P/tau_max = ..., t s" on stderr.
-void print_progress(std::size_t finished, std::size_t total, const Row& row) {
+// "[k/n] b_core = ..., theta = ...: tau_P/tau_max = ..., t s" on stderr, and " on rank r" if
+// `rank` is not -1.
+void print_progress(std::size_t finished, std::size_t total, const Row& row, int rank) {
   char tau_text[96];
   if (!row.failure.empty()) {
     std::snprintf(tau_text, sizeof tau_text, "FAILED");
@@ -80,19 +80,21 @@ void print_progress(std::size_t finished, std::size_t total, const Row& row) {
   } else {
     std::snprintf(tau_text, sizeof tau_text, "unresolved (floor %.1e tau_max)", row.floor);
   }
-  std::fprintf(stderr, "peierls_scan: [%zu/%zu] b_core = %g d, theta = %.1f: %s, %.2f s\n",
+  const std::string where = rank >= 0 ? " on rank " + std::to_string(rank) : std::string();
+  std::fprintf(stderr, "peierls_scan: [%zu/%zu] b_core = %g d, theta = %.1f: %s, %.2f s%s\n",
                finished, total, row.point.b_core, row.point.orientation.theta_deg, tau_text,
-               row.wall_s);
+               row.wall_s, where.c_str());
 }
 
 }  // namespace
 
-std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows) {
+std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows, Ranks& ranks) {
   std::mutex table_mutex, netcdf_mutex;
   std::exception_ptr fatal;
   std::atomic<bool> stop{false};
   std::size_t finished = 0;
-  const auto run_point = [&](std::size_t k) {
+  // On the rank that took the point: its result and snapshots.
+  const auto run_point = [&](std::size_t k) -> std::optional<std::string> {
     const peierls::ScanPoint& p = run.points[k];
     peierls::PeierlsOptions o = peierls::point_options(run.scene.options, p);
     const auto started = std::chrono::steady_clock::now();
@@ -104,8 +106,13 @@ std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows) 
     row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     row.settings = run.settings;
     if (run.scene.snapshots) write_cell_snapshots(run, p, o.cell, converged.result, netcdf_mutex);
+    return encode_row(row);
+  };
+  // On rank 0: the row into the table.
+  const auto record = [&](std::size_t k, std::string_view bytes, int rank) {
+    Row row = decode_row(run.points[k], bytes);
     const std::lock_guard lock(table_mutex);
-    print_progress(++finished, run.order.size(), row);
+    print_progress(++finished, run.order.size(), row, ranks.distributed() ? rank : -1);
     rows[k] = std::move(row);
     try {
       write_table(run.csv, rows, run.scene);
@@ -114,8 +121,7 @@ std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows) 
       stop = true;
     }
   };
-  app::run_points(
-      run.order.size(), run.jobs, [&](std::size_t i) { run_point(run.order[i]); }, stop);
+  ranks.run_points(run.order, run.jobs, run_point, record, stop);
   if (fatal) std::rethrow_exception(fatal);
   return finished;
 }

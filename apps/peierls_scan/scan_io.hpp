@@ -8,8 +8,10 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "asperity/apps/common/mpi_points.hpp"
 #include "asperity/core/common/settings.hpp"
 #include "asperity/peierls/scan.hpp"
 
@@ -59,7 +61,7 @@ std::size_t resume(const std::filesystem::path& csv, const std::vector<peierls::
 std::string point_name(const peierls::ScanPoint& p);
 
 // What one run does: the points not yet in the table, widest cores last (they take the most
-// relaxations), on `jobs` threads.
+// relaxations), on `jobs` threads (of each rank, over MPI ranks; order: rank 0's).
 struct ScanRun {
   const Scene& scene;
   const std::vector<peierls::ScanPoint>& points;
@@ -77,10 +79,17 @@ std::vector<std::size_t> pending_points(const std::vector<peierls::ScanPoint>& p
 // memory with `jobs` points at once.
 void check_memory(const Scene& s, int jobs);
 
-// Runs the points of `run`, each row into `rows` and the table rewritten after each; snapshots
-// if the scene asks. Stops early on request (stop_requested()); a failed table write is
-// rethrown once the points in flight are done. Returns the points finished.
-std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows);
+// Runs the points of `run` (over MPI ranks: handed out by rank 0, run by every rank,
+// mpi_points.hpp), each row into `rows` and the table rewritten after each (on rank 0);
+// snapshots if the scene asks (by the rank that runs the point). Stops early on request
+// (stop_requested()); a failed table write is rethrown once the points in flight are done.
+// Returns the points finished (0 on the other ranks).
+std::size_t run_scan(const ScanRun& run, std::vector<std::optional<Row>>& rows, Ranks& ranks);
+
+// A row's results as bytes, for rank 0 (mpi_points.hpp), and back onto the point's row: every
+// field bit for bit.
+std::string encode_row(const Row& row);
+Row decode_row(const peierls::ScanPoint& point, std::string_view bytes);
 
 // tau_P_vs_b_core.png, tau_P_vs_theta.png and core_width.png in `dir` (those with data).
 std::vector<std::filesystem::path> write_figures(const std::filesystem::path& dir, const Scene& s,
@@ -90,11 +99,11 @@ std::vector<std::filesystem::path> write_figures(const std::filesystem::path& di
 // The angles an L cell offers (--list-angles), on stdout.
 void print_angles(const Scene& s);
 
-// What a run is about to do, on stderr: points, reused rows, cell and solver settings, and the
-// orientation each angle maps to.
+// What a run is about to do, on stderr: points, reused rows, cell and solver settings, points at
+// once (on each of `ranks` MPI ranks), and the orientation each angle maps to.
 void print_plan(const Scene& s, std::size_t points, std::size_t reused,
                 const std::filesystem::path& csv,
-                const std::vector<peierls::Orientation>& orientations, int jobs);
+                const std::vector<peierls::Orientation>& orientations, int jobs, int ranks);
 
 // What summary.json and the report say about a finished scan.
 struct ScanSummary {
@@ -102,7 +111,7 @@ struct ScanSummary {
   std::string settings;
   std::vector<double> b_core;  // distinct, sorted
   std::size_t points = 0, computed = 0, reused = 0;
-  int jobs = 1;
+  int jobs = 1, ranks = 1;  // points at once on each of `ranks` MPI ranks (1: one process)
   std::vector<Row> rows;
   std::vector<peierls::OrientationFit> fits;
   std::vector<std::filesystem::path> figures;

@@ -31,7 +31,9 @@ const settings::Table<Scene>& scene_settings() {
         "largest difference of a cell's line angle from a wanted one"));
     t.push_back(settings::neutral(settings::integer<Scene>(
         "scan.jobs", [](auto& s) -> auto& { return s.jobs; }, R::closed(0, 1024), "",
-        "points run at once (0: hardware threads)", "--jobs")));
+        "points run at once, on each MPI rank (0: hardware threads, a host's shared among its "
+        "ranks)",
+        "--jobs")));
     t.push_back(settings::neutral(settings::boolean<Scene>(
         "scan.snapshots", [](auto& s) -> auto& { return s.snapshots; },
         "NetCDF snapshots of each point's cell")));

@@ -129,6 +129,41 @@ std::size_t resume(const fs::path& csv, const std::vector<peierls::ScanPoint>& p
   return reused;
 }
 
+std::string encode_row(const Row& r) {
+  app::ByteWriter out;
+  out.integer(r.L).real(r.L_change).integer(r.L_converged);
+  out.integer(r.resolved_pos).integer(r.resolved_neg).real(r.tau_pos).real(r.tau_neg);
+  out.real(r.floor).real(r.core_width).real(r.core_width_continuum).real(r.rigid);
+  out.integer(r.iterations).integer(r.transforms).integer(r.undetermined).text(r.failure);
+  out.real(r.wall_s).text(r.settings);
+  return out.bytes();
+}
+
+Row decode_row(const peierls::ScanPoint& point, std::string_view bytes) {
+  app::ByteReader in(bytes);
+  Row r;
+  r.point = point;
+  r.L = static_cast<int>(in.integer());
+  r.L_change = in.real();
+  r.L_converged = in.integer() != 0;
+  r.resolved_pos = in.integer() != 0;
+  r.resolved_neg = in.integer() != 0;
+  r.tau_pos = in.real();
+  r.tau_neg = in.real();
+  r.floor = in.real();
+  r.core_width = in.real();
+  r.core_width_continuum = in.real();
+  r.rigid = in.real();
+  r.iterations = in.integer();
+  r.transforms = in.integer();
+  r.undetermined = in.integer();
+  r.failure = in.text();
+  r.wall_s = in.real();
+  r.settings = in.text();
+  in.finish();
+  return r;
+}
+
 std::string point_name(const peierls::ScanPoint& p) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "b%g_m%d_%d", p.b_core, p.orientation.mx, p.orientation.my);

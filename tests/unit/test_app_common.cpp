@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -24,6 +25,7 @@
 #include "scratch.hpp"
 
 #include "asperity/apps/common/cli.hpp"
+#include "asperity/apps/common/mpi_points.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/plot.hpp"
 #include "asperity/apps/common/point_runner.hpp"
@@ -283,6 +285,24 @@ TEST_F(FilesTest, DirectoryLockCoversTheFoldersBelowIt) {
   EXPECT_NO_THROW(DirectoryLock after(point)) << "a killed holder still guards its folders";
 }
 
+// Over MPI ranks, rank 0 holds the sweep's directory and the other ranks lock its point folders
+// (mpi_points.hpp): the run's own directory, held by another of its processes, is not in the way;
+// a directory further up that another run holds still is.
+TEST_F(FilesTest, DirectoryLockLetsTheRunsOwnDirectoryPass) {
+  const fs::path point = ensure_directory(dir_ / "points" / "a250_R1700");
+  {
+    LockHeldByChild rank0(dir_);
+    EXPECT_THROW(DirectoryLock refused(point), std::invalid_argument);
+    EXPECT_NO_THROW(DirectoryLock mine(point, dir_));
+    // The run's directory itself stays rank 0's.
+    EXPECT_THROW(DirectoryLock again(dir_, dir_), std::invalid_argument);
+  }
+  const fs::path sweep = ensure_directory(dir_ / "sweep");
+  const fs::path inner = ensure_directory(sweep / "points" / "a6_R535");
+  LockHeldByChild other_run(dir_);
+  EXPECT_THROW(DirectoryLock mine(inner, sweep), std::invalid_argument);
+}
+
 TEST_F(FilesTest, CsvRoundTripIsBitIdentical) {
   const std::vector<double> values = {0.1,
                                       1.0 / 3.0,
@@ -444,6 +464,83 @@ TEST(Progress, PrintsALineEveryStepInLogs) {
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 5) << text;  // 0, 25, 50, 75, 100 %
   EXPECT_NE(text.find("relax: 200/200 (100%)"), std::string::npos) << text;
   EXPECT_EQ(text.find('\r'), std::string::npos);
+}
+
+// A row for another rank (mpi_points.hpp) reads back bit for bit: NaN with its sign and
+// payload, -0.0, infinities, subnormals, the integer limits, strings of any bytes, each cell
+// with its type; a row that ends early or goes on is refused.
+TEST(ByteWriter, RowsReadBackBitForBit) {
+  const double payload_nan = std::bit_cast<double>(std::uint64_t{0xfff8000000000123});
+  const std::vector<double> reals = {payload_nan,
+                                     -0.0,
+                                     std::numeric_limits<double>::infinity(),
+                                     -std::numeric_limits<double>::infinity(),
+                                     std::numeric_limits<double>::denorm_min(),
+                                     1.0 / 3.0};
+  const std::string text("a,b \"c\"\n\0d", 10);
+  ByteWriter w;
+  for (double v : reals)
+    w.real(v);
+  w.integer(std::numeric_limits<std::int64_t>::min())
+      .integer(std::numeric_limits<std::int64_t>::max());
+  w.text(text).text("");
+  w.cell(CsvTable::Cell{0.1}).cell(CsvTable::Cell{-7LL}).cell(CsvTable::Cell{std::string("x,y")});
+
+  ByteReader r(w.bytes());
+  for (double v : reals)
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(r.real()), std::bit_cast<std::uint64_t>(v));
+  EXPECT_EQ(r.integer(), std::numeric_limits<std::int64_t>::min());
+  EXPECT_EQ(r.integer(), std::numeric_limits<std::int64_t>::max());
+  EXPECT_EQ(r.text(), text);
+  EXPECT_EQ(r.text(), "");
+  EXPECT_EQ(r.cell(), CsvTable::Cell{0.1});
+  EXPECT_EQ(r.cell(), CsvTable::Cell{-7LL});
+  EXPECT_EQ(r.cell(), CsvTable::Cell{std::string("x,y")});
+  EXPECT_NO_THROW(r.finish());
+
+  const std::string& bytes = w.bytes();
+  ByteReader short_row(std::string_view(bytes).substr(0, 12));
+  short_row.real();
+  EXPECT_THROW(short_row.real(), std::runtime_error);
+  ByteReader long_row(bytes);
+  long_row.real();
+  EXPECT_THROW(long_row.finish(), std::runtime_error);
+}
+
+// One process (no MPI launcher, or a build without MPI): Ranks::run_points is the serial pool,
+// each row recorded once, by rank 0, and the interrupted points counted.
+TEST(Ranks, OneProcessRunsThePointsAsThePool) {
+  std::vector<std::string> args = {"/usr/bin/tool"};
+  std::vector<char*> argv = {args[0].data(), nullptr};
+  int argc = 1;
+  char** argv_p = argv.data();
+  Ranks ranks(argc, argv_p);
+  EXPECT_FALSE(ranks.distributed());
+  EXPECT_TRUE(ranks.leader());
+  EXPECT_EQ(ranks.hardware_threads(), static_cast<int>(std::thread::hardware_concurrency()));
+  ranks.start("anything");
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < 40; ++i)
+    ids.push_back(39 - i);
+  std::vector<std::atomic<int>> recorded(40);
+  std::atomic<bool> stop{false};
+  const std::size_t interrupted = ranks.run_points(
+      ids, 3,
+      [](std::size_t id) -> std::optional<std::string> {
+        if (id % 10 == 0) return std::nullopt;  // interrupted: no row
+        return ByteWriter().integer(static_cast<std::int64_t>(id) * 2).bytes();
+      },
+      [&](std::size_t id, std::string_view row, int rank) {
+        EXPECT_EQ(rank, 0);
+        EXPECT_EQ(ByteReader(row).integer(), static_cast<std::int64_t>(id) * 2);
+        ++recorded[id];
+      },
+      stop);
+  EXPECT_EQ(interrupted, 4u);
+  for (std::size_t id = 0; id < 40; ++id)
+    EXPECT_EQ(recorded[id].load(), id % 10 == 0 ? 0 : 1) << id;
+  EXPECT_EQ(ranks.phase(), Ranks::Phase::done);
+  EXPECT_EQ(ranks.finish(3), 3);
 }
 
 }  // namespace
