@@ -7,7 +7,6 @@
 // Usage: bench_gf_mpi <n0> <n1> [repeats] [threads]: an n0 x n1 region (padded grid
 // next_fft_size(2 n - 1) per axis), in-plane components (the lateral force model's).
 #include <mpi.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,29 +18,17 @@
 #include "asperity/core/elastic/surface_gf.hpp"
 #include "asperity/core/fft/fftw_mpi_engine.hpp"
 
+#include "mpi_bench.hpp"
+
 using namespace asperity;
+using bench::max_over_ranks;
+using bench::peak_rss_mb;
 
-namespace {
-
-double peak_rss_mb() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
-}
-
-double max_over_ranks(double v) {
-  MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  return v;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 int main(int argc, char** argv) {
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, ranks = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  bench::init_mpi(argc, argv, rank, ranks);
   if (argc < 3) {
     if (rank == 0) std::fprintf(stderr, "usage: bench_gf_mpi n0 n1 [repeats] [threads]\n");
     MPI_Finalize();
@@ -75,7 +62,7 @@ int main(int argc, char** argv) {
     std::sort(times.begin(), times.end());
     const double median = times[times.size() / 2];
     const double rss = peak_rss_mb();  // before the serial GF below
-  // With one rank, the serial engine beside it (it skips the padding rows' transforms).
+    // With one rank, the serial engine beside it (it skips the padding rows' transforms).
     double serial_median = 0.0;
     if (ranks == 1) {
       elastic::FreeSurfaceGF serial({1.0, 0.5}, elastic::Components::in_plane, region, 1.0, fo);
@@ -88,7 +75,7 @@ int main(int argc, char** argv) {
       std::sort(ts.begin(), ts.end());
       serial_median = ts[ts.size() / 2];
     }
-  
+
     std::vector<double> all(static_cast<std::size_t>(ranks));
     MPI_Gather(&rss, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     const double setup = max_over_ranks(setup_s);

@@ -4,6 +4,7 @@
 // of blocking in MPI, whose blocking calls spin a core: on a host whose cores all run points, a
 // spinning rank 0 would take one from them.
 #include "asperity/apps/common/mpi_points.hpp"
+#include "asperity/apps/common/mpi_session.hpp"
 
 #include <sched.h>
 
@@ -135,13 +136,9 @@ enum Tag : int {
 }  // namespace msg
 using msg::Tag;
 
-// Started by an MPI launcher: Open MPI's mpirun (OMPI_COMM_WORLD_SIZE), MPICH's and Intel's
-// Hydra and Slurm's PMI-2 (PMI_SIZE), PMIx launchers (PMIX_RANK: srun --mpi=pmix, prterun).
+// Started by an MPI launcher (mpi_session.hpp: the one test of the tools).
 bool started_by_launcher() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
-    if (std::getenv(name) != nullptr) return true;
-  }
-  return false;
+  return launcher_ranks() > 0;
 }
 
 // The status and message a point's exception ends a run with (run_main's mapping).

@@ -15,6 +15,8 @@
 
 namespace asperity::app {
 
+// Open MPI's mpirun (OMPI_COMM_WORLD_SIZE), MPICH's and Intel's Hydra and Slurm's PMI-2
+// (PMI_SIZE), PMIx launchers (PMIX_SIZE, or at least PMIX_RANK: srun --mpi=pmix, prterun).
 int launcher_ranks() {
   for (const char* key : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
     if (const char* v = std::getenv(key); v != nullptr && *v != '\0') {
@@ -22,7 +24,6 @@ int launcher_ranks() {
       if (n > 0) return n;
     }
   }
-  // PMIx launchers that do not export a size still export a rank.
   return std::getenv("PMIX_RANK") != nullptr ? 1 : 0;
 }
 

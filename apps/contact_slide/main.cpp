@@ -416,7 +416,9 @@ int lfm_sliding(const Run& run) {
       run.argc, run.argv, parallel);
   const slide::SlideResult& r = slid.result;
   if (r.interrupted) return app::kInterrupted;
-  const auto files = app::write_slide_outputs(run.out, s, r);
+  // The processes the contact was spread over (1: one process).
+  const auto files =
+      app::write_slide_outputs(run.out, s, r, {.summary_extra = {{"mpi_ranks", ranks}}});
   finish_checkpoints(slid);
 
   // Friction as the envelope defines it: mu where there is a load, the friction stress where
@@ -554,6 +556,9 @@ int main(int argc, char** argv) {
     // within 16 iterations, else at its next step):
     // installed before a checkpoint is read, so that no signal meets the default action.
     app::install_stop_handlers();
+    // mpirun kills the ranks a second after SIGINT or SIGTERM, too soon for a checkpoint; it
+    // forwards SIGUSR1 to every rank, which then stop together (the slide agrees on stops).
+    if (mpi->distributed()) app::install_stop_handler(SIGUSR1);
 
     if (model == "explicit") {
       // The explicit model: normal loading to the Hertz load of contact.a, then sliding at fixed
