@@ -82,8 +82,27 @@ FreeSurfaceGF::FreeSurfaceGF(const Material& material, Components components, Sh
   // The region rows of this process's slab of the padded grid (the region starts at its row 0,
   // so the slab's first row is its first region row).
   const fft::Layout layout = engine_->layout();
-  local_begin_ = std::min(layout.row_begin, region.n0);
-  local_.n0 = std::min(layout.row_begin + layout.rows, region.n0) - local_begin_;
+  slab_begin_ = std::min(layout.row_begin, region.n0);
+  slab_rows_ = std::min(layout.row_begin + layout.rows, region.n0) - slab_begin_;
+  local_begin_ = slab_begin_;
+  local_.n0 = slab_rows_;
+  // Over several processes the region fills the first half of the padded rows, so the slabs
+  // would give every region row to the first half of the ranks (on 2, all to rank 0). The rows
+  // this process holds for its callers are an even share of the region instead, in rank order,
+  // moved to and from the slabs around each transform (exchange_rows): the transforms see the
+  // same grid, so the results are those of the slabs' own rows, bit for bit.
+  if (!layout.whole()) {
+    const auto& comm = engine_->comm();
+    const long long n0 = region.n0, ranks = comm.size(), rank = comm.rank();
+    local_begin_ = static_cast<int>(rank * n0 / ranks);
+    local_.n0 = static_cast<int>((rank + 1) * n0 / ranks) - local_begin_;
+    const auto begins = comm.all_gather(slab_begin_), counts = comm.all_gather(slab_rows_);
+    for (long long r = 0; r < ranks; ++r) {
+      const auto q = static_cast<std::size_t>(r);
+      slabs_.push_back({static_cast<int>(begins[q]), static_cast<int>(begins[q] + counts[q])});
+      shares_.push_back({static_cast<int>(r * n0 / ranks), static_cast<int>((r + 1) * n0 / ranks)});
+    }
+  }
 
   // Each kernel entry is the FFT of the wrapped real-space coefficients; even kernels are real,
   // the odd normal-lateral coupling is imaginary. One engine field at a time is enough here.
@@ -167,9 +186,116 @@ void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
 // no force), whose fields hold the listed sites only. The engine's input is zero outside what
 // a call writes: a whole-region call leaves the region dirty, and a list call cleans it once
 // and clears its own sites after. Shared by apply() and apply_filter().
+// Rows [begin, end) of the region held by each process for its callers and in its slab.
+void FreeSurfaceGF::exchange_rows(const std::vector<double>& from, bool to_slabs,
+                                  std::vector<double>& to) const {
+  const auto& comm = engine_->comm();
+  const auto& source = to_slabs ? shares_ : slabs_;
+  const auto& target = to_slabs ? slabs_ : shares_;
+  const Rows mine_from = source[static_cast<std::size_t>(comm.rank())];
+  const Rows mine_to = target[static_cast<std::size_t>(comm.rank())];
+  const auto overlap = [](Rows a, Rows b) {
+    return std::max(0, std::min(a.end, b.end) - std::max(a.begin, b.begin));
+  };
+  const std::size_t n1 = static_cast<std::size_t>(region_.n1);
+  const int per_row = static_cast<int>(ncomp_ * n1);
+  std::vector<int> send_counts(source.size()), recv_counts(source.size());
+  std::vector<double> send;
+  send.reserve(from.size());
+  const std::size_t rows_from = static_cast<std::size_t>(mine_from.end - mine_from.begin);
+  // Rows go in rank order of their targets (which is row order), each with its components.
+  for (std::size_t q = 0; q < target.size(); ++q) {
+    const int rows = overlap(mine_from, target[q]);
+    send_counts[q] = rows * per_row;
+    recv_counts[q] = overlap(mine_to, source[q]) * per_row;
+    for (int g = std::max(mine_from.begin, target[q].begin);
+         rows > 0 && g < std::min(mine_from.end, target[q].end); ++g) {
+      for (std::size_t c = 0; c < ncomp_; ++c) {
+        const auto at = static_cast<std::ptrdiff_t>(
+            c * rows_from * n1 + static_cast<std::size_t>(g - mine_from.begin) * n1);
+        send.insert(send.end(), from.begin() + at,
+                    from.begin() + at + static_cast<std::ptrdiff_t>(n1));
+      }
+    }
+  }
+  std::vector<double> recv(static_cast<std::size_t>(std::max(0, mine_to.end - mine_to.begin)) *
+                           ncomp_ * n1);
+  comm.exchange(send, send_counts, recv, recv_counts);
+  // Received row by row (every component of a row together): into component-major order.
+  const std::size_t rows_to = static_cast<std::size_t>(mine_to.end - mine_to.begin);
+  to.resize(recv.size());
+  for (std::size_t r = 0; r < rows_to; ++r) {
+    for (std::size_t c = 0; c < ncomp_; ++c)
+      std::copy_n(recv.begin() + static_cast<std::ptrdiff_t>((r * ncomp_ + c) * n1), n1,
+                  to.begin() + static_cast<std::ptrdiff_t>(c * rows_to * n1 + r * n1));
+  }
+}
+
+// The convolution with the rows held for the callers moved to and from the slabs: the site
+// values (or the whole rows) of this process's share become whole rows of the region, which go
+// to the slabs holding them, are transformed there and come back.
+template <class PerQ>
+void FreeSurfaceGF::convolve_shared(const std::span<const std::size_t>* sites,
+                                    std::span<const double> in, std::span<double> out, PerQ per_q) {
+  const Shape2 padded = engine_->real_shape();
+  const std::size_t n = local_.count();
+  std::vector<double> rows(ncomp_ * n, 0.0), slab;
+  if (sites) {
+    const std::size_t m = sites->size();
+    for (std::size_t c = 0; c < ncomp_; ++c) {
+      for (std::size_t j = 0; j < m; ++j) {
+        if ((*sites)[j] >= n)
+          throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string((*sites)[j]) +
+                                      " outside the region rows held here, " + std::to_string(n) +
+                                      " sites");
+        rows[c * n + (*sites)[j]] = in[c * m + j];
+      }
+    }
+  } else {
+    std::copy(in.begin(), in.end(), rows.begin());
+  }
+  exchange_rows(rows, true, slab);
+  const std::size_t slab_n =
+      static_cast<std::size_t>(slab_rows_) * static_cast<std::size_t>(region_.n1);
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    auto grid = engine_->input(static_cast<int>(c));
+    for (int i0 = 0; i0 < slab_rows_; ++i0)
+      std::copy_n(slab.begin() + static_cast<std::ptrdiff_t>(
+                                     c * slab_n + static_cast<std::size_t>(i0) *
+                                                      static_cast<std::size_t>(region_.n1)),
+                  region_.n1, grid.data() + padded.index(i0, 0));
+  }
+  engine_->convolve([&per_q](const fft::FourierBlock& b) {
+    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
+    for (std::size_t at = 0; at < count; ++at)
+      per_q(b, b.offset + at, at);
+  });
+  for (std::size_t c = 0; c < ncomp_; ++c) {
+    const double* grid = engine_->output(static_cast<int>(c)).data();
+    for (int i0 = 0; i0 < slab_rows_; ++i0)
+      std::copy_n(grid + padded.index(i0, 0), region_.n1,
+                  slab.begin() + static_cast<std::ptrdiff_t>(
+                                     c * slab_n + static_cast<std::size_t>(i0) *
+                                                      static_cast<std::size_t>(region_.n1)));
+  }
+  exchange_rows(slab, false, rows);
+  if (sites) {
+    const std::size_t m = sites->size();
+    for (std::size_t c = 0; c < ncomp_; ++c)
+      for (std::size_t j = 0; j < m; ++j)
+        out[c * m + j] = rows[c * n + (*sites)[j]];
+  } else {
+    std::copy(rows.begin(), rows.end(), out.begin());
+  }
+}
+
 template <class PerQ>
 void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
                              std::span<double> out, PerQ per_q) {
+  if (!shares_.empty()) {
+    convolve_shared(sites, in, out, per_q);
+    return;
+  }
   const Shape2 padded = engine_->real_shape();
   const std::size_t n = sites ? sites->size() : local_.count();
   if (sites) {

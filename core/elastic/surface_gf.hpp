@@ -35,10 +35,12 @@ class FreeSurfaceGF {
   // region: the block of sites that may carry force and whose displacements are returned.
   // d: lattice spacing (length). Throws std::invalid_argument on bad input.
   // engine: the FFT backend (empty: fft::make_engine, one process). With a distributed one
-  // (fft::mpi_engine_factory) each rank holds the region rows its slab of the padded grid
-  // covers (local_rows() from local_row_begin(); none on the ranks of padding rows only), and
-  // apply() and apply_filter() take and return those rows: size() = ncomp x local rows x n1,
-  // site lists index the local rows. Every rank calls them together (collective).
+  // (fft::mpi_engine_factory) each rank holds an even share of the region rows, in rank order
+  // (local_rows() from local_row_begin()), and apply() and apply_filter() take and return
+  // those rows: size() = ncomp x local rows x n1, site lists index the local rows. The rows
+  // travel to and from the slabs of the padded grid that transform them (the region fills the
+  // first half of the padded rows, so the slabs alone would leave half of the ranks without
+  // rows). Every rank calls them together (collective).
   FreeSurfaceGF(const Material& material, Components components, Shape2 region, double d = 1.0,
                 const fft::FFTOptions& fft = {}, const fft::EngineFactory& engine = {});
 
@@ -90,6 +92,12 @@ class FreeSurfaceGF {
   template <class PerQ>
   void convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
                 std::span<double> out, PerQ per_q);
+  template <class PerQ>
+  void convolve_shared(const std::span<const std::size_t>* sites, std::span<const double> in,
+                       std::span<double> out, PerQ per_q);
+  // Moves whole region rows (component-major) from the callers' shares to the slabs (to_slabs)
+  // or back.
+  void exchange_rows(const std::vector<double>& from, bool to_slabs, std::vector<double>& to) const;
   void map_sites(std::span<const std::size_t> sites);
   void apply_on(const std::span<const std::size_t>* sites, std::span<const double> f,
                 std::span<double> u);
@@ -101,6 +109,14 @@ class FreeSurfaceGF {
   Shape2 region_;
   Shape2 local_;         // the region rows held here (all of them for one process)
   int local_begin_ = 0;  // the first of them
+  // The region rows of this process's slab of the padded grid; over several processes, every
+  // process's slab rows and its share of the region (the rows held for the callers), in rank
+  // order (empty on one process, where the two are the same).
+  int slab_begin_ = 0, slab_rows_ = 0;
+  struct Rows {
+    int begin = 0, end = 0;
+  };
+  std::vector<Rows> slabs_, shares_;
   double d_;
   std::size_t ncomp_;
   std::unique_ptr<fft::Engine> engine_;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "asperity/core/common/comm.hpp"
 #include "asperity/core/common/settings.hpp"
 #include "asperity/core/common/shape.hpp"
 
@@ -117,11 +118,10 @@ class Engine {
             .k1_begin = 0,
             .k1_count = shape_.n1 / 2 + 1};
   }
-  // Reductions of a value over every process holding a part of the grids: what the solvers'
-  // dot products, norms and maxima over the sites go through once the sites are distributed
-  // (issue 26). Serial: the value itself.
-  [[nodiscard]] virtual double reduce_sum(double local) const { return local; }
-  [[nodiscard]] virtual double reduce_max(double local) const { return local; }
+  // The processes holding the parts of the grids (par::Comm: reductions, gathers, exchanges),
+  // for the data a distributed engine's users move between them (FreeSurfaceGF's rows).
+  // Serial: the one process.
+  [[nodiscard]] virtual const par::Comm& comm() const { return par::serial(); }
 
  protected:
   Engine(Shape2 shape, int fields, int support_rows)

@@ -5,6 +5,7 @@
 // fraction of the transforms and their all-to-all transposes.
 #include "asperity/core/fft/fftw_mpi_engine.hpp"
 #include "asperity/core/fft/fftw_common.hpp"
+#include "asperity/core/fft/mpi_comm.hpp"
 
 #include <fftw3-mpi.h>
 
@@ -139,16 +140,7 @@ class FFTWMpiEngine final : public Engine {
             .k1_count = k1_count_,
             .fourier_transposed = true};
   }
-  [[nodiscard]] double reduce_sum(double local) const override {
-    double global = 0.0;
-    MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm_);
-    return global;
-  }
-  [[nodiscard]] double reduce_max(double local) const override {
-    double global = 0.0;
-    MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, comm_);
-    return global;
-  }
+  [[nodiscard]] const par::Comm& comm() const override { return procs_; }
 
  private:
   void release() {
@@ -162,6 +154,7 @@ class FFTWMpiEngine final : public Engine {
   }
 
   MPI_Comm comm_;
+  par::MpiComm procs_{comm_};  // the same processes as a par::Comm
   int ranks_ = 1, rank_ = 0;
   int row_begin_ = 0, rows_ = 0, k1_begin_ = 0, k1_count_ = 0;
   std::vector<double*> padded_;  // per field: the local rows padded to 2 (n1/2 + 1) values

@@ -118,8 +118,8 @@ TEST_P(FftMpi, FourierColumnsAreTheSerialOnesTransposed) {
 TEST_P(FftMpi, ReductionsSpanTheRanks) {
   auto dist = make_mpi_engine(MPI_COMM_WORLD, GetParam(), 1);
   const Layout l = dist->layout();
-  EXPECT_EQ(dist->reduce_sum(1.0), static_cast<double>(l.ranks));
-  EXPECT_EQ(dist->reduce_max(static_cast<double>(l.rank)), static_cast<double>(l.ranks - 1));
+  EXPECT_EQ(dist->comm().sum(1.0), static_cast<double>(l.ranks));
+  EXPECT_EQ(dist->comm().max(static_cast<double>(l.rank)), static_cast<double>(l.ranks - 1));
 }
 
 // Even and uneven slabs: 31 rows and 9 Fourier columns over 2 or 3 ranks leave unequal shares.

@@ -1,6 +1,7 @@
 // The free-surface Green's function on the FFTW-MPI engine (issue 26) against the serial one,
-// under mpirun with 1, 2 and 3 ranks: every rank holds the region rows of its slab of the padded
-// grid (the ranks whose slab is padding only hold none) and gets u = G * f on them. Every rank
+// under mpirun with 1, 2 and 3 ranks: every rank holds an even share of the region rows, in rank
+// order (moved to and from the slabs of the padded grid that transform them), and gets
+// u = G * f on them. Every rank
 // builds the same global force field and applies the serial GF to all of it. Tolerance 1e-13 of
 // the largest |u|: the backends split the transforms differently (rounding, not bits).
 #include <mpi.h>
@@ -62,7 +63,12 @@ TEST_P(GfMpi, LocalRowsHoldTheSerialDisplacements) {
           << "component " << k << " site " << begin * n1 + i;
     }
   }
-  // Every region row is held once.
+  // An even share of the rows, in rank order; every region row is held once.
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  EXPECT_EQ(begin, rank * c.region.n0 / ranks);
+  EXPECT_EQ(rows, (rank + 1) * c.region.n0 / ranks - begin);
   int held = rows;
   MPI_Allreduce(MPI_IN_PLACE, &held, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
   EXPECT_EQ(held, c.region.n0);
