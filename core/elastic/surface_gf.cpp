@@ -495,10 +495,12 @@ void periodic_compliance_block(const Material& material, Components components, 
 }
 
 PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components components, Shape2 cell,
-                                     double d, const fft::FFTOptions& fft, int alias_images)
+                                     double d, const fft::FFTOptions& fft, int alias_images,
+                                     const fft::EngineFactory& engine)
     : material_(material),
       components_(components),
       cell_(cell),
+      local_(cell),
       d_(d),
       ncomp_(static_cast<std::size_t>(component_count(components))) {
   check_common(material, cell, d, "PeriodicSurfaceGF");
@@ -510,11 +512,25 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
     throw std::invalid_argument("PeriodicSurfaceGF: alias_images: got " +
                                 std::to_string(alias_images) + ", allowed: 1 to 1000");
   }
-  engine_ = fft::make_engine(cell, ncomp(), fft);
+  engine_ = engine ? engine(cell, ncomp(), fft, 0) : fft::make_engine(cell, ncomp(), fft);
+  const fft::Layout layout = engine_->layout();
+  local_begin_ = layout.row_begin;
+  local_.n0 = layout.rows;
   const Shape2 fs = engine_->fourier_shape();
   const std::size_t block = ncomp_ * ncomp_;
-  compliance_.assign(fs.count() * block, {});
-  stiffness_.assign(fs.count() * block, {});
+  // The wave vectors held here: the whole half-grid, row-major; a distributed engine's columns
+  // [k1_begin, k1_begin + k1_count) for every k0, stored k1-major (fft_engine.hpp: Layout),
+  // which is also the order its convolve() visits them.
+  const std::size_t held =
+      static_cast<std::size_t>(fs.n0) * static_cast<std::size_t>(layout.k1_count);
+  const auto slot = [&](int k0, int k1) {
+    return layout.fourier_transposed
+               ? static_cast<std::size_t>(k1 - layout.k1_begin) * static_cast<std::size_t>(fs.n0) +
+                     static_cast<std::size_t>(k0)
+               : fs.index(k0, k1);
+  };
+  compliance_.assign(held * block, {});
+  stiffness_.assign(held * block, {});
   const double two_pi = 2.0 * std::numbers::pi;
   const double scale = engine_->normalisation();
   using Block = Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic>;
@@ -523,13 +539,13 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
   for (int k0 = 0; k0 < fs.n0; ++k0) {
     const int m0 = k0 <= cell.n0 / 2 ? k0 : k0 - cell.n0;
     const double q0 = two_pi * m0 / (cell.n0 * d);
-    for (int k1 = 0; k1 < fs.n1; ++k1) {
+    for (int k1 = layout.k1_begin; k1 < layout.k1_begin + layout.k1_count; ++k1) {
       const double q1 = two_pi * k1 / (cell.n1 * d);
       if (k0 == 0 && k1 == 0) continue;  // rigid shift: zero compliance and stiffness blocks
       periodic_compliance_block(material, components, q0, q1, d, alias_images, gq);
       for (std::size_t e = 0; e < block; ++e)
         g(static_cast<Eigen::Index>(e / ncomp_), static_cast<Eigen::Index>(e % ncomp_)) = gq[e];
-      const std::size_t at = fs.index(k0, k1) * block;
+      const std::size_t at = slot(k0, k1) * block;
       const Block kq = g.inverse();
       for (std::size_t e = 0; e < block; ++e) {
         compliance_[at + e] =
@@ -540,17 +556,20 @@ PeriodicSurfaceGF::PeriodicSurfaceGF(const Material& material, Components compon
       }
     }
   }
-  // Read contiguously by convolve()'s blocks (fft::Engine::block_order).
-  const std::vector<std::size_t> order = engine_->block_order();
-  compliance_ = fft::to_block_order(order, compliance_, block);
-  stiffness_ = fft::to_block_order(order, stiffness_, block);
+  // Read contiguously by convolve()'s blocks (fft::Engine::block_order); a distributed engine's
+  // columns are in that order already.
+  if (!layout.fourier_transposed) {
+    const std::vector<std::size_t> order = engine_->block_order();
+    compliance_ = fft::to_block_order(order, compliance_, block);
+    stiffness_ = fft::to_block_order(order, stiffness_, block);
+  }
 }
 
 void PeriodicSurfaceGF::multiply(std::span<const double> in, std::span<double> out,
                                  bool stiffness) {
   check_size(in, size(), "PeriodicSurfaceGF (input field)");
   check_size(out, size(), "PeriodicSurfaceGF (output field)");
-  const std::size_t n = cell_.count();
+  const std::size_t n = local_.count();
   for (std::size_t c = 0; c < ncomp_; ++c) {
     std::copy_n(in.data() + c * n, n, engine_->input(static_cast<int>(c)).data());
   }

@@ -149,15 +149,23 @@ class PeriodicSurfaceGF {
   // cell: sites per period along x and y. alias_images: reciprocal vectors per direction and
   // sign in the lattice sum (|m|, |n| <= alias_images); its truncation error falls as
   // alias_images^-2 (tested).
+  // engine: the FFT backend, as FreeSurfaceGF's (empty: one process). With a distributed one
+  // each rank holds the cell rows of its slab (local_rows() from local_row_begin(); the slabs
+  // are the cell's own rows, there is no padding) and apply() and apply_stiffness() take and
+  // return those rows; every rank calls them together.
   PeriodicSurfaceGF(const Material& material, Components components, Shape2 cell, double d = 1.0,
-                    const fft::FFTOptions& fft = {}, int alias_images = 12);
+                    const fft::FFTOptions& fft = {}, int alias_images = 12,
+                    const fft::EngineFactory& engine = {});
 
   // u = G * f without the q = 0 mode: the mean force is not transmitted and u has zero mean.
   void apply(std::span<const double> f, std::span<double> u);
   // f = K * u with K = G^-1 for q != 0 and K(0) = 0.
   void apply_stiffness(std::span<const double> u, std::span<double> f);
 
-  [[nodiscard]] std::size_t size() const { return ncomp_ * cell_.count(); }
+  [[nodiscard]] std::size_t size() const { return ncomp_ * local_.count(); }
+  // The cell rows this process holds: [local_row_begin(), + local_rows()); all on one process.
+  [[nodiscard]] int local_row_begin() const { return local_begin_; }
+  [[nodiscard]] int local_rows() const { return local_.n0; }
   [[nodiscard]] int ncomp() const { return static_cast<int>(ncomp_); }
   [[nodiscard]] Components components() const { return components_; }
   [[nodiscard]] Shape2 cell() const { return cell_; }
@@ -171,6 +179,8 @@ class PeriodicSurfaceGF {
   Material material_;
   Components components_;
   Shape2 cell_;
+  Shape2 local_;         // the cell rows held here (all of them for one process)
+  int local_begin_ = 0;  // the first of them
   double d_;
   std::size_t ncomp_;
   std::unique_ptr<fft::Engine> engine_;
