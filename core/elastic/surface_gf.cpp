@@ -186,6 +186,17 @@ void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
 // no force), whose fields hold the listed sites only. The engine's input is zero outside what
 // a call writes: a whole-region call leaves the region dirty, and a list call cleans it once
 // and clears its own sites after. Shared by apply() and apply_filter().
+// The engine's fused transform with per_q on every wave vector it holds. The kernels are in the
+// engine's block order: wave vector `at` of a block is kernel entry b.offset + at.
+template <class PerQ>
+void FreeSurfaceGF::transform(PerQ& per_q) {
+  engine_->convolve([&per_q](const fft::FourierBlock& b) {
+    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
+    for (std::size_t at = 0; at < count; ++at)
+      per_q(b, b.offset + at, at);
+  });
+}
+
 // Rows [begin, end) of the region held by each process for its callers and in its slab.
 void FreeSurfaceGF::exchange_rows(const std::vector<double>& from, bool to_slabs,
                                   std::vector<double>& to) const {
@@ -265,11 +276,7 @@ void FreeSurfaceGF::convolve_shared(const std::span<const std::size_t>* sites,
                                                       static_cast<std::size_t>(region_.n1)),
                   region_.n1, grid.data() + padded.index(i0, 0));
   }
-  engine_->convolve([&per_q](const fft::FourierBlock& b) {
-    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
-    for (std::size_t at = 0; at < count; ++at)
-      per_q(b, b.offset + at, at);
-  });
+  transform(per_q);
   for (std::size_t c = 0; c < ncomp_; ++c) {
     const double* grid = engine_->output(static_cast<int>(c)).data();
     for (int i0 = 0; i0 < slab_rows_; ++i0)
@@ -325,13 +332,7 @@ void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::spa
     }
     region_dirty_ = true;
   }
-  // The kernels are in the engine's block order: wave vector `at` of a block is kernel entry
-  // b.offset + at.
-  engine_->convolve([&per_q](const fft::FourierBlock& b) {
-    const std::size_t count = static_cast<std::size_t>(b.rows) * static_cast<std::size_t>(b.width);
-    for (std::size_t at = 0; at < count; ++at)
-      per_q(b, b.offset + at, at);
-  });
+  transform(per_q);
   for (std::size_t c = 0; c < ncomp_; ++c) {
     const double* grid = engine_->output(static_cast<int>(c)).data();
     double* dst = out.data() + c * n;

@@ -93,6 +93,8 @@ class FreeSurfaceGF {
   void convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
                 std::span<double> out, PerQ per_q);
   template <class PerQ>
+  void transform(PerQ& per_q);
+  template <class PerQ>
   void convolve_shared(const std::span<const std::size_t>* sites, std::span<const double> in,
                        std::span<double> out, PerQ per_q);
   // Moves whole region rows (component-major) from the callers' shares to the slabs (to_slabs)
