@@ -4,14 +4,17 @@
 // time of an iteration (the slowest rank's), the part of it in Green's function applications
 // and interface filter passes (the transforms with their all-to-all transposes, the FFT share),
 // the part in the solvers' collectives (dot products, maxima: the Comm calls, whose wait also
-// absorbs the ranks' imbalance), each rank's contact sites and peak resident memory. With
+// absorbs the ranks' imbalance), the all-to-all transposes inside the transforms (timed apart,
+// transpose_seconds), each rank's contact sites and peak resident memory. With
 // --serial (one process), the serial engine and problem instead, for the same contact.
 //
 // Usage: bench_iteration_mpi <grid: 1024|2048|4096> [iterations] [threads] [--serial]
 // The contact as bench_iteration.cpp's: a = 250, 505, 1015 d, R = 1700 d, alpha = 0.7, tip at
 // Dx = 0.3 d, from the flat state, the interface filter on (a / b_core^0 = 65 to 1070).
+#include <fftw3-mpi.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -122,6 +125,32 @@ double contact_for(int grid) {
   return grid == 1024 ? 250.0 : grid == 2048 ? 505.0 : 1015.0;
 }
 
+// One all-to-all transpose of the complex half-grid of two fields, as the transposed-out r2c
+// and transposed-in c2r plans make one per transform (FFTW's own transpose plan, on the same
+// slabs): seconds per transpose, the slowest rank's, mean of `reps`. A GF application or filter
+// pass (forward and inverse) makes two; an iteration (two of them) four: the communication of
+// the transforms, which runs inside them and cannot be timed there.
+double transpose_seconds(int n0, int n1, int reps) {
+  const ptrdiff_t n[2] = {n0, n1 / 2 + 1}, howmany = 4;  // two complex fields: 4 doubles
+  ptrdiff_t l0 = 0, s0 = 0, l1 = 0, s1 = 0;
+  const ptrdiff_t alloc = fftw_mpi_local_size_many_transposed(2, n, howmany, FFTW_MPI_DEFAULT_BLOCK,
+                                                              FFTW_MPI_DEFAULT_BLOCK,
+                                                              MPI_COMM_WORLD, &l0, &s0, &l1, &s1);
+  double* a = fftw_alloc_real(static_cast<std::size_t>(std::max<ptrdiff_t>(alloc, 1)));
+  std::fill_n(a, std::max<ptrdiff_t>(alloc, 1), 0.0);
+  fftw_plan p =
+      fftw_mpi_plan_many_transpose(n[0], n[1], howmany, FFTW_MPI_DEFAULT_BLOCK,
+                                   FFTW_MPI_DEFAULT_BLOCK, a, a, MPI_COMM_WORLD, FFTW_ESTIMATE);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto t0 = Clock::now();
+  for (int r = 0; r < reps; ++r)
+    fftw_execute(p);
+  const double s = std::chrono::duration<double>(Clock::now() - t0).count() / reps;
+  fftw_destroy_plan(p);
+  fftw_free(a);
+  return max_over_ranks(s);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -171,6 +200,8 @@ int main(int argc, char** argv) {
     const double comm_s = max_over_ranks(comm.seconds);
     const double pairs =
         static_cast<double>(gf.applications() - gf0 + gf.filter_applications() - filter0);
+    const double transpose_s =
+        serial ? 0.0 : transpose_seconds(gf.fft_shape().n0, gf.fft_shape().n1, 4);
     std::vector<double> rss(static_cast<std::size_t>(ranks)), sites(rss.size());
     const double mine = peak_rss_mb(), my_sites = static_cast<double>(problem.size() / 2);
     MPI_Gather(&mine, 1, MPI_DOUBLE, rss.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
@@ -185,14 +216,15 @@ int main(int argc, char** argv) {
       std::printf(
           "{\"grid\": %d, \"a\": %g, \"ranks\": %d, \"engine\": \"%s\", \"threads\": %d, "
           "\"iterations\": %d, \"ms_per_iteration\": %.1f, \"gf_ms_per_iteration\": %.1f, "
-          "\"collectives_ms_per_iteration\": %.1f, \"pairs_per_iteration\": %.2f, "
+          "\"collectives_ms_per_iteration\": %.1f, \"transposes_ms_per_iteration\": %.1f, "
+          "\"pairs_per_iteration\": %.2f, "
           "\"sites_per_rank\": [%s], \"peak_rss_mb_per_rank\": [%s]}\n",
           gf.fft_shape().n0, scene.a, ranks,
           serial              ? "fftw"
           : gf.fft_shape().n0 ? "fftw-mpi"
                               : "",
-          fo.threads, r.iterations, 1e3 * wall / n, 1e3 * gf_s / n, 1e3 * comm_s / n, pairs / n,
-          ss.c_str(), rs.c_str());
+          fo.threads, r.iterations, 1e3 * wall / n, 1e3 * gf_s / n, 1e3 * comm_s / n,
+          4e3 * transpose_s, pairs / n, ss.c_str(), rs.c_str());
     }
   }
   MPI_Finalize();
