@@ -234,10 +234,13 @@ class ProtocolRun {
     // Of the earlier sessions of a resumed slide (counted in the start state).
     if (control_.start) {
       check_start(*control_.start, model_);
-      // A distributed model keeps its rows of the start state's fields (which hold every row).
+      // A distributed model keeps its rows of the start state's fields (which hold every row);
+      // on one process the start state is used as it is, not copied.
       if constexpr (distributed_model) {
-        local_start_ = *control_.start;
-        model_.localize(*local_start_);
+        if (spread()) {
+          local_start_ = *control_.start;
+          model_.localize(*local_start_);
+        }
       }
       res_ = control_.start->partial;
       gf_before_ = res_.gf_applications;
@@ -306,9 +309,16 @@ class ProtocolRun {
   // together (each asks its own clock and signal flag; one that says yes decides for all).
   bool agree(bool local) const {
     if constexpr (distributed_model) {
-      return model_.comm().any(local);
+      if (spread()) return model_.comm().any(local);
+    }
+    return local;
+  }
+  // Whether this slide's model runs over several processes.
+  bool spread() const {
+    if constexpr (distributed_model) {
+      return model_.comm().distributed();
     } else {
-      return local;
+      return false;
     }
   }
   bool stop_requested() const {
@@ -324,12 +334,14 @@ class ProtocolRun {
   void checkpoint(const SlideState& st) const {
     if (!control_.checkpoint) return;
     if constexpr (distributed_model) {
-      SlideState whole = st;
-      model_.globalize(whole);
-      control_.checkpoint(whole);
-    } else {
-      control_.checkpoint(st);
+      if (spread()) {  // on one process the state is whole already: no copy
+        SlideState whole = st;
+        model_.globalize(whole);
+        control_.checkpoint(whole);
+        return;
+      }
     }
+    control_.checkpoint(st);
   }
 
   // Progress report: what starts now (or was just accepted), with the cost so far; a model that
