@@ -256,23 +256,26 @@ void lfm_site_terms_tip(std::size_t len, double d, double d_tip, double ct, doub
 
 }  // namespace
 
+// The energy terms and interface forces of contact sites [j0, j0 + len) (MODEL.md 3, or out of
+// registry tip_lattice.hpp), before the amplitude d^3 / 2 pi (d^2 d_tip / 2 pi out of registry).
+void LateralForceModel::site_terms(std::span<const double> u, std::span<double> f_int,
+                                   std::size_t j0, std::size_t len, double* terms) const {
+  const std::size_t m = sites_.size();
+  if (frame_.aligned()) {
+    lfm_site_terms(len, scene_.d, site_tau_.data() + j0, site_phase_x_.data() + j0, u.data() + j0,
+                   u.data() + m + j0, terms, f_int.data() + j0, f_int.data() + m + j0);
+  } else {
+    lfm_site_terms_tip(len, scene_.d, frame_.spacing(), frame_.cos(), frame_.sin(),
+                       site_tau_.data() + j0, site_rho1_.data() + j0, site_rho2_.data() + j0,
+                       u.data() + j0, u.data() + m + j0, terms, f_int.data() + j0,
+                       f_int.data() + m + j0);
+  }
+}
+
 double LateralForceModel::energy_and_force(std::span<const double> u, std::span<double> f_int,
                                            int threads) const {
   const std::size_t m = sites_.size();
   assert(u.size() == 2 * m && f_int.size() == 2 * m);
-  const double d = scene_.d;
-  const bool aligned = frame_.aligned();
-  const auto site_terms = [&](std::size_t j0, std::size_t len, double* terms) {
-    if (aligned) {
-      lfm_site_terms(len, d, site_tau_.data() + j0, site_phase_x_.data() + j0, u.data() + j0,
-                     u.data() + m + j0, terms, f_int.data() + j0, f_int.data() + m + j0);
-    } else {
-      lfm_site_terms_tip(len, d, frame_.spacing(), frame_.cos(), frame_.sin(),
-                         site_tau_.data() + j0, site_rho1_.data() + j0, site_rho2_.data() + j0,
-                         u.data() + j0, u.data() + m + j0, terms, f_int.data() + j0,
-                         f_int.data() + m + j0);
-    }
-  };
   // V sums the terms in site order whatever the threads, so it is bit for bit the plain loop's.
   double v = 0.0;
   if (par::threads_for(m, threads) <= 1) {
@@ -281,7 +284,7 @@ double LateralForceModel::energy_and_force(std::span<const double> u, std::span<
     double terms[chunk];
     for (std::size_t j0 = 0; j0 < m; j0 += chunk) {
       const std::size_t len = std::min(chunk, m - j0);
-      site_terms(j0, len, terms);
+      site_terms(u, f_int, j0, len, terms);
       for (std::size_t k = 0; k < len; ++k)
         v += terms[k];
     }
@@ -292,12 +295,14 @@ double LateralForceModel::energy_and_force(std::span<const double> u, std::span<
     thread_local std::vector<double> terms;
     terms.resize(m);
     double* const buffer = terms.data();
-    par::for_ranges(m, threads,
-                    [&](std::size_t b, std::size_t e) { site_terms(b, e - b, buffer + b); });
+    par::for_ranges(m, threads, [&](std::size_t b, std::size_t e) {
+      site_terms(u, f_int, b, e - b, buffer + b);
+    });
     for (std::size_t j = 0; j < m; ++j)
       v += buffer[j];
   }
-  if (!aligned) return v * d * d * frame_.spacing() / (2.0 * std::numbers::pi);
+  const double d = scene_.d;
+  if (!frame_.aligned()) return v * d * d * frame_.spacing() / (2.0 * std::numbers::pi);
   return v * d * d * d / (2.0 * std::numbers::pi);
 }
 
@@ -306,29 +311,20 @@ void LateralForceModel::energy_and_force_rows(std::span<const double> u, std::sp
   const std::size_t m = sites_.size(), n1 = static_cast<std::size_t>(block_.shape.n1);
   assert(u.size() == 2 * m && f_int.size() == 2 * m &&
          rows.size() == static_cast<std::size_t>(block_.shape.n0));
-  const double d = scene_.d;
-  const bool aligned = frame_.aligned();
   // The terms of every site first (on the threads: the sines and cosines are most of the cost),
   // then their sums per row on this thread.
   thread_local std::vector<double> terms;
   terms.resize(m);
   double* const buffer = terms.data();
   par::for_ranges(m, threads, [&](std::size_t b, std::size_t e) {
-    if (aligned) {
-      lfm_site_terms(e - b, d, site_tau_.data() + b, site_phase_x_.data() + b, u.data() + b,
-                     u.data() + m + b, buffer + b, f_int.data() + b, f_int.data() + m + b);
-    } else {
-      lfm_site_terms_tip(e - b, d, frame_.spacing(), frame_.cos(), frame_.sin(),
-                         site_tau_.data() + b, site_rho1_.data() + b, site_rho2_.data() + b,
-                         u.data() + b, u.data() + m + b, buffer + b, f_int.data() + b,
-                         f_int.data() + m + b);
-    }
+    site_terms(u, f_int, b, e - b, buffer + b);
   });
   std::fill(rows.begin(), rows.end(), 0.0);
   for (std::size_t j = 0; j < m; ++j)
     rows[sites_[j] / n1] += buffer[j];
-  const double scale = aligned ? d * d * d / (2.0 * std::numbers::pi)
-                               : d * d * frame_.spacing() / (2.0 * std::numbers::pi);
+  const double d = scene_.d;
+  const double scale = frame_.aligned() ? d * d * d / (2.0 * std::numbers::pi)
+                                        : d * d * frame_.spacing() / (2.0 * std::numbers::pi);
   for (double& r : rows)
     r *= scale;
 }

@@ -123,6 +123,9 @@ class LateralForceModel {
   bool curvature_coupling(std::span<const double> u, std::span<double> hxy) const;
 
  private:
+  void site_terms(std::span<const double> u, std::span<double> f_int, std::size_t j0,
+                  std::size_t len, double* terms) const;
+
   ContactScene scene_;
   std::shared_ptr<const Envelope> envelope_;  // shared: copies of a model share it
   LatticeBlock block_;
