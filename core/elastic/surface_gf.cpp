@@ -156,6 +156,15 @@ double FreeSurfaceGF::coefficient(int k, int l, int o0, int o1) const {
                   o0 * d_, o1 * d_, d_);
 }
 
+// A listed site must lie in the region rows held here (n sites).
+void FreeSurfaceGF::check_site(std::size_t site, std::size_t n) {
+  if (site >= n) {
+    throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string(site) +
+                                " outside the region rows held here, " + std::to_string(n) +
+                                " sites");
+  }
+}
+
 // Padded-grid position of each listed region site (row-major region indices). The walk needs
 // no division for increasing indices (a contact's site list); any order is accepted.
 void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
@@ -165,11 +174,7 @@ void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
   std::size_t row = 0, row_begin = 0;
   for (std::size_t j = 0; j < sites.size(); ++j) {
     const std::size_t s = sites[j];
-    if (s >= n) {
-      throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string(s) +
-                                  " outside the region rows held here, " + std::to_string(n) +
-                                  " sites");
-    }
+    check_site(s, n);
     if (s < row_begin) {  // not increasing: jump to the row
       row = s / n1;
       row_begin = row * n1;
@@ -211,8 +216,9 @@ void FreeSurfaceGF::exchange_rows(const std::vector<double>& from, bool to_slabs
   const std::size_t n1 = static_cast<std::size_t>(region_.n1);
   const int per_row = static_cast<int>(ncomp_ * n1);
   std::vector<int> send_counts(source.size()), recv_counts(source.size());
-  std::vector<double> send;
-  send.reserve(from.size());
+  // The buffers are the GF's, kept between calls (region-sized, twice per transform).
+  std::vector<double>& send = exchange_send_;
+  send.clear();
   const std::size_t rows_from = static_cast<std::size_t>(mine_from.end - mine_from.begin);
   // Rows go in rank order of their targets (which is row order), each with its components.
   for (std::size_t q = 0; q < target.size(); ++q) {
@@ -229,8 +235,8 @@ void FreeSurfaceGF::exchange_rows(const std::vector<double>& from, bool to_slabs
       }
     }
   }
-  std::vector<double> recv(static_cast<std::size_t>(std::max(0, mine_to.end - mine_to.begin)) *
-                           ncomp_ * n1);
+  std::vector<double>& recv = exchange_recv_;
+  recv.resize(static_cast<std::size_t>(std::max(0, mine_to.end - mine_to.begin)) * ncomp_ * n1);
   comm.exchange(send, send_counts, recv, recv_counts);
   // Received row by row (every component of a row together): into component-major order.
   const std::size_t rows_to = static_cast<std::size_t>(mine_to.end - mine_to.begin);
@@ -250,17 +256,16 @@ void FreeSurfaceGF::convolve_shared(const std::span<const std::size_t>* sites,
                                     std::span<const double> in, std::span<double> out, PerQ per_q) {
   const Shape2 padded = engine_->real_shape();
   const std::size_t n = local_.count();
-  std::vector<double> rows(ncomp_ * n, 0.0), slab;
+  // This process's rows and its slab's, kept between calls.
+  std::vector<double>&rows = shared_rows_, &slab = shared_slab_;
+  rows.assign(ncomp_ * n, 0.0);
   if (sites) {
     const std::size_t m = sites->size();
+    for (const std::size_t site : *sites)
+      check_site(site, n);
     for (std::size_t c = 0; c < ncomp_; ++c) {
-      for (std::size_t j = 0; j < m; ++j) {
-        if ((*sites)[j] >= n)
-          throw std::invalid_argument("FreeSurfaceGF: site " + std::to_string((*sites)[j]) +
-                                      " outside the region rows held here, " + std::to_string(n) +
-                                      " sites");
+      for (std::size_t j = 0; j < m; ++j)
         rows[c * n + (*sites)[j]] = in[c * m + j];
-      }
     }
   } else {
     std::copy(in.begin(), in.end(), rows.begin());

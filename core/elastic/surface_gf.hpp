@@ -100,6 +100,7 @@ class FreeSurfaceGF {
   // Moves whole region rows (component-major) from the callers' shares to the slabs (to_slabs)
   // or back.
   void exchange_rows(const std::vector<double>& from, bool to_slabs, std::vector<double>& to) const;
+  static void check_site(std::size_t site, std::size_t n);
   void map_sites(std::span<const std::size_t> sites);
   void apply_on(const std::span<const std::size_t>* sites, std::span<const double> f,
                 std::span<double> u);
@@ -119,6 +120,9 @@ class FreeSurfaceGF {
     int begin = 0, end = 0;
   };
   std::vector<Rows> slabs_, shares_;
+  // Their buffers, kept between calls: the rows of the share and of the slab, and the exchange's.
+  std::vector<double> shared_rows_, shared_slab_;
+  mutable std::vector<double> exchange_send_, exchange_recv_;
   double d_;
   std::size_t ncomp_;
   std::unique_ptr<fft::Engine> engine_;
