@@ -703,7 +703,7 @@ class ProtocolRun {
     const double step =
         options_.protocol == Protocol::adaptive && first_max_Dx_ >= 0.0 && res_.slip_events == 0
             ? std::min(h_, 0.125 * d_)
-            : h_;
+            : grown_step();
     Plan p{.Dx = std::min(state_.Dx + step, limit_)};
     // Adaptive: the bisection. A bracket [state.Dx, slip_at] around a known instability is
     // halved until it is min_step wide; the slip is then taken from its stable end.
@@ -723,18 +723,36 @@ class ProtocolRun {
     // slipped, failed or differs) is dropped as if it had not been made: the slide goes on
     // with the step it would have taken, so a slide that never repeats (Regime III) follows the
     // same path as without the replay, at the probe's cost.
+    // While the step still grows after the slip (slide.step_growth), a step that reaches no
+    // window state's period keeps the probe due for the next one.
     if (replay_ && cycle_check_due_ && !std::isfinite(slip_at_)) {
-      cycle_check_due_ = false;
+      if (step >= h_) cycle_check_due_ = false;
       for (std::size_t i = window_.size(); i-- > 0;) {
         const double target = window_[i].Dx + d_;
         if (target <= p.Dx && target > state_.Dx + 1e-9 * d_) {
           p.Dx = target;
           p.cycle_of = i;
+          cycle_check_due_ = false;
           break;
         }
       }
     }
     return p;
+  }
+
+  // The step of the adaptive protocol: max_step, or with slide.step_growth, after a slip event,
+  // min_step times the growth factor to the power of the steps accepted since that slip (capped
+  // at max_step). It follows from the trace alone, so a resumed slide takes the same steps.
+  double grown_step() const {
+    const double g = options_.step_growth;
+    if (options_.protocol != Protocol::adaptive || !(g > 1.0) || res_.slip_events == 0) return h_;
+    std::size_t since = 0;
+    for (std::size_t i = res_.trace.size(); i-- > 0 && !res_.trace[i].slip;)
+      ++since;
+    double step = options_.min_step;
+    for (std::size_t k = 0; k < since && step < h_; ++k)
+      step *= g;
+    return std::min(step, h_);
   }
 
   // Warm start on a smooth branch: extrapolate the force field in Dx through the last two or

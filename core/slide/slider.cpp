@@ -606,6 +606,12 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
             "slide.min_step", [](auto& o) -> auto& { return o.min_step; }, R::open_closed(0.0, 0.5),
             "d", "adaptive protocol: instabilities bracketed to this (<= slide.max_step)"),
         settings::number<O>(
+            "slide.step_growth", [](auto& o) -> auto& { return o.step_growth; },
+            R::closed(0.0, 16.0), "",
+            "adaptive protocol: after a slip the step restarts at slide.min_step and grows by this "
+            "factor per accepted step up to slide.max_step (0: off; else > 1)",
+            "--step-growth"),
+        settings::number<O>(
             "slide.distance", [](auto& o) -> auto& { return o.distance; }, R::non_negative(), "d",
             "sliding distance; 0: automatic (until the static peak is established)", "--distance"),
         settings::number<O>(
@@ -656,6 +662,10 @@ void SlideOptions::validate() const {
     throw std::invalid_argument(
         "slide.min_step = " + settings::format_number(min_step) +
         ": allowed: <= slide.max_step = " + settings::format_number(max_step));
+  }
+  if (step_growth != 0.0 && !(step_growth > 1.0)) {
+    throw std::invalid_argument("slide.step_growth = " + settings::format_number(step_growth) +
+                                ": allowed: 0 (off) or > 1");
   }
   if (slip_minimizer) slip_minimizer->validate();
 }

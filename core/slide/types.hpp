@@ -53,7 +53,12 @@ struct SlideOptions {
   double step = 0.01;                      // reference protocol: tip step (d)
   double max_step = 0.4;                   // adaptive protocol: largest step (d), < d/2
   double min_step = 1e-2;                  // adaptive protocol: instabilities bracketed to this (d)
-  double distance = 0.0;                   // sliding distance (d); 0 = automatic
+  // Adaptive protocol: after a slip event the step restarts at min_step and grows by this
+  // factor with every accepted step, up to max_step (0: off, every step max_step). In Regime III
+  // the next instability often lies within min_step of the last slip; a full step would then be
+  // relaxed, found to slip and bisected back each time (docs/solvers.md, step growth).
+  double step_growth = 0.0;
+  double distance = 0.0;      // sliding distance (d); 0 = automatic
   double max_distance = 0.0;  // cap of the automatic distance (d); 0 = 3 d + 3 alpha Fz / k
   int slips_to_stop = 2;      // automatic distance: slip events after the peak (which must
                               // also have held over d) before the slide stops

@@ -125,11 +125,15 @@ TEST(SlideCheckpoint, StopsAnywhereResumeBitForBit) {
   // through two slip events (bisection brackets, relaxation-path frames, and after the first
   // slip the window of states and the pending probe of the cycle replay): every poll.
   // And the adhesive envelope (issue 27), whose slide maximises Fx/A: every third poll.
+  // And the growing step after slips (slide.step_growth), which the protocol derives from the
+  // trace: every poll.
   app::SlideScene adhesive = scene(16.0, 0.0);
   adhesive.contact.envelope = "adhesive";
   adhesive.contact.tau0 = 0.2;
-  for (const auto& [s, stride] :
-       {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1}, std::pair{adhesive, 3}}) {
+  app::SlideScene growing = scene(20.0, 0.0);
+  growing.options.step_growth = 2.0;
+  for (const auto& [s, stride] : {std::pair{scene(6.0, 1.2), 1}, std::pair{scene(20.0, 0.0), 1},
+                                  std::pair{adhesive, 3}, std::pair{growing, 1}}) {
     const SlideResult reference = slide::slide(s.contact, s.options);
     ASSERT_FALSE(reference.failed) << reference.stop_reason;
     // Regime II replays its second cycle (SlideOptions::replay_cycle): stops between the first
