@@ -4,6 +4,7 @@
 #include <bit>
 #include <charconv>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -631,20 +632,111 @@ void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const SlideSce
 
 void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const std::string& now,
                                const std::filesystem::path& file) {
-  if (checkpoint.settings == now) return;
-  const auto saved = items(checkpoint.settings), wanted = items(now);
-  std::string differ;
+  check_or_adopt_checkpoint(checkpoint, now, file, false);
+}
+
+namespace {
+
+// Items a checkpoint may be adopted across: the numerical settings of the slide, solver and FFT,
+// and the build's words (the only items without '='; the build item's first word is "code=").
+bool adoptable(const std::string& item) {
+  return item.rfind("slide.", 0) == 0 || item.rfind("solver.", 0) == 0 ||
+         item.rfind("fft.", 0) == 0 || item.rfind("code=", 0) == 0 ||
+         item.find('=') == std::string::npos;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& x : v)
+    out += (out.empty() ? "" : ", ") + x;
+  return out;
+}
+
+}  // namespace
+
+FingerprintDifference fingerprint_difference(const std::string& saved_fingerprint,
+                                             const std::string& now) {
+  const auto saved = items(saved_fingerprint), wanted = items(now);
+  FingerprintDifference d;
   for (const auto& item : saved) {
-    if (!wanted.contains(item)) differ += (differ.empty() ? "" : ", ") + item;
+    if (wanted.contains(item)) continue;
+    d.removed.push_back(item);
+    if (!adoptable(item)) d.fixed.push_back(item);
   }
-  std::string instead;
   for (const auto& item : wanted) {
-    if (!saved.contains(item)) instead += (instead.empty() ? "" : ", ") + item;
+    if (saved.contains(item)) continue;
+    d.added.push_back(item);
+    if (!adoptable(item)) d.fixed.push_back(item);
   }
-  throw std::invalid_argument(file.string() + ": checkpoint of other settings: it has " + differ +
-                              "; this run has " + instead +
-                              ". Resume with the scene and flags of the interrupted run, or "
-                              "remove the checkpoint to start over");
+  return d;
+}
+
+std::optional<CheckpointAdoption> check_or_adopt_checkpoint(const SlideCheckpoint& checkpoint,
+                                                            const std::string& now,
+                                                            const std::filesystem::path& file,
+                                                            bool adopt) {
+  if (checkpoint.settings == now) return std::nullopt;
+  const auto [differ, instead, fixed] = fingerprint_difference(checkpoint.settings, now);
+  if (adopt && fixed.empty()) {
+    return CheckpointAdoption{.saved = checkpoint.settings,
+                              .now = now,
+                              .removed = joined(differ),
+                              .added = joined(instead)};
+  }
+  if (adopt) {
+    throw std::invalid_argument(
+        file.string() + ": checkpoint of another problem: " + joined(fixed) +
+        " differ (only the build and slide.*, solver.* and fft.* settings may differ when a "
+        "checkpoint is adopted). Resume with the scene of the interrupted run, or remove the "
+        "checkpoint to start over");
+  }
+  throw std::invalid_argument(file.string() + ": checkpoint of other settings: it has " +
+                              joined(differ) + "; this run has " + joined(instead) +
+                              ". Resume with the scene and flags of the interrupted run, adopt it "
+                              "under these settings (--adopt: another build, slide.*, solver.* "
+                              "or fft.* only), or remove the checkpoint to start over");
+}
+
+void record_adoption(const std::filesystem::path& checkpoint_file,
+                     const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption) {
+  namespace fs = std::filesystem;
+  const fs::path dir = checkpoint_file.parent_path();
+  const fs::path record = dir / "adopted.json";
+  int n = 1;
+  while (fs::exists(dir / ("checkpoint.adopted." + std::to_string(n) + ".cbor")))
+    ++n;
+  const fs::path kept = dir / ("checkpoint.adopted." + std::to_string(n) + ".cbor");
+  // A second name for the file, made at once: the run's next checkpoint replaces
+  // checkpoint.cbor by a rename, and the kept name still holds what was adopted. Neither a copy
+  // of a checkpoint of hundreds of MB nor a window in which a kill leaves no checkpoint.
+  std::error_code ec;
+  fs::create_hard_link(checkpoint_file, kept, ec);
+  if (ec) {
+    throw std::runtime_error("cannot keep the adopted checkpoint as " + kept.string() + ": " +
+                             ec.message());
+  }
+  json all = json::array();
+  if (fs::exists(record)) {
+    std::ifstream in(record);
+    all = json::parse(in, nullptr, false);
+    if (!all.is_array()) throw std::runtime_error(record.string() + ": not a JSON array");
+  }
+  const std::time_t t = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char when[32];
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  const slide::SlideState& st = checkpoint.state;
+  all.push_back({{"when", when},
+                 {"Dx", st.current.Dx},
+                 {"steps", st.partial.steps},
+                 {"slip_events", st.partial.slip_events},
+                 {"kept_as", kept.filename().string()},
+                 {"removed", adoption.removed},
+                 {"added", adoption.added},
+                 {"saved_settings", adoption.saved},
+                 {"settings", adoption.now}});
+  write_json(record, all);
 }
 
 }  // namespace asperity::app

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,5 +47,36 @@ void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const SlideSce
 // The same against a fingerprint (explicit_slide_fingerprint).
 void check_checkpoint_settings(const SlideCheckpoint& checkpoint, const std::string& fingerprint,
                                const std::filesystem::path& file);
+
+// A checkpoint continued under other settings than it was written for (--adopt): a long run
+// carried over to a new build, or given other numerical settings (a longer distance, another
+// step rule). The slide goes on from the same state, so only settings that do not define the
+// problem may differ: the build and slide.*, solver.* and fft.* items. The result is then no
+// longer the bit-for-bit continuation of the first run, which the record beside it says.
+struct CheckpointAdoption {
+  std::string saved;    // the checkpoint's fingerprint
+  std::string now;      // this run's
+  std::string removed;  // the items only the checkpoint has, ", "-separated
+  std::string added;    // the items only this run has
+};
+// How two fingerprints differ: the items only `saved` has, those only `now` has, and of both
+// those that may not differ in an adoption (the problem: scene, model, outputs).
+struct FingerprintDifference {
+  std::vector<std::string> removed, added, fixed;
+};
+FingerprintDifference fingerprint_difference(const std::string& saved, const std::string& now);
+// nullopt when the fingerprints are equal. Otherwise, with `adopt`, what differs if only
+// adoptable items do; throws std::invalid_argument naming `file` and the differing items (and,
+// with `adopt`, those that may not differ) if not.
+std::optional<CheckpointAdoption> check_or_adopt_checkpoint(const SlideCheckpoint& checkpoint,
+                                                            const std::string& fingerprint,
+                                                            const std::filesystem::path& file,
+                                                            bool adopt);
+// Keeps the adopted file as <dir>/checkpoint.adopted.<n>.cbor (n = 1, 2, ...: a point may be
+// carried over more than once) and appends a line to <dir>/adopted.jsonl: the time, the state's
+// Dx, steps and slip events, the kept file and the differing items. <dir> is the checkpoint's
+// folder. Throws std::runtime_error naming the file it could not write.
+void record_adoption(const std::filesystem::path& checkpoint_file,
+                     const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption);
 
 }  // namespace asperity::app

@@ -55,8 +55,8 @@ struct CheckpointedSlide {
 // prints how to continue; a finished one is the caller's to write out (it removes the checkpoint
 // after its outputs).
 CheckpointedSlide run_checkpointed(
-    const std::string& out, const std::string& settings, bool resume, double checkpoint_every,
-    app::SnapshotSink& frames,
+    const std::string& out, const std::string& settings, bool resume, bool adopt,
+    double checkpoint_every, app::SnapshotSink& frames,
     const std::function<slide::SlideResult(const slide::SlideControl&)>& run, int argc, char** argv,
     const slide::SlideParallel& parallel = {}) {
   CheckpointedSlide c;
@@ -68,7 +68,15 @@ CheckpointedSlide run_checkpointed(
                                   ": nothing to resume (run without --resume to start)");
     }
     start = app::read_checkpoint(c.checkpoint_file);
-    app::check_checkpoint_settings(*start, settings, c.checkpoint_file);
+    if (const auto adoption =
+            app::check_or_adopt_checkpoint(*start, settings, c.checkpoint_file, adopt)) {
+      app::record_adoption(c.checkpoint_file, *start, *adoption);
+      std::fprintf(stderr,
+                   "contact_slide: adopting the checkpoint %s (kept; recorded in %s/adopted.json): "
+                   "it has %s; this run has %s\n",
+                   c.checkpoint_file.c_str(), out.c_str(), adoption->removed.c_str(),
+                   adoption->added.c_str());
+    }
   }
   const bool tty = isatty(2) != 0;
   // On a terminal the line is rewritten 5 times a second; in a log (no terminal) a line at each
@@ -166,6 +174,7 @@ struct Run {
   std::string scene_path, out;
   bool scene_given = false;  // a scene file was named (else the model's default scene)
   bool resume = false;
+  bool adopt = false;  // --adopt: the checkpoint may be of another build or numerical settings
   double checkpoint_every = 300.0;
   const app::SettingFlags* flags = nullptr;
   int argc = 0;
@@ -280,7 +289,7 @@ int explicit_sliding(Run run) {
       throw std::invalid_argument("--resume: no checkpoint " + file.string() +
                                   ": nothing to resume (run without --resume to start)");
     }
-    app::check_checkpoint_settings(app::read_checkpoint(file), settings, file);
+    app::check_or_adopt_checkpoint(app::read_checkpoint(file), settings, file, run.adopt);
   }
   // Normal loading alone, with its comparison to Hertz, in <out>/loading.
   explicit_model::LoadOptions lo{.load = load};
@@ -306,7 +315,7 @@ int explicit_sliding(Run run) {
       app::snapshot_attributes(as_slide, app::explicit_summary_extra(e, alpha_p)),
       e.slide.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
-      run.out, settings, run.resume, run.checkpoint_every, frames,
+      run.out, settings, run.resume, run.adopt, run.checkpoint_every, frames,
       [&](const slide::SlideControl& control) {
         return app::slide_explicit_scene(e, alpha_p, control);
       },
@@ -409,7 +418,7 @@ int lfm_sliding(const Run& run) {
   app::SnapshotSink frames(std::filesystem::path(run.out) / "snapshots",
                            app::snapshot_attributes(s, nullptr), s.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
-      run.out, app::slide_fingerprint(s), run.resume, run.checkpoint_every, frames,
+      run.out, app::slide_fingerprint(s), run.resume, run.adopt, run.checkpoint_every, frames,
       [&](const slide::SlideControl& control) {
         return slide::slide(s.contact, s.options, control);
       },
@@ -482,9 +491,17 @@ int main(int argc, char** argv) {
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     bool resume = false;
     double checkpoint_every = 300.0;
-    cli.add_flag("--resume", resume,
-                 "Continue the interrupted run whose checkpoint is in the output directory (same "
-                 "scene and flags)");
+    auto* resume_opt = cli.add_flag(
+        "--resume", resume,
+        "Continue the interrupted run whose checkpoint is in the output directory (same "
+        "scene and flags)");
+    bool adopt = false;
+    cli.add_flag("--adopt", adopt,
+                 "With --resume: continue a checkpoint of another build, or of other slide.*, "
+                 "solver.* and fft.* settings of the same problem (a long run carried over to a "
+                 "new build, or given a longer distance); recorded in <out>/adopted.json, the "
+                 "adopted file kept beside it")
+        ->needs(resume_opt);
     cli.add_option("--checkpoint-every", checkpoint_every,
                    "Seconds of run time between checkpoints (0: after every step)")
         ->check(app::non_negative())
@@ -524,6 +541,7 @@ int main(int argc, char** argv) {
                   .out = out,
                   .scene_given = cli.count("scene") > 0,
                   .resume = resume,
+                  .adopt = adopt,
                   .checkpoint_every = checkpoint_every,
                   .flags = &flags,
                   .argc = argc_,

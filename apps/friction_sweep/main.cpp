@@ -53,6 +53,11 @@ int main(int argc, char** argv) {
                  "sites) and the peak state, as NetCDF in points/<point>/largest_slip/ (for "
                  "track_loops): one pair of frames however many slips")
         ->excludes(figures_opt);
+    cli.add_flag("--adopt", o.adopt,
+                 "Continue checkpoints and keep finished rows of another build, or of other "
+                 "slide.*, solver.* and fft.* settings of the same problem (a long run carried "
+                 "over to a new build, or given a longer distance); each adoption is recorded "
+                 "in points/<point>/adopted.json and the adopted file kept beside it");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     cli.add_option("--checkpoint-every", o.checkpoint_every,
                    "Seconds of run time between checkpoints of each running point (0: every step)")

@@ -97,8 +97,8 @@ class SweepRunner {
       }
       csv_ = dir_ / "sweep.csv";
       csv_x_ = dir_ / "sweep_explicit.csv";
-      resumed = resume_rows(csv_, points_, settings_);
-      resumed_x = resume_rows(csv_x_, xpoints_, settings_x_);
+      resumed = resume_rows(csv_, points_, settings_, o_.adopt);
+      resumed_x = resume_rows(csv_x_, xpoints_, settings_x_, o_.adopt);
       rows_ = std::move(resumed.rows);
       rows_x_ = std::move(resumed_x.rows);
       plan();
@@ -246,6 +246,10 @@ class SweepRunner {
       if (!fs::exists(*table)) continue;
       std::fprintf(stderr, "friction_sweep: reused %zu of %zu points from %s", res->reused, n,
                    table->c_str());
+      if (res->adopted > 0) {
+        std::fprintf(stderr, " (%zu of another build or other numerical settings, --adopt)",
+                     res->adopted);
+      }
       // Dropped rows leave the table; their point folders stay until the points are run again.
       std::string why;
       for (const auto& [count, reason] : {std::pair{res->other_settings, "with other settings"},
@@ -306,7 +310,15 @@ class SweepRunner {
     if (std::error_code ec; !fs::exists(checkpoint_file, ec)) return std::nullopt;
     try {
       SlideCheckpoint c = read_checkpoint(checkpoint_file);
-      check_checkpoint_settings(c, point_settings, checkpoint_file);
+      if (const auto adoption =
+              check_or_adopt_checkpoint(c, point_settings, checkpoint_file, o_.adopt)) {
+        record_adoption(checkpoint_file, c, *adoption);
+        const std::lock_guard lock(table_mutex_);
+        std::fprintf(stderr,
+                     "friction_sweep: adopting the checkpoint %s (kept; recorded in "
+                     "adopted.json): it has %s; this run has %s\n",
+                     checkpoint_file.c_str(), adoption->removed.c_str(), adoption->added.c_str());
+      }
       return c;
     } catch (const std::exception& e) {
       const fs::path kept = point_dir / "checkpoint.replaced.cbor";

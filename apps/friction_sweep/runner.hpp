@@ -20,7 +20,10 @@ struct SweepRunOptions {
   bool largest_slip = false;      // per point the states of its largest slip
   double checkpoint_every = 300;  // seconds of run time between a point's checkpoints
   double progress_every = 60;     // seconds between progress lines of a running point (0: none)
-  std::string command_line;       // printed when a stopped sweep says how to continue
+  // Continue points' checkpoints and keep finished rows of another build or of other slide.*,
+  // solver.* and fft.* settings of the same problem (slide_checkpoint.hpp, adoption)
+  bool adopt = false;
+  std::string command_line;  // printed when a stopped sweep says how to continue
 };
 
 // Runs the sweep of scene `s` (validated) into options.out and writes its results; returns the

@@ -14,6 +14,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/mpi_points.hpp"
+#include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/common/line_fit.hpp"
 #include "asperity/core/contact/hertz.hpp"
@@ -568,7 +569,7 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
 }
 
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
-                        const std::string& settings) {
+                        const std::string& settings, bool adopt) {
   ResumedRows out;
   out.rows.resize(points.size());
   if (!std::filesystem::exists(csv)) return out;
@@ -599,7 +600,9 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
       ++out.not_requested;
       continue;
     }
-    if (t.text(i, "settings") != settings) {
+    const bool adopted = t.text(i, "settings") != settings;
+    if (adopted &&
+        !(adopt && fingerprint_difference(t.text(i, "settings"), settings).fixed.empty())) {
       ++out.other_settings;
       continue;
     }
@@ -630,6 +633,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
       row.cells.push_back(t.cell(i, j));
     slot = std::move(row);
     ++out.reused;
+    if (adopted) ++out.adopted;
   }
   return out;
 }

@@ -171,14 +171,19 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
 struct ResumedRows {
   std::vector<std::optional<SweepRow>> rows;  // per point of `points`
   std::size_t reused = 0;
+  std::size_t adopted = 0;  // of the reused: rows of other settings taken under `adopt`
   std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
 };
 // Throws std::invalid_argument if the file is not a sweep.csv (other columns). A table of an
 // earlier layout (without the tip's columns, or with a wall_s column) is accepted and all its
 // rows are dropped as other_settings: they came from another build, which the settings
 // fingerprint rejects anyway.
+// With `adopt` (--adopt), a row whose settings differ from `settings` only in what a
+// checkpoint may be adopted across (the build, slide.*, solver.*, fft.*;
+// fingerprint_difference()) is reused too, its settings cell unchanged: the table says which
+// build and settings made each row.
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
-                        const std::string& settings);
+                        const std::string& settings, bool adopt = false);
 
 // The quantity a sweep of this envelope plots and fits (SweepRow::relative_friction), e.g.
 // "mu/alpha", and the Regime II slope of its law: -2/3 (hertz: MODEL.md 8), -1/2 (adhesive:

@@ -17,7 +17,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -26,6 +28,7 @@
 
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "scratch.hpp"
 
 namespace asperity {
 namespace {
@@ -422,6 +425,107 @@ TEST(SlideCheckpoint, NonConvergenceStopsWithStepParametersAndLastGoodState) {
   EXPECT_EQ(saved->partial.trace.size(), r.trace.size());
   EXPECT_NE(r.stop_reason.find("step " + std::to_string(r.steps + 1)), std::string::npos)
       << r.stop_reason;
+}
+
+// Adoption (--adopt): a checkpoint of another build, or of other slide.*, solver.* or fft.*
+// settings, continues under this run's settings; one of another problem (here alpha) does not.
+// The resumed slide keeps the rows before the stop and after it steps by the new rule
+// (slide.step_growth: min_step after a slip). Each adoption keeps the adopted file under a
+// second name and appends a record.
+class SlideCheckpointAdoption : public test_support::ScratchDirTest {};
+
+TEST_F(SlideCheckpointAdoption, AnotherBuildAndNumericalSettingsOnly) {
+  const app::SlideScene s0 = scene(20.0, 0.0);
+  const SlideResult reference = slide::slide(s0.contact, s0.options);
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  ASSERT_GE(reference.slip_events, 1);
+  // Stopped at the first poll after the first slip was accepted.
+  std::optional<SlideState> saved;
+  int slips = 0;
+  const SlideResult stopped = slide::slide(
+      s0.contact, s0.options,
+      SlideControl{.progress = [&](const slide::SlideProgressInfo& i) { slips = i.slip_events; },
+                   .checkpoint = [&](const SlideState& st) { saved = st; },
+                   .checkpoint_every_s = 1e9,
+                   .stop_requested = [&] { return slips >= 1; }});
+  ASSERT_TRUE(stopped.interrupted);
+  ASSERT_TRUE(saved.has_value());
+  ASSERT_GE(saved->partial.slip_events, 1);
+
+  // Written by another build, for the full step.
+  std::string other_build = app::slide_fingerprint(s0);
+  other_build = other_build.substr(0, other_build.find(" code=")) +
+                " code=asperity 0.0.9 (commit 1234567) model=lfm";
+  const app::SlideCheckpoint old{.settings = other_build, .state = *saved};
+  const auto file = dir_ / "checkpoint.cbor";
+  app::write_checkpoint(file, old);
+
+  app::SlideScene s1 = s0;
+  s1.options.step_growth = 2.0;
+  const std::string now = app::slide_fingerprint(s1);
+  const std::string refused = test_support::invalid_argument_message(
+      [&] { app::check_or_adopt_checkpoint(old, now, file, false); });
+  EXPECT_NE(refused.find("--adopt"), std::string::npos) << refused;
+  const auto adoption = app::check_or_adopt_checkpoint(old, now, file, true);
+  ASSERT_TRUE(adoption.has_value());
+  EXPECT_NE(adoption->removed.find("slide.step_growth=0"), std::string::npos) << adoption->removed;
+  EXPECT_NE(adoption->removed.find("1234567)"), std::string::npos) << adoption->removed;
+  EXPECT_NE(adoption->added.find("slide.step_growth=2"), std::string::npos) << adoption->added;
+  EXPECT_FALSE(
+      app::check_or_adopt_checkpoint(app::SlideCheckpoint{.settings = now}, now, file, true)
+          .has_value());
+
+  // Another problem is refused even with --adopt, naming what differs.
+  app::SlideScene s2 = s1;
+  s2.contact.alpha = 0.6;
+  const std::string problem = test_support::invalid_argument_message(
+      [&] { app::check_or_adopt_checkpoint(old, app::slide_fingerprint(s2), file, true); });
+  EXPECT_NE(problem.find("contact.alpha"), std::string::npos) << problem;
+  EXPECT_EQ(problem.find("slide.step_growth"), std::string::npos)
+      << "only the items that may not differ are named: " << problem;
+
+  // The record: the adopted file under a second name (twice: .1 and .2), one entry each.
+  app::record_adoption(file, old, *adoption);
+  app::record_adoption(file, old, *adoption);
+  for (const char* kept : {"checkpoint.adopted.1.cbor", "checkpoint.adopted.2.cbor"}) {
+    EXPECT_EQ(app::read_checkpoint(dir_ / kept).settings, other_build) << kept;
+  }
+  std::ifstream in(dir_ / "adopted.json");
+  const auto record = nlohmann::json::parse(in);
+  ASSERT_EQ(record.size(), 2u);
+  EXPECT_EQ(record[1].at("kept_as"), "checkpoint.adopted.2.cbor");
+  EXPECT_EQ(record[0].at("Dx").get<double>(), saved->current.Dx);
+  EXPECT_EQ(record[0].at("slip_events").get<int>(), saved->partial.slip_events);
+  EXPECT_EQ(record[0].at("settings"), now);
+
+  // The slide goes on under the new settings: the rows before the stop are the first run's;
+  // after the next slip the step restarts at min_step.
+  const SlideResult adopted =
+      slide::slide(s1.contact, s1.options, SlideControl{.start = &old.state});
+  ASSERT_FALSE(adopted.failed) << adopted.stop_reason;
+  const std::size_t kept_rows = saved->partial.trace.size();
+  ASSERT_GE(adopted.trace.size(), kept_rows);
+  for (std::size_t i = 0; i < kept_rows; ++i) {
+    EXPECT_EQ(adopted.trace[i].Dx, reference.trace[i].Dx) << "row " << i;
+    EXPECT_EQ(adopted.trace[i].Fx, reference.trace[i].Fx) << "row " << i;
+  }
+  EXPECT_EQ(adopted.mu, reference.mu);  // Regime II: the peak before the first slip
+  // The first step after the stop follows the new rule: min_step times 2 per row accepted
+  // since the slip (the replayed second cycle, if any, comes later).
+  std::size_t since = 0;
+  for (std::size_t i = kept_rows; i-- > 0 && !saved->partial.trace[i].slip;)
+    ++since;
+  ASSERT_GT(adopted.trace.size(), kept_rows);
+  ASSERT_GT(reference.trace.size(), kept_rows);
+  const double expected = std::min(s1.options.max_step,
+                                   s1.options.min_step * std::pow(2.0, static_cast<double>(since)));
+  const double step = adopted.trace[kept_rows].Dx - adopted.trace[kept_rows - 1].Dx;
+  EXPECT_NEAR(step, expected, 1e-12);
+  std::printf(
+      "stopped after %d slip(s) at Dx = %.4f d (%zu rows after it); the next step: %.4f d (full "
+      "step: %.4f d); adopted slide: %d slips\n",
+      saved->partial.slip_events, saved->current.Dx, since, step,
+      reference.trace[kept_rows].Dx - reference.trace[kept_rows - 1].Dx, adopted.slip_events);
 }
 
 TEST(SlideCheckpoint, RejectsStatesAndFilesThatDoNotFit) {
