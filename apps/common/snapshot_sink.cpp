@@ -216,10 +216,11 @@ std::string LargestSlipSink::start(std::optional<int> largest_so_far) {
   fs::remove(dir_ / "peak.nc", ec);  // made again at the end
   fs::remove(dir_ / "peak.xyz", ec);
   if (!largest_so_far) {
-    fs::remove(before_file(), ec);
-    fs::remove(after_file(), ec);
-    fs::remove(xyz_beside(before_file()), ec);
-    fs::remove(xyz_beside(after_file()), ec);
+    for (const fs::path& f :
+         {before_file(), after_file(), latest_before_file(), latest_after_file()}) {
+      fs::remove(f, ec);
+      fs::remove(xyz_beside(f), ec);
+    }
     largest_ = 0;
     return {};
   }
@@ -245,12 +246,16 @@ void LargestSlipSink::state(const slide::Snapshot& frame) {
   if (frame.label.ends_with("_before")) {
     before_ = frame;
   } else if (frame.label.ends_with("_after")) {
-    if (before_ && frame.slipped_sites > largest_) {
+    if (before_) {
       // A run killed between the two writes leaves a newer "before" beside an older "after";
       // their labels tell.
-      write(*before_, before_file());
-      write(frame, after_file());
-      largest_ = frame.slipped_sites;
+      write(*before_, latest_before_file());
+      write(frame, latest_after_file());
+      if (frame.slipped_sites > largest_) {
+        write(*before_, before_file());
+        write(frame, after_file());
+        largest_ = frame.slipped_sites;
+      }
     }
     before_.reset();
   } else if (frame.label == "peak") {

@@ -86,8 +86,10 @@ class SnapshotSink final : public slide::FrameSink {
 // states before and after its largest slip (the most slipped sites; the first of equals) and,
 // at the end, the peak. Into <dir>: largest_slip_before.nc, largest_slip_after.nc (the frames
 // keep their labels, "slip_NNN_before/after"), peak.nc. A larger slip replaces the pair, so
-// the disk and memory of a point stay one frame pair however many slips it takes (a Regime III
+// the disk and memory of a point stay two frame pairs however many slips it takes (a Regime III
 // slide takes hundreds); the "before" state of every slip is held until its "after" arrives.
+// Also the pair of the latest slip, latest_slip_before.nc and latest_slip_after.nc, replaced at
+// every slip: a point that runs for days can be looked at (track_loops) while it runs.
 // No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
@@ -111,6 +113,12 @@ class LargestSlipSink final : public slide::FrameSink {
     return dir_ / "largest_slip_before.nc";
   }
   [[nodiscard]] std::filesystem::path after_file() const { return dir_ / "largest_slip_after.nc"; }
+  [[nodiscard]] std::filesystem::path latest_before_file() const {
+    return dir_ / "latest_slip_before.nc";
+  }
+  [[nodiscard]] std::filesystem::path latest_after_file() const {
+    return dir_ / "latest_slip_after.nc";
+  }
 
  private:
   std::filesystem::path dir_;

@@ -7,7 +7,7 @@
 //   settings reuses its rows instead of recomputing them;
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
 //   figures and snapshots of contact_slide; with --largest-slip, largest_slip/ with the states
-//   before and after the point's largest slip and its peak state);
+//   before and after the point's largest slip, those of its latest slip, and its peak state);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png;
@@ -50,8 +50,10 @@ int main(int argc, char** argv) {
                      "Per point also the figures and NetCDF snapshots (as contact_slide)");
     cli.add_flag("--largest-slip", o.largest_slip,
                  "Per point keep the states before and after its largest slip (most slipped "
-                 "sites) and the peak state, as NetCDF in points/<point>/largest_slip/ (for "
-                 "track_loops): one pair of frames however many slips")
+                 "sites), the states around its latest slip (replaced at every slip: a long "
+                 "point can be looked at while it runs) and the peak state, as NetCDF in "
+                 "points/<point>/largest_slip/ (for track_loops): two pairs of frames however "
+                 "many slips")
         ->excludes(figures_opt);
     cli.add_flag("--adopt", o.adopt,
                  "Continue checkpoints and keep finished rows of another build, or of other "

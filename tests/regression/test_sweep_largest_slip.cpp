@@ -1,7 +1,8 @@
 // Regression tier: friction_sweep --largest-slip. The fixture slides R = 40 d, a = 24 d
 // (tests/regression/sweep_largest_slip.toml) through slips of different sizes; the point's
 // largest_slip/ must hold exactly the states before and after the slip with the most slipped
-// sites in its trace (the first of equals), the very states of its trace rows, and the peak.
+// sites in its trace (the first of equals), the very states of its trace rows, the states
+// before and after its last slip, and the peak.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -57,9 +58,26 @@ TEST(FrictionSweepLargestSlip, KeepsTheStatesOfTheSlipWithMostSites) {
   ASSERT_EQ(peak.size(), 1u);
   const auto table = asperity::app::CsvTable::read(kDir / "sweep.csv");
   EXPECT_DOUBLE_EQ(peak[0].Fx / peak[0].Fz, table.number(0, "mu"));
-  // One pair and the peak, however many slips.
+  // The latest slip's pair: the last slip row of the trace and the row above it.
+  std::size_t last_row = 0;
+  for (std::size_t i = 0; i < trace.rows(); ++i)
+    if (trace.integer(i, "slip") != 0) last_row = i;
+  std::snprintf(label, sizeof label, "slip_%03d", event);
+  const auto latest_before =
+      asperity::app::read_snapshots(point / "largest_slip" / "latest_slip_before.nc");
+  const auto latest_after =
+      asperity::app::read_snapshots(point / "largest_slip" / "latest_slip_after.nc");
+  ASSERT_EQ(latest_before.size(), 1u);
+  ASSERT_EQ(latest_after.size(), 1u);
+  EXPECT_EQ(latest_before[0].label, std::string(label) + "_before");
+  EXPECT_EQ(latest_after[0].label, std::string(label) + "_after");
+  EXPECT_DOUBLE_EQ(latest_before[0].Dx, trace.number(last_row - 1, "Dx"));
+  EXPECT_DOUBLE_EQ(latest_after[0].Dx, trace.number(last_row, "Dx"));
+  EXPECT_DOUBLE_EQ(latest_after[0].Fx, trace.number(last_row, "Fx"));
+
+  // Two pairs and the peak, however many slips.
   EXPECT_EQ(std::distance(fs::directory_iterator(point / "largest_slip"), fs::directory_iterator()),
-            3);
+            5);
 }
 
 }  // namespace
