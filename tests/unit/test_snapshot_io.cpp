@@ -685,7 +685,7 @@ TEST_F(SnapshotIo, SinkWritesResumesAndReplays) {
   }
 }
 
-TEST_F(SnapshotIo, LargestSlipSinkKeepsOnlyTheLargestSlipsPair) {
+TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   const fs::path dir = dir_ / "largest_slip";
   const auto slip = [](int k, std::string label, double Dx, int sites) {
     Snapshot f = frame(k, std::move(label), -1, 0, 0);
@@ -711,10 +711,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsOnlyTheLargestSlipsPair) {
     EXPECT_EQ(label_of(sink.after_file()), "slip_002_after");
     // The frame's fields are the ones handed over, bit for bit.
     EXPECT_EQ(bits(read_snapshots(sink.before_file()).at(0).ux), bits(frame(2, "x", 0, 0, 0).ux));
+    // The latest slip's pair, whatever its size.
+    EXPECT_EQ(label_of(sink.latest_before_file()), "slip_004_before");
+    EXPECT_EQ(label_of(sink.latest_after_file()), "slip_004_after");
     EXPECT_FALSE(fs::exists(dir / "peak.nc"));
     sink.state(slip(2, "peak", 2.0, 0));
     EXPECT_EQ(label_of(dir / "peak.nc"), "peak");
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 5);
   }
   {
     // Resumed from a checkpoint whose slips reached 40 sites: a slip of 40 does not replace
@@ -725,6 +728,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsOnlyTheLargestSlipsPair) {
     sink.state(slip(0, "slip_005_before", 5.0, 40));
     sink.state(slip(1, "slip_005_after", 5.0, 40));
     EXPECT_EQ(label_of(sink.before_file()), "slip_002_before");
+    EXPECT_EQ(label_of(sink.latest_after_file()), "slip_005_after");
     sink.state(slip(0, "slip_006_before", 6.0, 41));
     sink.state(slip(1, "slip_006_after", 6.0, 41));
     EXPECT_EQ(label_of(sink.before_file()), "slip_006_before");
@@ -736,6 +740,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsOnlyTheLargestSlipsPair) {
     EXPECT_NE(sink.start(12).find("not kept"), std::string::npos);
     EXPECT_EQ(sink.start(std::nullopt), "");
     EXPECT_FALSE(fs::exists(dir / "largest_slip_after.nc"));
+    EXPECT_FALSE(fs::exists(dir / "latest_slip_after.nc"));
   }
 }
 
