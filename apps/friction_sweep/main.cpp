@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
                  "slide.*, solver.* and fft.* settings of the same problem (a long run carried "
                  "over to a new build, or given a longer distance); each adoption is recorded "
                  "in points/<point>/adopted.json and the adopted file kept beside it");
+    cli.add_flag("--plan", o.plan,
+                 "Only print what the sweep would do: its points with a/b_core^0 and the memory "
+                 "each slide needs, and which rows an existing table in --out would keep; runs "
+                 "and writes nothing");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     cli.add_option("--checkpoint-every", o.checkpoint_every,
                    "Seconds of run time between checkpoints of each running point (0: every step)")

@@ -73,7 +73,51 @@ class SweepRunner {
         points_(sweep_points(s)),  // validates s
         xpoints_(explicit_sweep_points(s)) {}
 
+  // --plan: the points, with a/b_core^0 and the memory each slide needs, and whether an
+  // existing table in the output folder holds its row already (it would be kept). Reads, writes
+  // nothing, runs nothing.
+  int plan_only() {
+    if (!ranks_.leader()) return 0;
+    const std::string settings = settings_fingerprint(s_.base);
+    const std::string settings_x = explicit_settings_fingerprint(s_);
+    const fs::path out = o_.out;
+    const ResumedRows kept = resume_rows(out / "sweep.csv", points_, settings, o_.adopt);
+    const ResumedRows kept_x =
+        resume_rows(out / "sweep_explicit.csv", xpoints_, settings_x, o_.adopt);
+    std::printf("friction_sweep --plan: %zu point%s (model lfm), %zu explicit; output %s\n",
+                points_.size(), points_.size() == 1 ? "" : "s", xpoints_.size(),
+                out.string().c_str());
+    double largest = 0.0;
+    std::size_t to_run = 0;
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      interface::ContactScene c = s_.base.contact;
+      c.a = points_[k].a;
+      c.R = points_[k].R;
+      c.tip = points_[k].tip;
+      slide::SlideOptions opt = s_.base.options;
+      if (!o_.figures) opt.path_frame_slips = 0;
+      const double bytes = slide::estimated_slide_bytes(c, opt);
+      largest = std::max(largest, bytes);
+      to_run += kept.rows[k] ? 0 : 1;
+      std::printf("  %s: a/b_core^0 = %.4g, about %.0f MB: %s\n",
+                  describe_point(points_[k]).c_str(), c.a_over_bcore0(), bytes / 1e6,
+                  kept.rows[k] ? "kept from the table" : "to run");
+    }
+    for (std::size_t k = 0; k < xpoints_.size(); ++k) {
+      to_run += kept_x.rows[k] ? 0 : 1;
+      std::printf("  explicit %s: %s\n", describe_point(xpoints_[k]).c_str(),
+                  kept_x.rows[k] ? "kept from the table" : "to run");
+    }
+    std::printf(
+        "to run: %zu; kept: %zu; rows of other settings dropped: %zu; largest slide "
+        "about %.0f MB\n",
+        to_run, kept.reused + kept_x.reused, kept.other_settings + kept_x.other_settings,
+        largest / 1e6);
+    return 0;
+  }
+
   int run() {
+    if (o_.plan) return plan_only();
     // A signal from here on stops the sweep cleanly (points in flight checkpoint, no new ones).
     install_stop_handlers();
     settings_ = settings_fingerprint(s_.base);

@@ -23,6 +23,9 @@ struct SweepRunOptions {
   // Continue points' checkpoints and keep finished rows of another build or of other slide.*,
   // solver.* and fft.* settings of the same problem (slide_checkpoint.hpp, adoption)
   bool adopt = false;
+  // Only say what the sweep would do (its points, what each needs, the rows an existing table
+  // in `out` would keep) and return, writing nothing
+  bool plan = false;
   std::string command_line;  // printed when a stopped sweep says how to continue
 };
 
