@@ -27,9 +27,9 @@ variant() {
   python3 - "$work/$name/sweep.csv" "$name" "$a" "$t0" "$t1" <<'PY'
 import csv, sys
 row = next(csv.DictReader(open(sys.argv[1])))
+gf = f"{int(row['gf_applications']):,}".replace(",", " ")
 print(f"| {sys.argv[3]} | {sys.argv[2]} | {float(row['mu_over_alpha']):.6f} | {row['slip_events']} | "
-      f"{float(row['distance']):.3f} | {int(row['gf_applications']):,} | "
-      f"{float(sys.argv[5]) - float(sys.argv[4]):.0f} |".replace(",", " "))
+      f"{float(row['distance']):.3f} | {gf} | {float(sys.argv[5]) - float(sys.argv[4]):.0f} |")
 PY
 }
 grow=(-e 's/^min_step = /step_growth = 2\nmin_step = /')
@@ -69,6 +69,9 @@ slip is taken from differ by up to min_step, and the arrested states that follow
 them), not a convergence error of either. Growth costs 0.7x the GF applications of the full
 step here, and 0.4x on R = 20 d, a = 15 d (tests/unit/test_slide_step_growth.cpp); slip-event
 counts are not comparable (the full step's brackets come out 0.00625 d wide, growth's 0.01 d).
+The reference protocol's fixed 0.01 d steps cost as little as growth here, where slips come
+every few hundredths of a d. They lose on the way to the first slip: a large contact reaches it
+in about 20 adaptive steps (R = 800 d, a = 300 d: 4.19 d) against about 420 fixed ones.
 EOT
 )
 printf '%s\n' "$section" | bench/record_section.sh "## Step growth in Regime III"
