@@ -175,6 +175,7 @@ struct Run {
   bool scene_given = false;  // a scene file was named (else the model's default scene)
   bool resume = false;
   bool adopt = false;  // --adopt: the checkpoint may be of another build or numerical settings
+  bool plan = false;   // --plan: read, validate and describe the run, then stop
   double checkpoint_every = 300.0;
   const app::SettingFlags* flags = nullptr;
   int argc = 0;
@@ -227,6 +228,13 @@ app::ExplicitSlideScene explicit_scene(Run& run) {
 }
 
 // The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
+// --plan: the scene and flags were read and validated and the run described; nothing ran.
+int plan_done(const Run& run) {
+  std::printf("contact_slide --plan: the scene and flags are valid; output %s (not written)\n",
+              run.out.c_str());
+  return 0;
+}
+
 int explicit_loading(Run run) {
   app::ExplicitSlideScene e = explicit_scene(run);
   auto& c = e.slide.contact;
@@ -239,6 +247,7 @@ int explicit_loading(Run run) {
                "R = %g d, G = %g eps/sigma^3, sigma/d = %g, nu = %g; normal loading\n",
                c.a, load, load / e.model.force_unit(), c.R, e.model.G_eps_sigma3,
                e.model.sigma_over_d, c.material.nu);
+  if (run.plan) return plan_done(run);
   explicit_model::LoadOptions lo{.load = load};
   lo.minimizer = e.slide.options.minimizer;
   lo.fft = e.slide.options.fft;
@@ -281,6 +290,7 @@ int explicit_sliding(Run run) {
                app::explicit_as_slide_scene(e, alpha_p).contact.a_over_bcore0(),
                slide::to_string(e.slide.options.protocol).c_str(),
                e.slide.options.minimizer.force_tolerance);
+  if (run.plan) return plan_done(run);
   const std::string settings = app::explicit_slide_fingerprint(e, alpha_p);
   if (run.resume) {
     // A missing or foreign checkpoint is reported before the loading, not after it.
@@ -393,6 +403,7 @@ int lfm_sliding(const Run& run) {
                                         "the block, the minimiser's vectors on the contact and "
                                         "the frames of one relaxation path");
   const slide::SlideParallel parallel{.engine = run.mpi->engine(), .comm = &run.mpi->comm()};
+  if (run.plan && !run.mpi->root()) return 0;
   if (!run.mpi->root()) return follow_lfm_slide(run, s, parallel);
   const std::string output_line = app::check_output_fits(s, run.out);
 
@@ -415,6 +426,7 @@ int lfm_sliding(const Run& run) {
     std::fprintf(stderr, "contact_slide: memory about %.3g MB, whatever the number of slips; %s\n",
                  memory / 1e6, output_line.c_str());
   }
+  if (run.plan) return plan_done(run);
   app::SnapshotSink frames(std::filesystem::path(run.out) / "snapshots",
                            app::snapshot_attributes(s, nullptr), s.snapshot_format);
   const CheckpointedSlide slid = run_checkpointed(
@@ -495,6 +507,11 @@ int main(int argc, char** argv) {
         "--resume", resume,
         "Continue the interrupted run whose checkpoint is in the output directory (same "
         "scene and flags)");
+    bool plan = false;
+    cli.add_flag("--plan", plan,
+                 "Only read and validate the scene and flags and say what the run would be (its "
+                 "contact, a/b_core^0, memory and output estimates); runs and writes nothing")
+        ->excludes(resume_opt);
     bool adopt = false;
     cli.add_flag("--adopt", adopt,
                  "With --resume: continue a checkpoint of another build, or of other slide.*, "
@@ -536,12 +553,13 @@ int main(int argc, char** argv) {
     // One run per output directory, for the whole run (its checkpoint is read under the lock);
     // over MPI the root's, which writes.
     std::optional<app::DirectoryLock> dir_lock;
-    if (mpi->root()) dir_lock.emplace(app::ensure_directory(out));
+    if (mpi->root() && !plan) dir_lock.emplace(app::ensure_directory(out));
     const Run run{.scene_path = scene_path,
                   .out = out,
                   .scene_given = cli.count("scene") > 0,
                   .resume = resume,
                   .adopt = adopt,
+                  .plan = plan,
                   .checkpoint_every = checkpoint_every,
                   .flags = &flags,
                   .argc = argc_,
