@@ -90,12 +90,7 @@ class SweepRunner {
     double largest = 0.0;
     std::size_t to_run = 0;
     for (std::size_t k = 0; k < points_.size(); ++k) {
-      interface::ContactScene c = s_.base.contact;
-      c.a = points_[k].a;
-      c.R = points_[k].R;
-      c.tip = points_[k].tip;
-      slide::SlideOptions opt = s_.base.options;
-      if (!o_.figures) opt.path_frame_slips = 0;
+      const auto [c, opt] = point_slide(k);
       const double bytes = slide::estimated_slide_bytes(c, opt);
       largest = std::max(largest, bytes);
       to_run += kept.rows[k] ? 0 : 1;
@@ -218,6 +213,17 @@ class SweepRunner {
     n_jobs_ = std::min(n_jobs_, static_cast<int>(order_.size()));
   }
 
+  // The contact and slide options of LFM point k, as its memory estimate sees them.
+  std::pair<interface::ContactScene, slide::SlideOptions> point_slide(std::size_t k) const {
+    interface::ContactScene c = s_.base.contact;
+    c.a = points_[k].a;
+    c.R = points_[k].R;
+    c.tip = points_[k].tip;
+    slide::SlideOptions opt = s_.base.options;
+    if (!o_.figures) opt.path_frame_slips = 0;  // frames discarded: no path is held either
+    return {c, opt};
+  }
+
   // The largest contacts still to run, as many at once as run in parallel on this host (over MPI
   // ranks: its ranks' threads), must fit together (explicit points are not estimated: a = 43 d
   // takes 50 MiB, docs/benchmarks.md; a/R < 0.1 does not bound a, so a large explicit sweep is
@@ -228,12 +234,7 @@ class SweepRunner {
     double a_max = 0.0;
     for (const Job& job : order_) {
       if (job.x) continue;
-      interface::ContactScene c = s_.base.contact;
-      c.a = points_[job.k].a;
-      c.R = points_[job.k].R;
-      c.tip = points_[job.k].tip;
-      slide::SlideOptions opt = s_.base.options;
-      if (!o_.figures) opt.path_frame_slips = 0;  // frames discarded: no path is held either
+      const auto [c, opt] = point_slide(job.k);
       bytes.push_back(slide::estimated_slide_bytes(c, opt));
       a_max = std::max(a_max, c.a);
     }
