@@ -172,7 +172,7 @@ TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsW
 TEST(FitScalingRegression, RegimeMapOfEveryCommittedTableBothModels) {
   expect_map_reproduces_simulated_regimes(FIT_ALL_DIR);
   const auto s = summary(FIT_ALL_DIR);
-  EXPECT_EQ(s["inputs"]["sweeps"].size(), 7u);
+  EXPECT_EQ(s["inputs"]["sweeps"].size(), 8u);  // the 4 LFM tables, R = 800 d, the 3 others
   EXPECT_EQ(s["inputs"]["alpha"].get<double>(), 0.7);
   EXPECT_EQ(s["inputs"]["alpha_rule"].get<std::string>(), "the lateral force model's");
   EXPECT_EQ(s["inputs"]["alpha_range"][0].get<double>(), 0.7);
