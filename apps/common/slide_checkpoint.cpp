@@ -697,8 +697,8 @@ std::optional<CheckpointAdoption> check_or_adopt_checkpoint(const SlideCheckpoin
                               "or fft.* only), or remove the checkpoint to start over");
 }
 
-void record_adoption(const std::filesystem::path& checkpoint_file,
-                     const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption) {
+std::string record_adoption(const std::filesystem::path& checkpoint_file,
+                            const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption) {
   namespace fs = std::filesystem;
   const fs::path dir = checkpoint_file.parent_path();
   const fs::path record = dir / "adopted.json";
@@ -737,6 +737,9 @@ void record_adoption(const std::filesystem::path& checkpoint_file,
                  {"saved_settings", adoption.saved},
                  {"settings", adoption.now}});
   write_json(record, all);
+  return "adopting the checkpoint " + checkpoint_file.string() + " (kept as " +
+         kept.filename().string() + ", recorded in " + record.string() + "): it has " +
+         adoption.removed + "; this run has " + adoption.added;
 }
 
 }  // namespace asperity::app

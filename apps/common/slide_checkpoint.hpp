@@ -73,10 +73,11 @@ std::optional<CheckpointAdoption> check_or_adopt_checkpoint(const SlideCheckpoin
                                                             const std::filesystem::path& file,
                                                             bool adopt);
 // Keeps the adopted file as <dir>/checkpoint.adopted.<n>.cbor (n = 1, 2, ...: a point may be
-// carried over more than once) and appends a line to <dir>/adopted.jsonl: the time, the state's
-// Dx, steps and slip events, the kept file and the differing items. <dir> is the checkpoint's
-// folder. Throws std::runtime_error naming the file it could not write.
-void record_adoption(const std::filesystem::path& checkpoint_file,
-                     const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption);
+// carried over more than once) and appends an entry to the array in <dir>/adopted.json: the
+// time, the state's Dx, steps and slip events, the kept file, the differing items and both
+// settings. <dir> is the checkpoint's folder. Returns the line the tools print ("adopting the
+// checkpoint ..."). Throws std::runtime_error naming the file it could not write.
+std::string record_adoption(const std::filesystem::path& checkpoint_file,
+                            const SlideCheckpoint& checkpoint, const CheckpointAdoption& adoption);
 
 }  // namespace asperity::app

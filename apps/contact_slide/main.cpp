@@ -70,12 +70,8 @@ CheckpointedSlide run_checkpointed(
     start = app::read_checkpoint(c.checkpoint_file);
     if (const auto adoption =
             app::check_or_adopt_checkpoint(*start, settings, c.checkpoint_file, adopt)) {
-      app::record_adoption(c.checkpoint_file, *start, *adoption);
-      std::fprintf(stderr,
-                   "contact_slide: adopting the checkpoint %s (kept; recorded in %s/adopted.json): "
-                   "it has %s; this run has %s\n",
-                   c.checkpoint_file.c_str(), out.c_str(), adoption->removed.c_str(),
-                   adoption->added.c_str());
+      std::fprintf(stderr, "contact_slide: %s\n",
+                   app::record_adoption(c.checkpoint_file, *start, *adoption).c_str());
     }
   }
   const bool tty = isatty(2) != 0;
@@ -227,7 +223,6 @@ app::ExplicitSlideScene explicit_scene(Run& run) {
   return e;
 }
 
-// The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
 // --plan: the scene and flags were read and validated and the run described; nothing ran.
 int plan_done(const Run& run) {
   std::printf("contact_slide --plan: the scene and flags are valid; output %s (not written)\n",
@@ -235,6 +230,7 @@ int plan_done(const Run& run) {
   return 0;
 }
 
+// The explicit model's normal loading alone, compared with Hertz (MODEL.md 4).
 int explicit_loading(Run run) {
   app::ExplicitSlideScene e = explicit_scene(run);
   auto& c = e.slide.contact;

@@ -357,12 +357,9 @@ class SweepRunner {
       SlideCheckpoint c = read_checkpoint(checkpoint_file);
       if (const auto adoption =
               check_or_adopt_checkpoint(c, point_settings, checkpoint_file, o_.adopt)) {
-        record_adoption(checkpoint_file, c, *adoption);
+        const std::string what = record_adoption(checkpoint_file, c, *adoption);
         const std::lock_guard lock(table_mutex_);
-        std::fprintf(stderr,
-                     "friction_sweep: adopting the checkpoint %s (kept; recorded in "
-                     "adopted.json): it has %s; this run has %s\n",
-                     checkpoint_file.c_str(), adoption->removed.c_str(), adoption->added.c_str());
+        std::fprintf(stderr, "friction_sweep: %s\n", what.c_str());
       }
       return c;
     } catch (const std::exception& e) {

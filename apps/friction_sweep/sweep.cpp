@@ -600,9 +600,10 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
       ++out.not_requested;
       continue;
     }
-    const bool adopted = t.text(i, "settings") != settings;
-    if (adopted &&
-        !(adopt && fingerprint_difference(t.text(i, "settings"), settings).fixed.empty())) {
+    // A row of other settings is kept only when adopted (--adopt, adoptable items only).
+    const std::string row_settings = t.text(i, "settings");
+    const bool other = row_settings != settings;
+    if (other && !(adopt && fingerprint_difference(row_settings, settings).fixed.empty())) {
       ++out.other_settings;
       continue;
     }
@@ -633,7 +634,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
       row.cells.push_back(t.cell(i, j));
     slot = std::move(row);
     ++out.reused;
-    if (adopted) ++out.adopted;
+    if (other) ++out.adopted;
   }
   return out;
 }

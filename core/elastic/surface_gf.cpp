@@ -185,12 +185,6 @@ void FreeSurfaceGF::map_sites(std::span<const std::size_t> sites) {
   }
 }
 
-// Zero-padded convolution: copy in, per_q(block, q, at) on every wave vector of the fused
-// transform (q: the kernels' index, in the engine's block order; at: the entry of the block),
-// copy out. On the whole region (sites == nullptr) or on a list of its sites (the rest carry
-// no force), whose fields hold the listed sites only. The engine's input is zero outside what
-// a call writes: a whole-region call leaves the region dirty, and a list call cleans it once
-// and clears its own sites after. Shared by apply() and apply_filter().
 // The engine's fused transform with per_q on every wave vector it holds. The kernels are in the
 // engine's block order: wave vector `at` of a block is kernel entry b.offset + at.
 template <class PerQ>
@@ -301,6 +295,12 @@ void FreeSurfaceGF::convolve_shared(const std::span<const std::size_t>* sites,
   }
 }
 
+// Zero-padded convolution: copy in, per_q(block, q, at) on every wave vector of the fused
+// transform (q: the kernels' index, in the engine's block order; at: the entry of the block),
+// copy out. On the whole region (sites == nullptr) or on a list of its sites (the rest carry
+// no force), whose fields hold the listed sites only. The engine's input is zero outside what
+// a call writes: a whole-region call leaves the region dirty, and a list call cleans it once
+// and clears its own sites after. Shared by apply() and apply_filter().
 template <class PerQ>
 void FreeSurfaceGF::convolve(const std::span<const std::size_t>* sites, std::span<const double> in,
                              std::span<double> out, PerQ per_q) {
