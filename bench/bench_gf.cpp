@@ -2,13 +2,17 @@
 // 1024 x 1024 padded grid) against the bare FFTW transforms it needs: forward and inverse
 // transforms of two 1024 x 1024 real fields. Both use the same planner and thread count, so
 // the ratio is the overhead of gathering, the 2x2 Fourier-space product and scattering.
-// Also: building and applying the periodic GF of a 256 x 256 Peierls cell.
+// Also: building and applying the periodic GF of a 256 x 256 Peierls cell; and the engine's
+// zero-padded convolution at every 7-smooth padded size of 1000-1400 (BM_ConvolvePadded, with
+// the slides' ESTIMATE plans, one thread): odd sizes against even ones (next_fft_size,
+// bench/run_padded_sizes.sh).
 #include <benchmark/benchmark.h>
 
 #include "asperity/core/interface/lfm.hpp"
 #include "asperity/core/minimize/minimizer.hpp"
 #include "asperity/core/slide/lfm_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -51,6 +55,50 @@ void BM_BareFFTPair(benchmark::State& state) {
     benchmark::DoNotOptimize(engine->output(0).data());
   }
   state.counters["padded"] = 2 * n;
+}
+
+// One zero-padded convolution of two fields on an n x n grid whose first (n + 1) / 2 rows are
+// loaded (FreeSurfaceGF's support for a region of (n + 1) / 2 rows), the 2x2 product replaced
+// by a scaling: the transforms and copies of a GF application at padded size n. Arguments:
+// n, planner (0 estimate, 1 measure).
+void BM_ConvolvePadded(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const fft::Planner planner = state.range(1) == 0 ? fft::Planner::estimate : fft::Planner::measure;
+  auto engine = fft::make_engine({n, n}, 2, {.threads = 1, .planner = planner}, (n + 1) / 2);
+  for (int c = 0; c < 2; ++c) {
+    auto in = engine->input(c);
+    std::fill(in.begin(), in.end(), 0.0);
+    for (std::size_t i = 0; i < static_cast<std::size_t>((n + 1) / 2) * n; ++i)
+      in[i] = std::sin(0.001 * static_cast<double>(i));
+  }
+  const double scale = engine->normalisation();
+  const fft::Multiplier multiplier = [scale](const fft::FourierBlock& block) {
+    const std::size_t count = static_cast<std::size_t>(block.width) * block.rows;
+    for (int f = 0; f < 2; ++f) {
+      for (std::size_t i = 0; i < count; ++i)
+        block.field[f][i] *= scale;
+    }
+  };
+  for (auto _ : state) {
+    engine->convolve(multiplier);
+    benchmark::DoNotOptimize(engine->output(0).data());
+  }
+  state.counters["padded"] = n;
+  state.counters["ns_per_point"] = benchmark::Counter(
+      static_cast<double>(n) * n * 1e-9,
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// Every 7-smooth size (odd and even) in [1000, 1400].
+void padded_sizes(benchmark::internal::Benchmark* b) {
+  for (int n = 1000; n <= 1400; ++n) {
+    int m = n;
+    for (int p : {2, 3, 5, 7}) {
+      while (m % p == 0)
+        m /= p;
+    }
+    if (m == 1) b->Args({n, 0});
+  }
 }
 
 // The periodic cell of the Peierls problem: building the Poisson-summed kernel (once per cell)
@@ -148,6 +196,7 @@ BENCHMARK(BM_BareFFTPair)
     ->Args({512, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_ConvolvePadded)->Apply(padded_sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LfmInterfaceForce)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_LfmInterfaceCurvature)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_LbfgsIteration)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -14,8 +14,8 @@ LatticeBlock LatticeBlock::centred_disk(double radius_over_d) {
 }
 
 int next_fft_size(int minimum) {
-  if (minimum < 1) minimum = 1;
-  for (int n = minimum;; ++n) {
+  if (minimum <= 1) return 1;
+  for (int n = minimum + minimum % 2;; n += 2) {
     int m = n;
     for (int p : {2, 3, 5, 7}) {
       while (m % p == 0)

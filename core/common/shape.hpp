@@ -36,8 +36,12 @@ struct LatticeBlock {
   [[nodiscard]] double y(int i1, double d) const { return (origin1 + i1) * d; }
 };
 
-// Smallest n >= minimum whose prime factors are all in {2, 3, 5, 7}: sizes FFTW handles with
-// its fast codelets.
+// Smallest even n >= minimum whose prime factors are all in {2, 3, 5, 7} (1 for minimum <= 1):
+// sizes FFTW handles with its fast codelets. Even, because a real-to-complex transform of odd
+// length cannot be done as a complex one of half the length: with ESTIMATE plans (the slides'
+// default) odd 7-smooth lengths cost 30-37 ns per grid point in a zero-padded convolution
+// against 19-25 for the even ones nearby (1000-1400, bench_gf's BM_ConvolvePadded,
+// docs/benchmarks.md "Padded grid sizes"); the next even size is at most a few percent larger.
 int next_fft_size(int minimum);
 
 }  // namespace asperity

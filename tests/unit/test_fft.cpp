@@ -14,12 +14,31 @@ using asperity::Shape2;
 namespace fft = asperity::fft;
 
 TEST(NextFftSize, SmoothNumbers) {
+  EXPECT_EQ(asperity::next_fft_size(0), 1);
   EXPECT_EQ(asperity::next_fft_size(1), 1);
+  EXPECT_EQ(asperity::next_fft_size(2), 2);
+  EXPECT_EQ(asperity::next_fft_size(3), 4);  // 3 is smooth but odd
   EXPECT_EQ(asperity::next_fft_size(11), 12);
   EXPECT_EQ(asperity::next_fft_size(13), 14);
   EXPECT_EQ(asperity::next_fft_size(1023), 1024);
-  EXPECT_EQ(asperity::next_fft_size(1025), 1029);  // 3 * 7^3
+  EXPECT_EQ(asperity::next_fft_size(1025), 1050);  // not 1029 = 3 * 7^3 (odd); 2 * 3 * 5^2 * 7
+  EXPECT_EQ(asperity::next_fft_size(1209), 1250);  // not 1215 = 3^5 * 5 (a = 300 d, R = 800 d)
   EXPECT_EQ(asperity::next_fft_size(85), 90);      // 85 = 5 * 17 -> 90 = 2 * 3^2 * 5
+  // Every answer is even, 7-smooth and the least such: checked against a brute-force search.
+  const auto smooth_even = [](int n) {
+    if (n % 2 != 0) return false;
+    for (int p : {2, 3, 5, 7}) {
+      while (n % p == 0)
+        n /= p;
+    }
+    return n == 1;
+  };
+  for (int m = 2; m < 5000; ++m) {
+    const int n = asperity::next_fft_size(m);
+    ASSERT_TRUE(n >= m && smooth_even(n)) << m << " -> " << n;
+    for (int k = m; k < n; ++k)
+      ASSERT_FALSE(smooth_even(k)) << m << " -> " << n << " skips " << k;
+  }
 }
 
 TEST(FFTEngine, RoundTripAndConvention) {
