@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 build=${1:-build}
 cmake --build "$build" --target bench_gf -j 2 >/dev/null
 json=$(mktemp)
-"$build/bin/bench_gf" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+"$build/bin/bench_gf" --benchmark_filter='BM_(Periodic|FreeGF|BareFFT|Lfm|Lbfgs)' \
+  --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$json" 2>/dev/null
 commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')

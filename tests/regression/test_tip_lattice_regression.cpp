@@ -2,7 +2,8 @@
 //
 // - The aligned tip is today's model bit for bit: contact_slide on the default scene (the run of
 //   the track_loops.slip fixture) writes data/reference/default_scene_trace.csv byte for byte,
-//   the trace of commit 3e7a600, before the tip lattice existed, and the same mu.
+//   the trace of commit 3e7a600, before the tip lattice existed, and the same mu (remade since
+//   where the default path changed on purpose: data/reference/default_scene_trace.md).
 // - Misfit dislocations exist before sliding: track_loops on the start state (snapshots/start.nc)
 //   of data/scenes/tip_rotated.toml (2 degrees) finds two open screw lines along x at y = +-16 d
 //   (the moire period d / theta = 28.6 d), b along the tip's first axis, registry consistency 1;
