@@ -53,7 +53,7 @@ error about 6e-5, see tests/unit/test_surface_gf.cpp): building the kernel
 $(printf '%.0f' "$pbuild") ms (once per cell, one thread), one application $(printf '%.3f +- %.3f' "$papply" "$papplys") ms.
 
 Lateral force model on the default scene's block (a = 43 d: 91 x 91 block, 5802 contact sites,
-182 x 182 grid), one thread: interface force and energy $(printf '%.1f +- %.1f' "$force" "$forces") us,
+192 x 192 grid; 189 x 189 before 2026-11-27), one thread: interface force and energy $(printf '%.1f +- %.1f' "$force" "$forces") us,
 Hessian diagonal $(printf '%.1f +- %.1f' "$curv" "$curvs") us, one GF application $(printf '%.3f' "$gf43") ms, one L-BFGS
 iteration (GF application, line search, two-loop recursion; mean over a 40-iteration
 relaxation) $(awk -v t="$iter" 'BEGIN{printf "%.3f", t/40}') ms: the GF application is $(awk -v g="$gf43" -v t="$iter" 'BEGIN{printf "%.0f", 100*g/(t/40)}')% of an
