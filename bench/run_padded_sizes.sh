@@ -51,12 +51,13 @@ Provenance: commit $commit, $(date -u +%Y-%m-%d), $cpu, $(nproc) cores; command
 | padded n | factors | parity | one convolution (ms) | ns per grid point |
 |---|---|---|---|---|
 $rows
+
 Mean cost per grid point: odd sizes $odd ns, even sizes $even ns. A real-to-complex transform
 of even length is a complex one of half the length; of odd length FFTW has no such reduction.
 Since 2026-11-27 \`next_fft_size\` returns the least even 7-smooth size (it returned the least
-7-smooth one, odd for about half of the blocks): at a = 300 d, R = 800 d (block 605^2) 1250^2
-instead of 1215^2, at the default scene (block 91^2) 192^2 instead of 189^2; the next even
-size is at most a few percent larger. The GF is the same exact linear convolution on either;
+7-smooth one, odd for 19% of the blocks of 50-2000 sites): at a = 300 d, R = 800 d (block 605^2) 1250^2
+instead of 1215^2, at the default scene (block 91^2) 192^2 instead of 189^2; where the old
+size was odd the new grid has 3% more points on average (at most 14%). The GF is the same exact linear convolution on either;
 what changes is round-off and the interface filter, a multiplier of the padded grid
 (\`data/reference/default_scene_trace.md\`: the default scene's Fx within 1.7e-5, mu 3.4e-6).
 EOT

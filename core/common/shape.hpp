@@ -39,9 +39,9 @@ struct LatticeBlock {
 // Smallest even n >= minimum whose prime factors are all in {2, 3, 5, 7} (1 for minimum <= 1):
 // sizes FFTW handles with its fast codelets. Even, because a real-to-complex transform of odd
 // length cannot be done as a complex one of half the length: with ESTIMATE plans (the slides'
-// default) odd 7-smooth lengths cost 30-37 ns per grid point in a zero-padded convolution
-// against 19-25 for the even ones nearby (1000-1400, bench_gf's BM_ConvolvePadded,
-// docs/benchmarks.md "Padded grid sizes"); the next even size is at most a few percent larger.
+// default) a zero-padded convolution costs about 1.5x per grid point at odd 7-smooth sizes
+// (docs/benchmarks.md, "Padded grid sizes": 41 against 27 ns on average over 1000-1400), and
+// where the least 7-smooth size is odd the least even one has 3% more points on average.
 int next_fft_size(int minimum);
 
 }  // namespace asperity
