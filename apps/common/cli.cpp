@@ -151,6 +151,7 @@ void install_stop_handler(int signal) {
 void install_stop_handlers() {
   install_stop_handler(SIGINT);
   install_stop_handler(SIGTERM);
+  install_stop_handler(SIGUSR1);
 }
 
 void request_stop() {

@@ -64,16 +64,18 @@ int run_main(int argc, char** argv, const std::function<int(int, char**)>& body)
 // is no std::exception is rethrown.
 int describe_error(const std::string& program, const std::exception_ptr& error, std::string& lines);
 
-// Exit status of a run stopped by SIGINT or SIGTERM after saving what it had (0: done,
+// Exit status of a run stopped by SIGINT, SIGTERM or SIGUSR1 after saving what it had (0: done,
 // 1: failed, 2: bad input).
 constexpr int kInterrupted = 3;
 
-// Installs handlers for SIGINT and SIGTERM that only set a flag (async-signal-safe): long runs
-// poll stop_requested() between steps (slides also inside relaxations), save their state and
-// return kInterrupted.
+// Installs handlers for SIGINT, SIGTERM and SIGUSR1 that only set a flag (async-signal-safe):
+// long runs poll stop_requested() between steps (slides also inside relaxations), save their
+// state and return kInterrupted. SIGUSR1 is the signal that stops a run under mpirun, which
+// forwards it to every rank (SIGINT and SIGTERM it answers by killing the ranks a second later;
+// mpi_points.hpp); a serial run stops on it too, so that one signal serves both (without a
+// handler its default action ended a serial sweep at once, after its last timed checkpoint).
 void install_stop_handlers();
-// The same handler for one more signal: SIGUSR1 under mpirun, which forwards it to every rank
-// (SIGINT and SIGTERM it answers by killing the ranks a second later; mpi_points.hpp).
+// The same handler for one more signal.
 void install_stop_handler(int signal);
 // Sets the flag as a signal would: another rank of the run was stopped (mpi_points.hpp).
 void request_stop();

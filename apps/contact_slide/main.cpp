@@ -587,10 +587,9 @@ int main(int argc, char** argv) {
     // From here on a signal only asks the slide to stop (with a checkpoint; inside a relaxation
     // within 16 iterations, else at its next step):
     // installed before a checkpoint is read, so that no signal meets the default action.
-    app::install_stop_handlers();
     // mpirun kills the ranks a second after SIGINT or SIGTERM, too soon for a checkpoint; it
     // forwards SIGUSR1 to every rank, which then stop together (the slide agrees on stops).
-    if (mpi->distributed()) app::install_stop_handler(SIGUSR1);
+    app::install_stop_handlers();
 
     if (model == "explicit") {
       // The explicit model: normal loading to the Hertz load of contact.a, then sliding at fixed
