@@ -16,6 +16,7 @@
 #include <cmath>
 #include <vector>
 
+#include "asperity/core/common/shape.hpp"
 #include "asperity/core/elastic/surface_gf.hpp"
 #include "asperity/core/fft/fft_engine.hpp"
 
@@ -92,12 +93,7 @@ void BM_ConvolvePadded(benchmark::State& state) {
 // Every 7-smooth size (odd and even) in [1000, 1400].
 void padded_sizes(benchmark::internal::Benchmark* b) {
   for (int n = 1000; n <= 1400; ++n) {
-    int m = n;
-    for (int p : {2, 3, 5, 7}) {
-      while (m % p == 0)
-        m /= p;
-    }
-    if (m == 1) b->Args({n, 0});
+    if (fft_smooth(n)) b->Args({n, 0});
   }
 }
 

@@ -13,15 +13,18 @@ LatticeBlock LatticeBlock::centred_disk(double radius_over_d) {
   return LatticeBlock{Shape2{2 * half + 1, 2 * half + 1}, -half, -half};
 }
 
+bool fft_smooth(int n) {
+  for (int p : {2, 3, 5, 7}) {
+    while (n % p == 0)
+      n /= p;
+  }
+  return n == 1;
+}
+
 int next_fft_size(int minimum) {
   if (minimum <= 1) return 1;
   for (int n = minimum + minimum % 2;; n += 2) {
-    int m = n;
-    for (int p : {2, 3, 5, 7}) {
-      while (m % p == 0)
-        m /= p;
-    }
-    if (m == 1) return n;
+    if (fft_smooth(n)) return n;
   }
 }
 

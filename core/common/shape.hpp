@@ -43,5 +43,7 @@ struct LatticeBlock {
 // (docs/benchmarks.md, "Padded grid sizes": 41 against 27 ns on average over 1000-1400), and
 // where the least 7-smooth size is odd the least even one has 3% more points on average.
 int next_fft_size(int minimum);
+// Whether n >= 1 has no prime factor other than 2, 3, 5 and 7.
+bool fft_smooth(int n);
 
 }  // namespace asperity
