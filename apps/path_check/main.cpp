@@ -93,6 +93,26 @@ nlohmann::json comparison_json(const slide::StateComparison& c) {
           {"same_minimum", c.same_minimum()}};
 }
 
+// One flow relaxation's profile (slide::FlowProfile), a row per accepted step.
+std::string profile_csv(const slide::FlowProfile& profile) {
+  std::ostringstream o;
+  o << "iteration,gf,filter,step,radius,max_speed,max_residual,max_move,moved\n";
+  o.precision(6);
+  for (const auto& s : profile) {
+    o << s.iteration << ',' << s.gf << ',' << s.filter << ',' << s.step << ',' << s.radius << ','
+      << s.max_speed << ',' << s.max_residual << ',' << s.max_move << ',' << s.moved << '\n';
+  }
+  return o.str();
+}
+
+// "flow/interface@0.01" -> "flow_interface_0.01": a file name.
+std::string file_label(std::string label) {
+  for (char& c : label) {
+    if (c == '/' || c == '@') c = '_';
+  }
+  return label;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,6 +145,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1 << 30))
         ->capture_default_str();
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    bool profile = false;
+    cli.add_flag("--flow-profile", profile,
+                 "Also write each flow's state after every accepted step (GF applications, step, "
+                 "largest speed and residual, sites moved) to <out>/flow_profile*.csv");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     app::SlideScene s = app::read_slide_scene(scene_path);
     flags.apply(app::SlideScene::settings(), s);
@@ -146,7 +170,18 @@ int main(int argc, char** argv) {
     const auto at = slide::bracket_slip(s.contact, s.options, event);
     std::fprintf(stderr, "path_check: slip %d bracketed: stable at Dx = %.6f d, slips at %.6f d\n",
                  event, at.stable.Dx, at.slip_Dx);
-    const auto check = slide::check_path(s.contact, s.options, at, list, flow_max_iterations);
+    const auto check =
+        slide::check_path(s.contact, s.options, at, list, flow_max_iterations, true, profile);
+    if (profile) {
+      app::write_file_atomic(std::filesystem::path(out) / "flow_profile.csv",
+                             profile_csv(check.flow_profile));
+      for (const auto& row : check.rows) {
+        if (row.profile.empty()) continue;
+        app::write_file_atomic(
+            std::filesystem::path(out) / ("flow_profile_" + file_label(row.solver) + ".csv"),
+            profile_csv(row.profile));
+      }
+    }
 
     std::printf("%-16s %9s %9s %-10s %8s %9s %12s %9s %6s %s\n", "solver", "iter", "GF+filter",
                 "end", "slipped", "reg.diff", "|dFx|/Fx", "max|du|", "same",

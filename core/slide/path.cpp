@@ -97,16 +97,44 @@ std::string solver_label(const minimize::MinimizerOptions& m) {
   return s;
 }
 
+namespace {
+
+// A FlowWatch that appends a FlowSample per accepted step to `out`.
+FlowWatch sampler(FlowProfile& out, double d) {
+  return [&out, d, first = std::vector<double>{},
+          last = std::vector<double>{}](const minimize::FlowPause& p) mutable {
+    FlowSample s{.iteration = p.iteration,
+                 .gf = p.done.gf_applications,
+                 .filter = p.done.filter_applications,
+                 .step = p.step,
+                 .radius = p.radius};
+    for (double v : p.velocity_u)
+      s.max_speed = std::max(s.max_speed, std::abs(v));
+    for (double v : p.velocity_f)
+      s.max_residual = std::max(s.max_residual, std::abs(v));
+    if (first.empty()) first = p.u, last = p.u;
+    for (std::size_t i = 0; i < p.u.size(); ++i) {
+      s.max_move = std::max(s.max_move, std::abs(p.u[i] - last[i]));
+      if (std::abs(p.u[i] - first[i]) > 0.5 * d) ++s.moved;
+    }
+    last = p.u;
+    out.push_back(s);
+  };
+}
+
+}  // namespace
+
 PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& options,
                      const Instability& at, const std::vector<minimize::MinimizerOptions>& solvers,
-                     int flow_max_iterations, bool halve) {
+                     int flow_max_iterations, bool halve, bool profile) {
   PathCheck out;
   out.instability = at;
   SlideOptions flow = options;
   flow.minimizer.method = minimize::Method::flow;
   flow.minimizer.preconditioner = minimize::Preconditioner::elastic;  // the reference: G
   flow.minimizer.max_iterations = flow_max_iterations;
-  out.flow = relax_step(scene, flow, at.stable, at.slip_Dx);
+  out.flow = relax_step(scene, flow, at.stable, at.slip_Dx,
+                        profile ? sampler(out.flow_profile, scene.d) : FlowWatch{});
   if (halve) {
     flow.minimizer.flow_tolerance *= 0.5;
     out.flow_half = relax_step(scene, flow, at.stable, at.slip_Dx);
@@ -117,7 +145,9 @@ PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& o
     o.minimizer = m;
     PathCheckRow row;
     row.solver = solver_label(m);
-    row.step = relax_step(scene, o, at.stable, at.slip_Dx);
+    const bool watched = profile && m.method == minimize::Method::flow;
+    row.step = relax_step(scene, o, at.stable, at.slip_Dx,
+                          watched ? sampler(row.profile, scene.d) : FlowWatch{});
     row.slipped = row.step.slipped_sites > 0;
     row.against_flow = compare_states(scene, row.step.state, out.flow.state);
     out.rows.push_back(std::move(row));

@@ -47,10 +47,27 @@ struct StateComparison {
 StateComparison compare_states(const interface::ContactScene& scene, const SlideFields& a,
                                const SlideFields& b);
 
+// A flow relaxation after one accepted step (path_check --flow-profile): where its cost goes,
+// leaving the fold, the glide of the slip, or settling into the minimum. The stability check of
+// the end state (solver.stability) relaxes on without samples.
+struct FlowSample {
+  int iteration = 0;          // accepted and rejected steps so far
+  std::size_t gf = 0;         // GF applications so far
+  std::size_t filter = 0;     // interface filter passes so far
+  double step = 0.0;          // the next step the error control tries (flow time)
+  double radius = 0.0;        // rkc: spectral radius estimate (0: none yet)
+  double max_speed = 0.0;     // max |du/dt| over the contact coordinates (d per flow time)
+  double max_residual = 0.0;  // max |P r|, P = I or the filter (G d^2)
+  double max_move = 0.0;      // max |u - u at the previous sample| (d)
+  int moved = 0;              // contact coordinates moved over d/2 since the first sample
+};
+using FlowProfile = std::vector<FlowSample>;
+
 // One solver's relaxation of a bracketed slip step against the flow's.
 struct PathCheckRow {
   std::string solver;  // method and preconditioner, e.g. "lbfgs/interface"
   StepRelaxation step;
+  FlowProfile profile;  // a flow's, if check_path was asked for profiles
   StateComparison against_flow;
   bool slipped = false;  // called the step a slip (registry_jumps > 0)
 };
@@ -58,6 +75,7 @@ struct PathCheck {
   Instability instability;
   StepRelaxation flow, flow_half;  // the flow at its tolerance and at half of it
   StateComparison flow_self;       // flow against flow_half: the step control's own test
+  FlowProfile flow_profile;        // the reference flow's, if asked for
   std::vector<PathCheckRow> rows;
 };
 
@@ -65,10 +83,12 @@ struct PathCheck {
 // flow_tolerance and flow_tolerance / 2, up to flow_max_iterations steps: through a slip the
 // flow takes tens of times the iterations of lbfgs) and with each of `solvers` (minimiser
 // settings; the other options as given), and compares each end state with the flow's.
-// halve = false skips the flow at half its tolerance (flow_half and flow_self stay empty).
+// halve = false skips the flow at half its tolerance (flow_half and flow_self stay empty);
+// profile = true samples the reference flow and every flow among `solvers` after each accepted
+// step (FlowProfile; it copies the pair once per step, so it costs a little time).
 PathCheck check_path(const interface::ContactScene& scene, const SlideOptions& options,
                      const Instability& at, const std::vector<minimize::MinimizerOptions>& solvers,
-                     int flow_max_iterations = 2'000'000, bool halve = true);
+                     int flow_max_iterations = 2'000'000, bool halve = true, bool profile = false);
 
 // "lbfgs/interface", "cg", ...: the method, and for lbfgs and newton the preconditioner.
 std::string solver_label(const minimize::MinimizerOptions& m);

@@ -765,7 +765,7 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
 }
 
 StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
-                          const SlideFields& from, double Dx) {
+                          const SlideFields& from, double Dx, const FlowWatch& watch) {
   scene.validate();
   options.validate();
   Slider model(scene, options);
@@ -777,7 +777,15 @@ StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptio
   out.state = from;
   const std::size_t gf0 = model.gf_applications();
   const auto t0 = std::chrono::steady_clock::now();
-  out.result = model.relax(out.state, Dx, nullptr);
+  detail::RelaxPausing watching;
+  if (watch) {
+    watching.pauses.due = [](int) { return true; };
+    watching.pauses.pause = [&](const minimize::FlowPause& p) {
+      watch(p);
+      return false;  // seen, not paused
+    };
+  }
+  out.result = model.relax(out.state, Dx, nullptr, false, nullptr, watch ? &watching : nullptr);
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.result.gf_applications = model.gf_applications() - gf0;
   out.slipped_sites = model.slipped_sites(from, out.state);

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <span>
 #include <string>
 
@@ -66,8 +67,12 @@ struct StepRelaxation {
   int slipped_sites = 0;
   double wall_s = 0.0;
 };
+// `watch`, if given, sees the flow's state after every accepted step (iteration, counts so far,
+// pair, velocity; a FlowPause that is not kept): how a flow relaxation spends its steps
+// (path_check --flow-profile). Methods other than the flow never call it.
+using FlowWatch = std::function<void(const minimize::FlowPause&)>;
 StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,
-                          const SlideFields& from, double Dx);
+                          const SlideFields& from, double Dx, const FlowWatch& watch = {});
 
 // The snapshot (frames.hpp) of a state of a slide on this scene, as the slide would hand it
 // over: for path checks and tools that look at states made by relax_step.

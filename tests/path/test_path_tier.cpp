@@ -259,3 +259,60 @@ TEST(SlipMinimizer, TheSlideTakesTheFaithfulEndState) {
   EXPECT_GT(before_flow, 0);
   EXPECT_LT(before_flow, fast.result.iterations / 2);
 }
+
+// path_check --flow-profile (slide::FlowProfile): one sample after every accepted step of each
+// flow, with the counts so far, and watching does not change the relaxation (the same bits).
+// The state: slip 3 of a = 28 d, R = 40 d (Regime III, two sites slip), whose reference flow
+// spends about a third of its GF applications leaving the fold (docs/solvers.md).
+TEST(FlowProfile, SamplesEveryAcceptedStepAndChangesNothing) {
+  const interface::ContactScene scene { .a = 28.0, .R = 40.0 };
+  const slide::SlideOptions options;
+  const auto at = slide::bracket_slip(scene, options, 3);
+  const std::vector<minimize::MinimizerOptions> flows{solver(M::flow, P::interface)};
+  const auto plain = slide::check_path(scene, options, at, flows, 2'000'000, false, false);
+  const auto watched = slide::check_path(scene, options, at, flows, 2'000'000, false, true);
+  EXPECT_TRUE(plain.flow_profile.empty());
+  EXPECT_TRUE(plain.rows.at(0).profile.empty());
+  EXPECT_EQ(watched.flow.state.Fx, plain.flow.state.Fx);
+  EXPECT_EQ(watched.flow.result.iterations, plain.flow.result.iterations);
+  EXPECT_EQ(watched.rows.at(0).step.state.Fx, plain.rows.at(0).step.state.Fx);
+  EXPECT_EQ(watched.rows.at(0).step.result.gf_applications,
+            plain.rows.at(0).step.result.gf_applications);
+
+  const auto check = [&](const slide::FlowProfile& p, const slide::StepRelaxation& s,
+                         bool filtered) {
+    ASSERT_EQ(s.result.termination, Termination::converged);
+    // One sample per accepted step; the stability check's push and relaxation at the end
+    // (solver.stability = perturb, when negative curvature is left) makes steps it does not see.
+    const auto accepted = static_cast<std::size_t>(s.result.iterations - s.result.rejected_steps);
+    if (s.result.stability_checked) {
+      EXPECT_LT(p.size(), accepted);
+      EXPECT_LT(p.back().gf, s.result.gf_applications);
+    } else {
+      EXPECT_EQ(p.size(), accepted);
+      // The relaxation's count also holds bringing the state to Dx and the end's u = G f.
+      EXPECT_LE(p.back().gf, s.result.gf_applications);
+      EXPECT_GE(p.back().gf + 4, s.result.gf_applications);
+    }
+    for (std::size_t k = 1; k < p.size(); ++k) {
+      EXPECT_GT(p[k].iteration, p[k - 1].iteration);
+      EXPECT_GT(p[k].gf, p[k - 1].gf);  // every step applies the mobility at least once
+      EXPECT_GT(p[k].step, 0.0);
+    }
+    EXPECT_EQ(p.back().filter > 0, filtered);
+    // The last sample is the converged state (before the check): its residual is within the
+    // force tolerance, and the slip's residual was far above it on the way (G metric: P r = r).
+    std::printf("  %s: %zu samples, %d iterations, %d rejected, stability checked: %d\n",
+                filtered ? "flow/interface" : "flow/elastic", p.size(), s.result.iterations,
+                s.result.rejected_steps, s.result.stability_checked ? 1 : 0);
+    if (!filtered) {
+      EXPECT_LE(p.back().max_residual, options.minimizer.force_tolerance);
+      const auto peak = std::max_element(p.begin(), p.end(), [](const auto& a, const auto& b) {
+        return a.max_residual < b.max_residual;
+      });
+      EXPECT_GT(peak->max_residual, 1e3 * options.minimizer.force_tolerance);
+    }
+  };
+  check(watched.flow_profile, watched.flow, false);
+  check(watched.rows.at(0).profile, watched.rows.at(0).step, true);
+}
