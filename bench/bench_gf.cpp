@@ -61,11 +61,12 @@ void BM_BareFFTPair(benchmark::State& state) {
 // One zero-padded convolution of two fields on an n x n grid whose first (n + 1) / 2 rows are
 // loaded (FreeSurfaceGF's support for a region of (n + 1) / 2 rows), the 2x2 product replaced
 // by a scaling: the transforms and copies of a GF application at padded size n. Arguments:
-// n, planner (0 estimate, 1 measure).
+// n, planner (0 estimate, 1 measure), threads.
 void BM_ConvolvePadded(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const fft::Planner planner = state.range(1) == 0 ? fft::Planner::estimate : fft::Planner::measure;
-  auto engine = fft::make_engine({n, n}, 2, {.threads = 1, .planner = planner}, (n + 1) / 2);
+  const int threads = static_cast<int>(state.range(2));
+  auto engine = fft::make_engine({n, n}, 2, {.threads = threads, .planner = planner}, (n + 1) / 2);
   for (int c = 0; c < 2; ++c) {
     auto in = engine->input(c);
     std::fill(in.begin(), in.end(), 0.0);
@@ -93,7 +94,16 @@ void BM_ConvolvePadded(benchmark::State& state) {
 // Every 7-smooth size (odd and even) in [1000, 1400].
 void padded_sizes(benchmark::internal::Benchmark* b) {
   for (int n = 1000; n <= 1400; ++n) {
-    if (fft_smooth(n)) b->Args({n, 0});
+    if (fft_smooth(n)) b->Args({n, 0, 1});
+  }
+}
+
+// Threads against grid size: padded grids of the contacts slid here (72^2 at a = 15 d up to
+// 2058^2 at a = 510 d), ESTIMATE plans, 1 and 2 threads.
+void thread_sizes(benchmark::internal::Benchmark* b) {
+  for (int n : {72, 128, 192, 256, 384, 512, 768, 1024, 1250, 2058}) {
+    for (int t : {1, 2})
+      b->Args({n, 0, t});
   }
 }
 
@@ -193,6 +203,11 @@ BENCHMARK(BM_BareFFTPair)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_ConvolvePadded)->Apply(padded_sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ConvolvePadded)
+    ->Name("BM_ConvolveThreads")
+    ->Apply(thread_sizes)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_LfmInterfaceForce)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_LfmInterfaceCurvature)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_LbfgsIteration)->Unit(benchmark::kMillisecond)->UseRealTime();

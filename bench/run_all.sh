@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 build=${1:-build}
 bash bench/run_micro.sh "$build"
 bash bench/run_padded_sizes.sh "$build"
+bash bench/run_threads.sh "$build"
 bash bench/run_iteration.sh "$build"
 bash bench/run_memory.sh "$build"
 bash bench/run_tracking.sh "$build"

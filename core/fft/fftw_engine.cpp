@@ -10,6 +10,15 @@
 //   3. c2r of rows 0..S-1 only.
 // Against a plain 2D forward/inverse pair this skips half of the row transforms when S = n0/2
 // and applies the multiplier while the block is in cache.
+//
+// On several threads each phase is a list of units (batches of rows, column blocks) that the
+// calling thread and the workers claim from a counter, and a phase ends when all its units are
+// done. The caller never waits for a worker to start: on a machine with more runnable threads
+// than cores a woken worker can wait milliseconds for a core, and with a fixed share per thread
+// and barriers between the phases a convolution of a 72^2 grid took 10x, a small slide 17x,
+// the time of one thread (docs/benchmarks.md, "Threads on a busy machine"). A unit's result does
+// not depend on the thread that runs it (a batch always gets the plan of its index), so the
+// output is the same bits whoever claims what.
 #include <fftw3.h>
 #ifdef __linux__
 #include <sys/mman.h>
@@ -18,7 +27,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <barrier>
 #include <cassert>
 #include <cstdint>
 #include <mutex>
@@ -43,6 +51,10 @@ using detail::as_fftw;
 // (plans made for one aligned block run on all); 8 columns of 1024 complex values per field
 // stay within L2.
 constexpr int block_width = 8;
+
+// Real grid points per thread of convolve() (docs/benchmarks.md, "Threads on a busy machine"):
+// 128^2 runs on two threads (1.8x faster on an idle machine), 72^2 on one.
+constexpr std::size_t min_points_per_worker = 8192;
 
 class FFTWEngine final : public Engine {
  public:
@@ -71,7 +83,6 @@ class FFTWEngine final : public Engine {
       throw;
     }
     if (workers_ > 1) {
-      sync_ = std::make_unique<std::barrier<>>(workers_);
       try {
         for (int t = 1; t < workers_; ++t)
           pool_.emplace_back([this, t] { worker(t); });
@@ -116,19 +127,24 @@ class FFTWEngine final : public Engine {
       }
       fourier_rows_clean_ = true;
     }
-    const int workers = workers_;
-    if (workers <= 1) {
-      convolve_part(0, 1, multiplier, nullptr);
+    if (workers_ <= 1) {
+      for (int p = 0; p < phases; ++p) {
+        for (int k = 0; k < units(p); ++k)
+          run_unit(p, k, 0, multiplier);
+      }
       return;
     }
-    // One parallel region per call on the engine's own workers (started once: spawning threads
-    // per call cost more than the transforms of a small grid): rows, then column blocks, then
-    // rows again, each phase split over the workers, with a barrier between phases and at the end.
+    // A new call: its counters are reset before the workers can see its number (a worker still
+    // in an earlier call finds its number gone and claims nothing).
+    const std::uint32_t g = ++calls_;
+    for (int p = 0; p < phases; ++p) {
+      next_[p].store(std::uint64_t{g} << 32, std::memory_order_relaxed);
+      done_[p].store(0, std::memory_order_relaxed);
+    }
     job_ = &multiplier;
-    generation_.fetch_add(1, std::memory_order_release);
+    generation_.store(g, std::memory_order_release);
     generation_.notify_all();
-    convolve_part(0, workers, multiplier, sync_.get());
-    sync_->arrive_and_wait();  // the workers are done with the buffers
+    participate(g, 0);  // returns when every unit of the last phase is done
   }
 
   [[nodiscard]] std::string backend() const override { return "fftw3"; }
@@ -192,7 +208,10 @@ class FFTWEngine final : public Engine {
     // A batch that does not start on the buffer's alignment needs an unaligned plan.
     fftw_plan_with_nthreads(1);
     const int support = support_rows();
-    workers_ = std::min({threads_, blocks_, support});
+    // A grid under min_points_per_worker points per worker stays on one thread: at 72^2 a
+    // second thread gained nothing on an idle machine and cost 1.7x on a busy one.
+    const auto by_size = static_cast<int>(s.count() / min_points_per_worker);
+    workers_ = std::max(1, std::min({threads_, blocks_, support, by_size}));
     bool rows_aligned = true;
     for (int t = 0; t < workers_; ++t) {
       const std::size_t r0 = batch_start(t);
@@ -231,15 +250,14 @@ class FFTWEngine final : public Engine {
     }
   }
 
-  // Worker t > 0: waits (futex, no spinning) for a new convolution, takes its share.
+  // Worker t > 0: waits (futex, no spinning) for a new convolution and helps with it.
   void worker(int t) {
-    unsigned seen = 0;
+    std::uint32_t seen = 0;
     for (;;) {
       generation_.wait(seen, std::memory_order_acquire);
       seen = generation_.load(std::memory_order_acquire);
       if (stopping_.load(std::memory_order_acquire)) return;
-      convolve_part(t, workers_, *job_, sync_.get());
-      sync_->arrive_and_wait();
+      participate(seen, t);
     }
   }
 
@@ -248,32 +266,73 @@ class FFTWEngine final : public Engine {
     stopping_.store(true, std::memory_order_release);
     generation_.fetch_add(1, std::memory_order_release);
     generation_.notify_all();
-    pool_.clear();  // joins
+    for (auto& d : done_)
+      d.notify_all();  // a worker waiting for a phase to end
+    pool_.clear();     // joins
   }
 
-  // First row of worker t's batch: batches of floor(S/W) rows, the first S mod W one longer.
-  [[nodiscard]] int batch_start(int t) const {
+  // First row of batch k: batches of floor(S/W) rows, the first S mod W one longer.
+  [[nodiscard]] int batch_start(int k) const {
     const int base = support_rows() / workers_, extra = support_rows() % workers_;
-    return t * base + std::min(t, extra);
+    return k * base + std::min(k, extra);
   }
 
-  // Worker t of `workers`: its share of each phase of convolve().
-  void convolve_part(int t, int workers, const Multiplier& multiplier, std::barrier<>* sync) {
-    const Shape2 s = real_shape(), fs = fourier_shape();
-    const int support = support_rows();
-    const int r0 = batch_start(t);
-    const int kind = t < support % workers ? 1 : 0;
-    for (int f = 0; f < fields(); ++f) {
-      fftw_execute_dft_r2c(rows_forward_[kind], input_[f] + s.index(r0, 0),
-                           as_fftw(fourier_[f] + fs.index(r0, 0)));
+  // The phases of convolve(): row transforms, column blocks, inverse row transforms.
+  static constexpr int phases = 3;
+  [[nodiscard]] int units(int phase) const {
+    return phase == 1 ? blocks_ : workers_;
+  }
+
+  // Unit k of a phase, on participant t (its scratch block).
+  void run_unit(int phase, int k, int t, const Multiplier& multiplier) {
+    if (phase == 1) {
+      column_block(k, scratch_[t], multiplier);
+      return;
     }
-    if (sync != nullptr) sync->arrive_and_wait();
-    for (int b = t; b < blocks_; b += workers)
-      column_block(b, scratch_[t], multiplier);
-    if (sync != nullptr) sync->arrive_and_wait();
+    const Shape2 s = real_shape(), fs = fourier_shape();
+    const int r0 = batch_start(k);
+    const int kind = k < support_rows() % workers_ ? 1 : 0;
     for (int f = 0; f < fields(); ++f) {
-      fftw_execute_dft_c2r(rows_inverse_[kind], as_fftw(fourier_[f] + fs.index(r0, 0)),
-                           output_[f] + s.index(r0, 0));
+      if (phase == 0) {
+        fftw_execute_dft_r2c(rows_forward_[kind], input_[f] + s.index(r0, 0),
+                             as_fftw(fourier_[f] + fs.index(r0, 0)));
+      } else {
+        fftw_execute_dft_c2r(rows_inverse_[kind], as_fftw(fourier_[f] + fs.index(r0, 0)),
+                             output_[f] + s.index(r0, 0));
+      }
+    }
+  }
+
+  // Call g's units, claimed one at a time, phase after phase; between phases, waits until every
+  // unit of the phase is done (only for units another thread claimed and is running). Returns
+  // at once if call g is over (a worker that woke late).
+  void participate(std::uint32_t g, int t) {
+    for (int p = 0; p < phases; ++p) {
+      const auto total = static_cast<std::uint32_t>(units(p));
+      for (;;) {
+        std::uint64_t v = next_[p].load(std::memory_order_acquire);
+        bool claimed = false;
+        while ((v >> 32) == g && (v & 0xffffffffU) < total) {
+          if (next_[p].compare_exchange_weak(v, v + 1, std::memory_order_acq_rel,
+                                             std::memory_order_acquire)) {
+            claimed = true;
+            break;
+          }
+        }
+        if ((v >> 32) != g) return;  // another call's counters
+        if (!claimed) break;         // the phase's units are all taken
+        run_unit(p, static_cast<int>(v & 0xffffffffU), t, *job_);
+        if (done_[p].fetch_add(1, std::memory_order_acq_rel) + 1 == total) done_[p].notify_all();
+      }
+      for (;;) {
+        const std::uint32_t d = done_[p].load(std::memory_order_acquire);
+        if (d == total) break;
+        if (stopping_.load(std::memory_order_acquire) ||
+            (next_[p].load(std::memory_order_acquire) >> 32) != g) {
+          return;
+        }
+        done_[p].wait(d, std::memory_order_acquire);
+      }
     }
   }
 
@@ -327,8 +386,13 @@ class FFTWEngine final : public Engine {
   std::vector<std::complex<double>*> scratch_;  // one per thread: fields x n0 x block_width
   fftw_plan forward_ = nullptr, inverse_ = nullptr;
   int workers_ = 1;  // threads used by convolve()
-  std::unique_ptr<std::barrier<>> sync_;
-  std::atomic<unsigned> generation_{0};  // bumped once per convolve() to wake the workers
+  // Per convolve() on several threads: its number (calls_, published in generation_ to wake the
+  // workers), and per phase the next unit to claim (the call's number in the high 32 bits, so
+  // that a late worker cannot claim a unit of a later call) and the units done.
+  std::uint32_t calls_ = 0;
+  std::atomic<std::uint32_t> generation_{0};
+  std::atomic<std::uint64_t> next_[phases] = {};
+  std::atomic<std::uint32_t> done_[phases] = {};
   std::atomic<bool> stopping_{false};
   const Multiplier* job_ = nullptr;
   std::vector<std::jthread> pool_;  // stopped and joined by stop_workers() before destroy()
