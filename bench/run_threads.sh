@@ -66,10 +66,12 @@ stays on one thread. Before, each thread had a fixed share and the phases were s
 barriers: on the busy machine (two long runs at nice 10, 2026-11-27, commit 5029262) 2 threads
 took 0.80 ms at 72^2 against 0.078 ms on 1, 1.04 against 0.26 ms at 128^2 and 2.31 against
 1.09 ms at 256^2, and \`contact_slide --a 15 --R 20 --step-growth 2 --threads 2\` took 325 s
-against 18.6 s on one thread (67 027 GF applications either way, the same trace); with the
-counters, 0.089, 0.37 and 1.7 ms, and 19.5 s. From 512^2 up 2 threads gain on the busy machine
-too (1.4-1.8x); on an idle machine the two designs take the same time (1.5-2.2x over one
-thread from 192^2 up).
+against 18.6 s on one thread (67 027 GF applications either way, the same trace). With the
+counters and the floor (its 72^2 grid now stays on one thread) the same slide takes 19.5 s, and the table's busy columns show what is
+left: a worker that claimed a unit and then lost its core still holds up the phase, so from
+128^2 to 384^2 2 threads take up to 1.8x one thread's time on a busy machine (they gain 1.3-1.8x
+on an idle one), and from 512^2 up they gain on both. On a shared machine, small contacts run
+best with \`--threads 1\` (\`[fft] threads\`); the sweeps' scenes already give each point one.
 EOT
 )
 printf '%s\n' "$section" | bench/record_section.sh "## Threads on a busy machine"
