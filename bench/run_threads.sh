@@ -72,6 +72,12 @@ left: a worker that claimed a unit and then lost its core still holds up the pha
 128^2 to 384^2 2 threads take up to 1.8x one thread's time on a busy machine (they gain 1.3-1.8x
 on an idle one), and from 512^2 up they gain on both. On a shared machine, small contacts run
 best with \`--threads 1\` (\`[fft] threads\`); the sweeps' scenes already give each point one.
+
+Tried and not kept (2026-11-27): letting the engine choose by measurement, 8 calls of the other
+mode after every 256 and the faster mode kept. With one busy loop per core it brought 2 threads
+at 192^2 and 256^2 from 1.2-1.5x one thread's time to 1.0-1.15x (three alternating runs of
+each binary). On the idle machine it cost 20-30% at 256^2 to 1250^2: on this virtual machine
+8-call timings are too noisy, and a wrong choice held for 256 calls.
 EOT
 )
 printf '%s\n' "$section" | bench/record_section.sh "## Threads on a busy machine"
