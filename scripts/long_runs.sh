@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# Starts, continues, shows and stops the long runs of the open issues, outside the repository.
+# A session on the machine of the last one continues them from their checkpoints; on a new
+# machine they start again. Either way the command is the same:
+#
+#   scripts/long_runs.sh start [name...]   start or continue (default: every run below)
+#   scripts/long_runs.sh status            where each run is: its last progress line
+#   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
+#
+# Each run keeps its own copy of friction_sweep, named by the commit it was built from: a
+# checkpoint names its build, and a later build continues it only with --adopt
+# (docs/reliability.md). A run already going is left alone: friction_sweep's folder lock
+# refuses a second process on the same folder anyway. Runs go at nice 10, so that builds and
+# tests beside them keep the cores.
+#
+# Environment: RUNS (default /work/runs), BUILD_DIR (default build; built first if needed).
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+cd "$here"
+runs=${RUNS:-/work/runs}
+build=${BUILD_DIR:-build}
+
+# name | scene (in data/scenes) | output folder (under $runs) | extra flags
+# Issue 23: Regime III at R = 800 d from a = 300 d, with step growth (data/reference/regime3_R800.md);
+# R = 100 d past the crossover (data/reference/regime3_R100.md); R = 1700 d, a = 510 d
+# (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9).
+table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip
+r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip
+r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510"
+
+pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
+
+start() {
+  local name=$1 scene=$2 out=$3 flags=$4
+  if [ -n "$(pids_of "$out")" ]; then
+    echo "$name: running (pid $(pids_of "$out" | tr '\n' ' '))"
+    return
+  fi
+  mkdir -p "$runs/$out" "$runs/bin"
+  # The run's binary: the one it was started with (<out>.binary), so that its checkpoint is
+  # continued bit for bit; for a new run, a copy of this checkout's build.
+  local bin=""
+  [ -f "$runs/$out.binary" ] && bin="$runs/bin/$(cat "$runs/$out.binary")"
+  if [ -z "$bin" ] || [ ! -x "$bin" ]; then
+    if [ -n "$bin" ] && ls "$runs/$out"/points/*/checkpoint.cbor >/dev/null 2>&1; then
+      echo "$name: its binary $bin is gone but its checkpoints are not: continue them under" \
+        "this build with --adopt (docs/reliability.md), by hand" >&2
+      return 1
+    fi
+    git diff --quiet HEAD -- core apps ||
+      { echo "$name: core/ or apps/ has changes: commit first (a binary is named by its commit)" >&2; return 1; }
+    bin="$runs/bin/friction_sweep.$(git rev-parse --short HEAD)"
+    if [ ! -x "$bin" ]; then
+      cmake --build "$build" --target friction_sweep -j 2 >/dev/null
+      cp "$build/bin/friction_sweep" "$bin"
+    fi
+    basename "$bin" >"$runs/$out.binary"
+  fi
+  # The scene beside the run, as the run first read it (the repository's copy may move on).
+  local copy="$runs/$out.scene.toml"
+  [ -f "$copy" ] || cp "data/scenes/$scene" "$copy"
+  # shellcheck disable=SC2086
+  nohup nice -n 10 "$bin" "$copy" --out "$runs/$out" $flags >>"$runs/$out.log" 2>&1 &
+  echo "$name: started $(basename "$bin") (pid $!); log $runs/$out.log"
+}
+
+status() {
+  local name=$1 out=$3
+  local state="stopped"
+  [ -n "$(pids_of "$out")" ] && state="running"
+  local last="(no log)"
+  [ -f "$runs/$out.log" ] && last=$(grep -v '^ *$' "$runs/$out.log" | tail -1 | cut -c1-240)
+  echo "$name [$state, $(cat "$runs/$out.binary" 2>/dev/null || echo 'no binary')]: $last"
+}
+
+stop() {
+  local name=$1 out=$3
+  local p
+  p=$(pids_of "$out")
+  if [ -z "$p" ]; then
+    echo "$name: not running"
+    return
+  fi
+  kill -USR1 $p
+  echo "$name: asked to checkpoint and stop (pid $p)"
+}
+
+action=${1:-status}
+shift || true
+want=" $* "
+while IFS='|' read -r name scene out flags; do
+  if [ "$want" != "  " ] && [[ "$want" != *" $name "* ]]; then continue; fi
+  case $action in
+    start) start "$name" "$scene" "$out" "$flags" ;;
+    status) status "$name" "$scene" "$out" "$flags" ;;
+    stop) stop "$name" "$scene" "$out" "$flags" ;;
+    *)
+      echo "usage: scripts/long_runs.sh start|status|stop [name...]" >&2
+      exit 2
+      ;;
+  esac
+done <<<"$table"
