@@ -3,7 +3,8 @@
 # A session on the machine of the last one continues them from their checkpoints; on a new
 # machine they start again. Either way the command is the same:
 #
-#   scripts/long_runs.sh start [name...]   start or continue (default: every run below)
+#   scripts/long_runs.sh start [name...]   start or continue (default: the runs marked auto
+#                                          below: this machine has 2 cores, so two at a time)
 #   scripts/long_runs.sh status            where each run is: its last progress line
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #
@@ -20,13 +21,14 @@ cd "$here"
 runs=${RUNS:-/work/runs}
 build=${BUILD_DIR:-build}
 
-# name | scene (in data/scenes) | output folder (under $runs) | extra flags
+# name | scene (in data/scenes) | output folder (under $runs) | extra flags | auto (started by a
+# bare `start`)
 # Issue 23: Regime III at R = 800 d from a = 300 d, with step growth (data/reference/regime3_R800.md);
 # R = 100 d past the crossover (data/reference/regime3_R100.md); R = 1700 d, a = 510 d
 # (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9).
-table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip
-r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip
-r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510"
+table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto
+r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip|auto
+r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|"
 
 pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
 
@@ -88,8 +90,12 @@ stop() {
 action=${1:-status}
 shift || true
 want=" $* "
-while IFS='|' read -r name scene out flags; do
-  if [ "$want" != "  " ] && [[ "$want" != *" $name "* ]]; then continue; fi
+while IFS='|' read -r name scene out flags auto; do
+  if [ "$want" != "  " ]; then
+    [[ "$want" == *" $name "* ]] || continue
+  elif [ "$action" = start ] && [ "$auto" != auto ]; then
+    continue
+  fi
   case $action in
     start) start "$name" "$scene" "$out" "$flags" ;;
     status) status "$name" "$scene" "$out" "$flags" ;;
