@@ -53,7 +53,7 @@ using detail::as_fftw;
 constexpr int block_width = 8;
 
 // Real grid points per thread of convolve() (docs/benchmarks.md, "Threads on a busy machine"):
-// 128^2 runs on two threads (1.8x faster on an idle machine), 72^2 on one.
+// 128^2 runs on two threads (1.3x faster on an idle machine), 72^2 on one.
 constexpr std::size_t min_points_per_worker = 8192;
 
 class FFTWEngine final : public Engine {

@@ -262,8 +262,8 @@ TEST(SlipMinimizer, TheSlideTakesTheFaithfulEndState) {
 
 // path_check --flow-profile (slide::FlowProfile): one sample after every accepted step of each
 // flow, with the counts so far, and watching does not change the relaxation (the same bits).
-// The state: slip 3 of a = 28 d, R = 40 d (Regime III, two sites slip), whose reference flow
-// spends about a third of its GF applications leaving the fold (docs/solvers.md).
+// The state: slip 3 of a = 28 d, R = 40 d (Regime III) with the library's default scene and
+// slide (docs/solvers.md profiles the same slip of path_check's default scene).
 TEST(FlowProfile, SamplesEveryAcceptedStepAndChangesNothing) {
   const interface::ContactScene scene { .a = 28.0, .R = 40.0 };
   const slide::SlideOptions options;
