@@ -70,6 +70,8 @@ std::vector<PointComparison> compare_points(std::span<const ScalingPoint> points
     c.simulated = simulated[i];
     c.law_extrapolated = law_extrapolated(c.beta, model.law);
     c.undetermined = regime_undetermined(p.a_over_bcore0, c.beta, model, c0_error);
+    c.lower_bound = p.lower_bound;
+    c.simulated_undetermined = p.lower_bound && c.simulated != Regime::three;
     out.push_back(c);
   }
   return out;
@@ -80,13 +82,14 @@ MapAgreement map_agreement(std::span<const PointComparison> comparisons) {
   m.points = comparisons.size();
   for (const PointComparison& c : comparisons) {
     if (c.undetermined) ++m.undetermined;
+    if (c.simulated_undetermined) ++m.simulated_undetermined;
     if (!c.law_extrapolated) {
       ++m.in_law;
       if (c.agrees()) ++m.agree_in_law;
     }
     if (c.agrees()) {
       ++m.agree;
-    } else if (!c.undetermined) {
+    } else if (!c.undetermined && !c.simulated_undetermined) {
       ++m.contradictions;
     }
   }
@@ -135,11 +138,15 @@ std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
     for (std::size_t k = 0; k < idx.size(); ++k) {
       if (comparisons[idx[k]].simulated != Regime::three) continue;
       if (u.points.empty()) {
-        // The branch starts at the lowest point before the first rising one.
-        std::size_t lowest = idx[0];
-        for (std::size_t m = 0; m < k; ++m)
-          if (points[idx[m]].mu_over_alpha < points[lowest].mu_over_alpha) lowest = idx[m];
-        u.points.push_back(lowest);
+        // The branch starts at the lowest point before the first rising one (a measured one:
+        // simulated_regimes never takes a lower bound for the lowest).
+        std::optional<std::size_t> lowest;
+        for (std::size_t m = 0; m < k; ++m) {
+          if (points[idx[m]].lower_bound) continue;
+          if (!lowest || points[idx[m]].mu_over_alpha < points[*lowest].mu_over_alpha)
+            lowest = idx[m];
+        }
+        if (lowest) u.points.push_back(*lowest);
       }
       u.points.push_back(idx[k]);
     }
@@ -155,6 +162,16 @@ std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
       u.worst_factor = std::max(u.worst_factor, std::max(ratio, 1.0 / ratio));
     }
     u.slope_data = log_slope(a, mu_data);
+    double mean_ln_a = 0.0;
+    for (double x : a)
+      mean_ln_a += std::log(x) / static_cast<double>(a.size());
+    bool above = true;
+    for (std::size_t i : u.points) {
+      if (!points[i].lower_bound) continue;
+      u.lower_bounds = true;
+      above = above && std::log(points[i].a) > mean_ln_a;
+    }
+    u.slope_data_is_lower_bound = u.lower_bounds && above;
     u.slope_integrated = log_slope(a, mu_int);
     u.slope_predicted = log_slope(a, mu_comb);
     out.push_back(std::move(u));
@@ -170,7 +187,8 @@ RegimeThreeFrictionFit fit_regime_three_to_upturns(std::span<const ScalingPoint>
   std::vector<double> beta, mu;
   for (const Upturn& u : upturns) {
     for (std::size_t i : u.points) {
-      if (comparisons[i].simulated != Regime::three) continue;
+      // A lower bound would pull the fit low.
+      if (comparisons[i].simulated != Regime::three || points[i].lower_bound) continue;
       beta.push_back(points[i].a / points[i].a_over_bcore0);
       mu.push_back(points[i].mu_over_alpha);
     }

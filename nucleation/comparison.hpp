@@ -43,6 +43,10 @@ struct PointComparison {
   double beta = 0.0;               // b_core^0 / d = a / (a / b_core^0)
   bool law_extrapolated = false;   // law_extrapolated(beta)
   bool undetermined = false;       // regime_undetermined() within 2 reported errors
+  bool lower_bound = false;        // the data point is a lower bound (ScalingPoint::lower_bound)
+  // A lower bound outside Regime III: its simulated regime is its bound's, and its true value
+  // may lie in another (simulated_regimes).
+  bool simulated_undetermined = false;
   [[nodiscard]] bool agrees() const { return prediction.regime == simulated; }
 };
 
@@ -59,7 +63,10 @@ struct MapAgreement {
   std::size_t in_law = 0;        // points where the Peierls law is used within its window
   std::size_t agree_in_law = 0;  // of those, in agreement
   std::size_t undetermined = 0;  // points the prediction cannot decide (agreeing or not)
-  // Disagreements where the prediction decides: the ones that count against the model.
+  // Lower bounds whose simulated regime is not known (PointComparison::simulated_undetermined).
+  std::size_t simulated_undetermined = 0;
+  // Disagreements where the prediction and the data decide: the ones that count against the
+  // model.
   std::size_t contradictions = 0;
 };
 MapAgreement map_agreement(std::span<const PointComparison> comparisons);
@@ -90,6 +97,12 @@ struct Upturn {
   double slope_data = 0.0, slope_integrated = 0.0, slope_predicted = 0.0;
   // Largest factor between the data and the integrated law, either way (>= 1).
   double worst_factor = 1.0;
+  // Some points are lower bounds (ScalingPoint::lower_bound): slope_data and worst_factor use
+  // their bounds. slope_data is then a lower bound of the data's slope if every bound lies
+  // above the mean of ln a (raising such a point only steepens a least-squares line), and says
+  // nothing otherwise.
+  bool lower_bounds = false;
+  bool slope_data_is_lower_bound = false;
 };
 
 // Every branch with an upturn (at least two points), ordered by series, then R. `comparisons`
@@ -98,7 +111,8 @@ std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
                                          std::span<const PointComparison> comparisons);
 
 // The integrated Regime III law fitted to the rising points of the upturns (not a branch's lowest
-// point, which nucleation sets), taken in the order of `upturns` and of their points.
+// point, which nucleation sets, nor a lower bound), taken in the order of `upturns` and of their
+// points.
 struct RegimeThreeFrictionFit {
   std::size_t points = 0;  // rising points
   bool attempted = false;  // enough points for errors on 2 degrees of freedom (4)

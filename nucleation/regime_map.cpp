@@ -71,7 +71,9 @@ std::vector<Regime> simulated_regimes(std::span<const ScalingPoint> points, doub
       out[i] = rises_past(p.mu_over_alpha, lowest, rise_tolerance)
                    ? Regime::three
                    : nearer_of_one_two(p.a_over_bcore0, p.mu_over_alpha, c0);
-      lowest = std::min(lowest, p.mu_over_alpha);
+      // A lower bound rising past the lowest point is on the rising branch whatever its true
+      // value; it cannot be the branch's lowest (its true value may be higher).
+      if (!p.lower_bound) lowest = std::min(lowest, p.mu_over_alpha);
     }
   }
   return out;

@@ -9,6 +9,9 @@
 //   nucleation condition; a simulated point where its mu / alpha exceeds, by more than
 //   rise_tolerance, the lowest mu / alpha of a smaller contact of the same series and R (friction
 //   rising with load).
+//   A lower bound (ScalingPoint::lower_bound) that rises past is III whatever its true value;
+//   one that does not is classified by the rule below from its bound, which its true value may
+//   not keep (PointComparison::simulated_undetermined), and it never counts as the lowest.
 // - otherwise I or II, whichever law is nearer in ln(mu / alpha): Regime I's mu / alpha = 1 or the
 //   Regime II law 3 (2 c0)^(2/3) (a / b_core^0)^(-2/3). The crossover is gradual; this puts the
 //   boundary where a point is as far from one asymptote as from the other, without a threshold.

@@ -129,6 +129,9 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
     double lowest = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < idx.size(); ++k) {
       const ScalingPoint& p = points[idx[k]];
+      // A lower bound ends the branch: its true value may lie on it or above it (the upturn),
+      // and a window must hold measured values only.
+      if (p.lower_bound) break;
       if (branch.empty() && p.mu_over_alpha > options.crossover_max) continue;
       // Against the lowest point so far, not the previous one: a slow upturn (rises under the
       // tolerance, point after point) ends the branch too, where simulated_regimes calls it III.
@@ -190,7 +193,8 @@ RegimeTwoFit fit_regime_two(std::span<const ScalingPoint> points,
   if (options.window) {
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double x = points[i].a_over_bcore0;
-      if (x >= options.window->first && x <= options.window->second) fit.used.push_back(i);
+      if (x >= options.window->first && x <= options.window->second && !points[i].lower_bound)
+        fit.used.push_back(i);
     }
   } else {
     fit.used = automatic_window(points, options.automatic, &fit.trimmed, options.law);

@@ -64,6 +64,10 @@ struct ScalingPoint {
   double a = 0.0;              // contact radius (d); 0: unknown
   double R = 0.0;              // sphere radius (d); 0: unknown (all such points are one group)
   int series = 0;              // model of the point (e.g. 0 LFM, 1 explicit): branches per series
+  // mu_over_alpha is a lower bound: the slide reached its distance cap with friction still
+  // rising (friction_sweep's mu_is_lower_bound). Never fitted; its regime is known only where
+  // the bound already rises past the branch's lowest point (simulated_regimes).
+  bool lower_bound = false;
 };
 
 // Mu / alpha of the leading-order Regime II law (or y of `law`).

@@ -26,8 +26,12 @@ template <class Series>
 std::vector<nuc::ScalingPoint> scaling_points(const std::vector<DataPoint>& pts, Series series) {
   std::vector<nuc::ScalingPoint> out;
   for (const auto& p : pts)
-    out.push_back(
-        {.a_over_bcore0 = p.x, .mu_over_alpha = p.mu, .a = p.a, .R = p.R, .series = series(p)});
+    out.push_back({.a_over_bcore0 = p.x,
+                   .mu_over_alpha = p.mu,
+                   .a = p.a,
+                   .R = p.R,
+                   .series = series(p),
+                   .lower_bound = p.lower_bound});
   return out;
 }
 

@@ -46,6 +46,15 @@ fs::path collapse_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
         "points pt " + marker_of[key.first] + " ps 1.6 lc rgb '" + colour_of[key.second] + "'";
     s.push_back(g);
   }
+  // Lower bounds (the slide reached its cap still rising): an up-triangle around the point.
+  app::Series bounds{.title = "lower bound (slide capped while rising)",
+                     .style = "points pt 8 ps 3 lc 'black'"};
+  for (const auto& p : pts) {
+    if (!p.lower_bound) continue;
+    bounds.x.push_back(p.x);
+    bounds.y.push_back(p.mu);
+  }
+  if (!bounds.x.empty()) s.push_back(bounds);
   double xmin = pts.front().x, xmax = xmin;
   for (const auto& p : pts) {
     xmin = std::min(xmin, p.x);
@@ -188,16 +197,22 @@ fs::path regime_map_figure(const fs::path& dir, const std::vector<DataPoint>& pt
   // Disagreements: circled where the prediction decides, boxed where it cannot (a point on
   // a boundary within 2 errors of the fits, regime_undetermined).
   app::Series wrong{.title = "predicted regime differs", .style = "points pt 6 ps 3 lc 'black'"};
-  app::Series open{.title = "differs, on a boundary within 2 errors",
+  app::Series open{.title = "differs, on a boundary within 2 errors or a lower bound",
                    .style = "points pt 4 ps 3 lc 'black'"};
+  app::Series bound{.title = "lower bound (slide capped while rising)",
+                    .style = "points pt 8 ps 3 lc 'black'"};
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const nuc::PointComparison& cmp = an.comparisons[i];
+    if (cmp.lower_bound) {
+      bound.x.push_back(pts[i].a);
+      bound.y.push_back(pts[i].R);
+    }
     if (cmp.agrees()) continue;
-    app::Series& into = cmp.undetermined ? open : wrong;
+    app::Series& into = cmp.undetermined || cmp.simulated_undetermined ? open : wrong;
     into.x.push_back(pts[i].a);
     into.y.push_back(pts[i].R);
   }
-  for (app::Series* ser : {&wrong, &open})
+  for (app::Series* ser : {&wrong, &open, &bound})
     if (!ser->x.empty()) overlays.push_back(*ser);
   const fs::path png = dir / "regime_map.png";
   app::heatmap_png(

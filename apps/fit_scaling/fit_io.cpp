@@ -88,17 +88,16 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
         ++tipped;
         continue;
       }
-      // A failed point has no result; a lower bound (the slide stopped before its peak) would
-      // bias a fit low: both are left out and counted.
+      // A failed point has no result: left out and counted. A lower bound (the slide stopped
+      // before its peak) would bias a fit low, but can still place a point on the rising
+      // branch: flagged (DataPoint::lower_bound) and counted.
       if (t.integer(i, "failed") != 0) {
         ++failed;
         continue;
       }
-      if (t.integer(i, "mu_is_lower_bound") != 0) {
-        ++lower;
-        continue;
-      }
       DataPoint p;
+      p.lower_bound = t.integer(i, "mu_is_lower_bound") != 0;
+      if (p.lower_bound) ++lower;
       p.source = csv.string();
       // friction_sweep tables name the model in their settings ("model=explicit"); older
       // tables and LFM rows do not.
@@ -144,7 +143,7 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
                            {"rows", t.rows()},
                            {"used", used},
                            {"failed_skipped", failed},
-                           {"lower_bound_skipped", lower},
+                           {"lower_bounds", lower},
                            {"tip_out_of_registry_skipped", tipped}});
   }
   if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
@@ -164,6 +163,8 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
 ByEnvelope split_envelopes(const std::vector<DataPoint>& pts) {
   ByEnvelope out;
   for (const auto& p : pts) {
+    // The adhesive and mixed analyses take measured values only.
+    if (p.lower_bound && p.envelope != "hertz") continue;
     (p.envelope == "adhesive" ? out.adhesive
      : p.envelope == "mixed"  ? out.mixed
                               : out.hertz)

@@ -66,6 +66,10 @@ struct DataPoint {
   // law: mu/alpha (hertz), tau_fric/tau0 (adhesive), Fx/(alpha Fz + tau0 A) (mixed)
   double a = 0, R = 0, alpha = 0, nu = 0, x = 0, mu = 0;
   int slip_events = 0;
+  // mu is a lower bound (mu_is_lower_bound): the slide reached its cap still rising. Kept for
+  // the Hertz law's regime map and upturns (nucleation::ScalingPoint::lower_bound), never
+  // fitted; left out of the adhesive and mixed analyses.
+  bool lower_bound = false;
   std::string envelope = "hertz";  // tables before the envelopes: hertz
   double tau0 = 0.0, G = 1.0;      // tau0 in the unit of stress, G the substrate's (1 before)
   // Mixed rows: the friction against each limit.
@@ -84,9 +88,10 @@ struct Loaded {
   nlohmann::json sources = nlohmann::json::array();  // per table: rows used and skipped
 };
 
-// The usable rows of friction_sweep tables (sweep.csv or its folder): failed points and lower
-// bounds are left out and counted. Throws std::invalid_argument for a missing or foreign table,
-// a bad row, no usable point or a point given twice.
+// The usable rows of friction_sweep tables (sweep.csv or its folder): failed points are left
+// out and counted, lower bounds flagged and counted (DataPoint::lower_bound). Throws
+// std::invalid_argument for a missing or foreign table, a bad row, no usable point or a point given
+// twice.
 Loaded load_sweeps(const std::vector<std::string>& sweeps);
 
 // One regime map and one set of crossovers need one material and one alpha. The lateral force

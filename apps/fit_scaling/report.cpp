@@ -1,5 +1,6 @@
 // fit_scaling's results: predictions.csv, summary.json and the report on the terminal, all from
 // the Analysis.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,11 +17,27 @@ namespace fs = std::filesystem;
 namespace nuc = asperity::nucleation;
 
 void write_predictions(const fs::path& csv, const std::vector<DataPoint>& pts, const Analysis& an) {
-  app::CsvTable table({"source", "model", "a", "R", "a_over_bcore0", "bcore0", "mu_over_alpha",
-                       "in_window", "regime_two_law", "nucleation", "regime_three_central",
-                       "regime_three_integrated", "regime_three_log_error", "predicted",
-                       "data_over_predicted", "predicted_regime", "simulated_regime",
-                       "law_extrapolated", "regime_undetermined"});
+  app::CsvTable table({"source",
+                       "model",
+                       "a",
+                       "R",
+                       "a_over_bcore0",
+                       "bcore0",
+                       "mu_over_alpha",
+                       "in_window",
+                       "regime_two_law",
+                       "nucleation",
+                       "regime_three_central",
+                       "regime_three_integrated",
+                       "regime_three_log_error",
+                       "predicted",
+                       "data_over_predicted",
+                       "predicted_regime",
+                       "simulated_regime",
+                       "law_extrapolated",
+                       "regime_undetermined",
+                       "mu_is_lower_bound",
+                       "simulated_undetermined"});
   std::vector<bool> in_window(pts.size(), false);
   for (std::size_t i : an.fit.used)
     in_window[i] = true;
@@ -28,12 +45,27 @@ void write_predictions(const fs::path& csv, const std::vector<DataPoint>& pts, c
     const auto& p = pts[i];
     const nuc::PointComparison& c = an.comparisons[i];
     const nuc::Prediction& pr = c.prediction;
-    table.add_row({p.source, p.model, p.a, p.R, p.x, c.beta, p.mu,
-                   static_cast<long long>(in_window[i]), pr.law_two, pr.nucleation, pr.central,
-                   pr.integrated, pr.integrated_log_error, pr.mu_over_alpha,
-                   p.mu / pr.mu_over_alpha, nuc::to_string(pr.regime), nuc::to_string(c.simulated),
+    table.add_row({p.source,
+                   p.model,
+                   p.a,
+                   p.R,
+                   p.x,
+                   c.beta,
+                   p.mu,
+                   static_cast<long long>(in_window[i]),
+                   pr.law_two,
+                   pr.nucleation,
+                   pr.central,
+                   pr.integrated,
+                   pr.integrated_log_error,
+                   pr.mu_over_alpha,
+                   p.mu / pr.mu_over_alpha,
+                   nuc::to_string(pr.regime),
+                   nuc::to_string(c.simulated),
                    static_cast<long long>(c.law_extrapolated),
-                   static_cast<long long>(c.undetermined)});
+                   static_cast<long long>(c.undetermined),
+                   static_cast<long long>(c.lower_bound),
+                   static_cast<long long>(c.simulated_undetermined)});
   }
   table.write(csv);
 }
@@ -214,7 +246,8 @@ nlohmann::json upturns_json(const std::vector<DataPoint>& pts, const Analysis& a
                       {"regime_three_integrated", pr.integrated},
                       {"regime_three_central", pr.central},
                       {"predicted", pr.mu_over_alpha},
-                      {"data_over_integrated", pts[i].mu / pr.integrated}});
+                      {"data_over_integrated", pts[i].mu / pr.integrated},
+                      {"mu_is_lower_bound", pts[i].lower_bound}});
     }
     out.push_back({{"R", u.R},
                    {"model", an.series_names[static_cast<std::size_t>(u.series)]},
@@ -225,7 +258,9 @@ nlohmann::json upturns_json(const std::vector<DataPoint>& pts, const Analysis& a
                    {"slope_dlnmu_dlna_predicted", u.slope_predicted},
                    {"same_sign_of_slope", (u.slope_data > 0) == (u.slope_integrated > 0)},
                    {"worst_factor_data_vs_integrated", u.worst_factor},
-                   {"within_factor_2", u.worst_factor <= 2.0}});
+                   {"within_factor_2", u.worst_factor <= 2.0},
+                   {"lower_bounds", u.lower_bounds},
+                   {"slope_data_is_lower_bound", u.slope_data_is_lower_bound}});
   }
   return out;
 }
@@ -268,7 +303,9 @@ nlohmann::json regime_map_json(const std::vector<DataPoint>& pts, const Analysis
                              {"simulated", nuc::to_string(c.simulated)},
                              {"bcore0", c.beta},
                              {"law_extrapolated", c.law_extrapolated},
-                             {"regime_undetermined", c.undetermined}});
+                             {"regime_undetermined", c.undetermined},
+                             {"mu_is_lower_bound", c.lower_bound},
+                             {"simulated_undetermined", c.simulated_undetermined}});
   }
   const nuc::MapAgreement& m = an.agreement;
   return {{"points", pts.size()},
@@ -277,11 +314,14 @@ nlohmann::json regime_map_json(const std::vector<DataPoint>& pts, const Analysis
           {"points_law_in_window", m.in_law},
           {"agree_law_in_window", m.agree_in_law},
           {"undetermined", m.undetermined},
+          {"simulated_undetermined", m.simulated_undetermined},
+          {"lower_bounds",
+           std::count_if(pts.begin(), pts.end(), [](const DataPoint& p) { return p.lower_bound; })},
           {"contradictions", m.contradictions},
           {"disagreements", disagreements},
           {"rule",
-           "III: rising branch (simulated) / Regime III law above the nucleation condition "
-           "(predicted); else I or II by the nearer asymptote"}};
+           "III: rising branch (simulated; a lower bound rising past counts) / Regime III law "
+           "above the nucleation condition (predicted); else I or II by the nearer asymptote"}};
 }
 
 }  // namespace
@@ -369,16 +409,18 @@ void print_hertz(const LawSource& law, const Analysis& an, const Options& o) {
   }
   for (const nuc::Upturn& u : an.upturns) {
     std::printf(
-        "upturn at R = %g d: slope dln(mu)/dln(a) data %.3f, prediction %.3f; worst "
-        "factor %.3g\n",
-        u.R, u.slope_data, u.slope_integrated, u.worst_factor);
+        "upturn at R = %g d: slope dln(mu)/dln(a) data %s%.3f, prediction %.3f; worst "
+        "factor %.3g%s\n",
+        u.R, u.slope_data_is_lower_bound ? ">= " : "", u.slope_data, u.slope_integrated,
+        u.worst_factor, u.lower_bounds ? " (with lower bounds)" : "");
   }
   const nuc::MapAgreement& m = an.agreement;
   std::printf(
       "regime map: %zu of %zu points in their simulated regime (%zu of %zu where the "
       "Peierls law is used within its window); %zu disagree where the prediction decides "
-      "(%zu points within 2 errors of a boundary)\n",
-      m.agree, m.points, m.agree_in_law, m.in_law, m.contradictions, m.undetermined);
+      "(%zu points within 2 errors of a boundary, %zu lower bounds of unknown regime)\n",
+      m.agree, m.points, m.agree_in_law, m.in_law, m.contradictions, m.undetermined,
+      m.simulated_undetermined);
 }
 
 void print_adhesive(const AdhesiveAnalysis& an) {

@@ -552,6 +552,65 @@ TEST(Comparison, UpturnsAndTheRegimeThreeFitToThem) {
   EXPECT_NEAR(fit.fit.law.k2, 1.8, 1e-6);
 }
 
+// Lower bounds (a slide capped while friction still rose, ScalingPoint::lower_bound): a bound
+// that rises past the branch's lowest measured point is Regime III whatever its true value; one
+// that does not is classified from its bound and flagged (its true value may lie higher). A bound
+// is never the branch's lowest, never in a Regime II window, never in the Regime III fit, and an
+// upturn through it says so: its data slope is a lower bound when the bounds lie at its large-a
+// end.
+TEST(Comparison, LowerBoundsPlaceAPointOnlyWhereTheyRisePast) {
+  const double c0 = 0.2;
+  std::vector<ScalingPoint> pts;
+  for (double x : {4.0, 8.0, 15.0, 30.0})
+    pts.push_back({.a_over_bcore0 = x, .mu_over_alpha = regime_two_law(x, c0), .a = x, .R = 100});
+  const double lowest = pts.back().mu_over_alpha;
+  // A bound below the lowest point (a slide stopped early, say), then one 5% above it.
+  pts.push_back(
+      {.a_over_bcore0 = 40, .mu_over_alpha = 0.9 * lowest, .a = 40, .R = 100, .lower_bound = true});
+  pts.push_back({.a_over_bcore0 = 50,
+                 .mu_over_alpha = 1.05 * lowest,
+                 .a = 50,
+                 .R = 100,
+                 .lower_bound = true});
+  // A measured point 3% above the lowest: rising past it, not past the first bound's value.
+  pts.push_back({.a_over_bcore0 = 60, .mu_over_alpha = 1.03 * lowest, .a = 60, .R = 100});
+  const auto sim = simulated_regimes(pts, c0);
+  EXPECT_EQ(sim[3], Regime::two);
+  EXPECT_NE(sim[4], Regime::three);  // its bound does not rise past: classified from the bound
+  EXPECT_EQ(sim[5], Regime::three);  // rises past whatever its true value
+  EXPECT_EQ(sim[6], Regime::three);  // the 0.9 bound did not become the branch's lowest
+  // The window ends at the first bound, and holds no bound.
+  const auto used = automatic_window(pts, {.max_deviation = 1e6, .min_points = 3});
+  EXPECT_EQ(used, (std::vector<std::size_t>{0, 1, 2, 3}));
+  const auto given = fit_regime_two(pts, {.window = std::pair{1.0, 100.0}});
+  for (std::size_t i : given.used)
+    EXPECT_FALSE(pts[i].lower_bound) << i;
+  // The comparison flags the bound whose regime the data leave open, and it counts against
+  // nothing.
+  const Model model{.c0 = c0, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
+  const auto cmp = compare_points(pts, sim, model, 0.0);
+  EXPECT_TRUE(cmp[4].lower_bound);
+  EXPECT_TRUE(cmp[4].simulated_undetermined);
+  EXPECT_TRUE(cmp[5].lower_bound);
+  EXPECT_FALSE(cmp[5].simulated_undetermined);
+  EXPECT_FALSE(cmp[6].simulated_undetermined);
+  const MapAgreement m = map_agreement(cmp);
+  EXPECT_EQ(m.simulated_undetermined, 1u);
+  std::size_t counted = 0;
+  for (const auto& c : cmp)
+    counted += !c.agrees() && !c.undetermined && !c.simulated_undetermined;
+  EXPECT_EQ(m.contradictions, counted);
+  // The upturn starts at the lowest measured point and runs through the bound.
+  const auto ups = regime_three_upturns(pts, cmp);
+  ASSERT_EQ(ups.size(), 1u);
+  EXPECT_EQ(ups[0].points, (std::vector<std::size_t>{3, 5, 6}));
+  EXPECT_TRUE(ups[0].lower_bounds);
+  // ln 50 lies above the mean of ln 30, ln 50, ln 60: raising the bound only steepens the line.
+  EXPECT_TRUE(ups[0].slope_data_is_lower_bound);
+  // The Regime III fit takes the measured rising point only.
+  EXPECT_EQ(fit_regime_three_to_upturns(pts, cmp, ups, 0.5).points, 1u);
+}
+
 // The adhesive law (issue 27): tau_fric/tau0 = 2 (a/(2 c0 b_core))^(-1/2), fitted as the Hertz
 // law is, with its own exponent and prefactor; exact data give c0 back, and the Hertz law's
 // functions are untouched by the law argument.
