@@ -82,14 +82,20 @@ MapAgreement map_agreement(std::span<const PointComparison> comparisons) {
   m.points = comparisons.size();
   for (const PointComparison& c : comparisons) {
     if (c.undetermined) ++m.undetermined;
-    if (c.simulated_undetermined) ++m.simulated_undetermined;
+    // A lower bound of unknown regime is no evidence either way: neither an agreement nor a
+    // contradiction.
+    if (c.simulated_undetermined) {
+      ++m.simulated_undetermined;
+      if (!c.law_extrapolated) ++m.in_law;
+      continue;
+    }
     if (!c.law_extrapolated) {
       ++m.in_law;
       if (c.agrees()) ++m.agree_in_law;
     }
     if (c.agrees()) {
       ++m.agree;
-    } else if (!c.undetermined && !c.simulated_undetermined) {
+    } else if (!c.undetermined) {
       ++m.contradictions;
     }
   }
@@ -132,8 +138,11 @@ std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
     branches[{points[i].series, points[i].R}].push_back(i);
   std::vector<Upturn> out;
   for (auto& [key, idx] : branches) {
-    std::stable_sort(idx.begin(), idx.end(),
-                     [&](std::size_t i, std::size_t j) { return points[i].a < points[j].a; });
+    // By a / b_core^0, as simulated_regimes walks a branch (an explicit row carries its own
+    // alpha, so the order by a could differ).
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
+      return points[i].a_over_bcore0 < points[j].a_over_bcore0;
+    });
     Upturn u{.series = key.first, .R = key.second};
     for (std::size_t k = 0; k < idx.size(); ++k) {
       if (comparisons[idx[k]].simulated != Regime::three) continue;
@@ -158,6 +167,7 @@ std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
       mu_data.push_back(points[i].mu_over_alpha);
       mu_int.push_back(pr.integrated);
       mu_comb.push_back(pr.mu_over_alpha);
+      if (points[i].lower_bound) continue;
       const double ratio = points[i].mu_over_alpha / pr.integrated;
       u.worst_factor = std::max(u.worst_factor, std::max(ratio, 1.0 / ratio));
     }

@@ -59,7 +59,9 @@ std::vector<PointComparison> compare_points(std::span<const ScalingPoint> points
 // How well the regime map reproduces the simulated regimes.
 struct MapAgreement {
   std::size_t points = 0;
-  std::size_t agree = 0;         // predicted regime = simulated regime
+  // Predicted regime = simulated regime (not counting lower bounds of unknown regime, which
+  // agree with nothing: simulated_undetermined).
+  std::size_t agree = 0;
   std::size_t in_law = 0;        // points where the Peierls law is used within its window
   std::size_t agree_in_law = 0;  // of those, in agreement
   std::size_t undetermined = 0;  // points the prediction cannot decide (agreeing or not)
@@ -91,18 +93,22 @@ CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const 
 struct Upturn {
   int series = 0;
   double R = 0.0;
-  std::vector<std::size_t> points;  // indices into the points given, by a
+  std::vector<std::size_t> points;  // indices into the points given, by a / b_core^0
   // d ln(mu/alpha) / d ln a over the points (least squares): of the data, of the integrated
   // Regime III law and of the prediction max(II, III).
   double slope_data = 0.0, slope_integrated = 0.0, slope_predicted = 0.0;
-  // Largest factor between the data and the integrated law, either way (>= 1).
+  // Largest factor between the data and the integrated law, either way (>= 1), over the
+  // measured points (a bound's ratio bounds nothing: the true one may lie on either side of 1).
   double worst_factor = 1.0;
-  // Some points are lower bounds (ScalingPoint::lower_bound): slope_data and worst_factor use
-  // their bounds. slope_data is then a lower bound of the data's slope if every bound lies
-  // above the mean of ln a (raising such a point only steepens a least-squares line), and says
-  // nothing otherwise.
+  // Some points are lower bounds (ScalingPoint::lower_bound): slope_data uses their bounds. It
+  // is then a lower bound of the data's slope if every bound lies above the mean of ln a
+  // (raising such a point only steepens a least-squares line), and says nothing otherwise.
   bool lower_bounds = false;
   bool slope_data_is_lower_bound = false;
+  // Whether the sign of the data's slope is known: no bounds, or a positive lower bound of it.
+  [[nodiscard]] bool slope_data_sign_known() const {
+    return !lower_bounds || (slope_data_is_lower_bound && slope_data > 0.0);
+  }
 };
 
 // Every branch with an upturn (at least two points), ordered by series, then R. `comparisons`

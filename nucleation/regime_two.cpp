@@ -129,9 +129,14 @@ std::vector<std::size_t> automatic_window(std::span<const ScalingPoint> points,
     double lowest = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < idx.size(); ++k) {
       const ScalingPoint& p = points[idx[k]];
-      // A lower bound ends the branch: its true value may lie on it or above it (the upturn),
-      // and a window must hold measured values only.
-      if (p.lower_bound) break;
+      // A window holds measured values only. A lower bound that already rises past the lowest
+      // point is the upturn whatever its true value, and ends the branch; one that does not
+      // says nothing about where the branch goes (simulated_regimes classifies the measured
+      // points after it on their own), and neither does one before the branch starts.
+      if (p.lower_bound) {
+        if (!branch.empty() && rises_past(p.mu_over_alpha, lowest, options.rise_tolerance)) break;
+        continue;
+      }
       if (branch.empty() && p.mu_over_alpha > options.crossover_max) continue;
       // Against the lowest point so far, not the previous one: a slow upturn (rises under the
       // tolerance, point after point) ends the branch too, where simulated_regimes calls it III.

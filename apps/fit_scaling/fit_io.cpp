@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -147,11 +148,20 @@ Loaded load_sweeps(const std::vector<std::string>& sweeps) {
                            {"tip_out_of_registry_skipped", tipped}});
   }
   if (out.points.empty()) throw std::invalid_argument("the sweep tables hold no usable point");
+  // A lower bound and a measured value of the same point (a capped slide and its longer rerun):
+  // the measured one stands for it, the bound is dropped.
+  using Key = std::tuple<std::string, std::string, double, double, double>;
+  const auto key = [](const DataPoint& p) { return Key{p.model, p.envelope, p.tau0, p.a, p.R}; };
+  std::set<Key> measured;
+  for (const auto& p : out.points)
+    if (!p.lower_bound) measured.insert(key(p));
+  std::erase_if(out.points,
+                [&](const DataPoint& p) { return p.lower_bound && measured.count(key(p)) > 0; });
   // The bootstrap takes the points as independent measurements: a point given twice (a table
   // passed twice, or a sweep and a copy of it) would count double and shrink c0's error.
-  std::map<std::tuple<std::string, std::string, double, double, double>, const DataPoint*> seen;
+  std::map<Key, const DataPoint*> seen;
   for (const auto& p : out.points) {
-    const auto [it, fresh] = seen.emplace(std::tuple{p.model, p.envelope, p.tau0, p.a, p.R}, &p);
+    const auto [it, fresh] = seen.emplace(key(p), &p);
     if (!fresh)
       throw std::invalid_argument("the point a = " + fmt("%g", p.a) + " d, R = " + fmt("%g", p.R) +
                                   " d (" + p.model + ") is in " + it->second->source + " and in " +

@@ -249,18 +249,22 @@ nlohmann::json upturns_json(const std::vector<DataPoint>& pts, const Analysis& a
                       {"data_over_integrated", pts[i].mu / pr.integrated},
                       {"mu_is_lower_bound", pts[i].lower_bound}});
     }
-    out.push_back({{"R", u.R},
-                   {"model", an.series_names[static_cast<std::size_t>(u.series)]},
-                   {"a_range", {pts[u.points.front()].a, pts[u.points.back()].a}},
-                   {"points", rows},
-                   {"slope_dlnmu_dlna_data", u.slope_data},
-                   {"slope_dlnmu_dlna_integrated", u.slope_integrated},
-                   {"slope_dlnmu_dlna_predicted", u.slope_predicted},
-                   {"same_sign_of_slope", (u.slope_data > 0) == (u.slope_integrated > 0)},
-                   {"worst_factor_data_vs_integrated", u.worst_factor},
-                   {"within_factor_2", u.worst_factor <= 2.0},
-                   {"lower_bounds", u.lower_bounds},
-                   {"slope_data_is_lower_bound", u.slope_data_is_lower_bound}});
+    out.push_back(
+        {{"R", u.R},
+         {"model", an.series_names[static_cast<std::size_t>(u.series)]},
+         {"a_range", {pts[u.points.front()].a, pts[u.points.back()].a}},
+         {"points", rows},
+         {"slope_dlnmu_dlna_data", u.slope_data},
+         {"slope_dlnmu_dlna_integrated", u.slope_integrated},
+         {"slope_dlnmu_dlna_predicted", u.slope_predicted},
+         // null where the bounds leave the data's sign open
+         {"same_sign_of_slope", u.slope_data_sign_known()
+                                    ? nlohmann::json((u.slope_data > 0) == (u.slope_integrated > 0))
+                                    : nlohmann::json(nullptr)},
+         {"worst_factor_data_vs_integrated", u.worst_factor},
+         {"within_factor_2", u.worst_factor <= 2.0},
+         {"lower_bounds", u.lower_bounds},
+         {"slope_data_is_lower_bound", u.slope_data_is_lower_bound}});
   }
   return out;
 }

@@ -62,4 +62,5 @@ def predict(a_over_bcore0: float, beta: float, c0: float, k1: float, k2: float,
 def fit_regime_two(a_over_bcore0: npt.ArrayLike, mu_over_alpha: npt.ArrayLike,
                    a: Optional[npt.ArrayLike] = None, R: Optional[npt.ArrayLike] = None,
                    window: Optional[tuple[float, float]] = None, bootstrap: int = 4000,
-                   seed: int = 20240909) -> dict: ...
+                   seed: int = 20240909,
+                   lower_bound: Optional[npt.ArrayLike] = None) -> dict: ...

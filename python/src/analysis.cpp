@@ -105,7 +105,7 @@ nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k
 
 py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const py::object& a,
                         const py::object& R, const py::object& window, int bootstrap,
-                        long long seed) {
+                        long long seed, const py::object& lower_bound) {
   if (x.size() != mu.size())
     throw py::value_error("fit_regime_two: a_over_bcore0 and mu_over_alpha differ in length");
   std::vector<nucleation::ScalingPoint> points(static_cast<std::size_t>(x.size()));
@@ -119,8 +119,17 @@ py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const p
     return v;
   };
   const std::vector<double> av = column(a, "a"), Rv = column(R, "R");
-  for (std::size_t i = 0; i < points.size(); ++i)
-    points[i] = {x.data()[i], mu.data()[i], av[i], Rv[i], 0};
+  // mu_is_lower_bound of a friction_sweep table: never fitted, and a bound rising past its
+  // branch's lowest point ends the automatic window (nucleation::ScalingPoint::lower_bound).
+  const std::vector<double> bounds = column(lower_bound, "lower_bound");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = {.a_over_bcore0 = x.data()[i],
+                 .mu_over_alpha = mu.data()[i],
+                 .a = av[i],
+                 .R = Rv[i],
+                 .series = 0,
+                 .lower_bound = bounds[i] != 0.0};
+  }
   nucleation::RegimeTwoFitOptions o;
   if (!window.is_none()) o.window = window.cast<std::pair<double, double>>();
   o.bootstrap_samples = bootstrap;
@@ -195,8 +204,10 @@ void bind_analysis(py::module_& m) {
   m.def("fit_regime_two", &fit_regime_two, py::arg("a_over_bcore0"), py::arg("mu_over_alpha"),
         py::arg("a") = py::none(), py::arg("R") = py::none(), py::arg("window") = py::none(),
         py::arg("bootstrap") = 4000, py::arg("seed") = 20240909LL,
+        py::arg("lower_bound") = py::none(),
         "Fit of c0 to the Regime II law over a window (automatic unless given), with its "
-        "bootstrap error, as fit_scaling fits it");
+        "bootstrap error, as fit_scaling fits it; lower_bound: nonzero where mu_over_alpha is "
+        "a lower bound (never fitted)");
 }
 
 }  // namespace asperity::python

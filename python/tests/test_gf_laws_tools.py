@@ -91,9 +91,10 @@ def test_fit_scaling_from_python_is_the_tools_output(fit):
 def test_fit_regime_two_in_process_equals_fit_scaling(fit):
     # The same points, window rule, bootstrap and seed as fit_scaling: the same c0, bit for bit.
     table = tools.read_table(DATA / "reference" / "sweep_R535.csv")
-    keep = (table["failed"] == 0) & (table["mu_is_lower_bound"] == 0)
+    keep = table["failed"] == 0
     ours = asperity.fit_regime_two(table["a_over_bcore0"][keep], table["mu_over_alpha"][keep],
-                                   a=table["a"][keep], R=table["R"][keep])
+                                   a=table["a"][keep], R=table["R"][keep],
+                                   lower_bound=table["mu_is_lower_bound"][keep])
     c0 = fit.summary["regime_two"]["c0"]
     assert ours["valid"]
     assert ours["c0"] == c0
@@ -110,3 +111,24 @@ def test_peierls_scan_from_python(tmp_path):
     rows = scan.tables["peierls"]
     assert len(rows) == 2 and set(rows["b_core"]) == {2.0, 3.0}
     assert np.all(rows["tau_P_over_tau_max_pos"] > 0)
+
+
+def test_fit_regime_two_never_fits_a_lower_bound():
+    # Exact Regime II points at one R, then a capped slide whose bound lies 5% under the law:
+    # flagged, it changes nothing (not fitted; it does not rise past the lowest point);
+    # unflagged, it is a fifth point of the window and moves c0.
+    c0 = 0.2
+    x = np.array([8.0, 15.0, 30.0, 60.0, 90.0])
+    mu = np.array([asperity.regime_two_law(v, c0) for v in x])
+    mu[4] *= 0.95
+    R = np.full(5, 535.0)
+    a = x.copy()
+    flags = np.array([0, 0, 0, 0, 1])
+    with_bound = asperity.fit_regime_two(x, mu, a=a, R=R, lower_bound=flags)
+    without = asperity.fit_regime_two(x[:4], mu[:4], a=a[:4], R=R[:4])
+    unflagged = asperity.fit_regime_two(x, mu, a=a, R=R)
+    assert with_bound["valid"] and without["valid"] and unflagged["valid"]
+    assert with_bound["c0"] == without["c0"]
+    assert with_bound["points"] == 4
+    assert unflagged["points"] == 5
+    assert unflagged["c0"] != without["c0"]

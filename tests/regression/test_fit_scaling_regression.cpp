@@ -21,6 +21,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -212,19 +213,18 @@ TEST(FitScalingRegression, NoUpturnAtR1700) {
     EXPECT_GT(c["a"].get<double>() - 2.0 * c["a_error"].get<double>(), 510.0);
   }
   EXPECT_TRUE(crossover_1700);
+  std::set<double> upturn_R;
   for (const auto& u : s["regime_three_upturns"])
-    EXPECT_NE(u["R"].get<double>(), 1700.0);
-  std::map<double, double> crossover_a;
-  for (const auto& c : s["crossovers_two_three"])
-    if (c["found"].get<bool>()) crossover_a[c["R"].get<double>()] = c["a"].get<double>();
-  ASSERT_TRUE(crossover_a.count(100.0));
+    upturn_R.insert(u["R"].get<double>());
+  EXPECT_EQ(upturn_R, (std::set<double>{40.0, 100.0}));
   const double c0 = summary(FIT_R535_DIR)["regime_two"]["c0"].get<double>();
   const CsvTable t = CsvTable::read(FIT_DIR "/predictions.csv");
   for (double R : {100.0, 1700.0}) {
     double last_a = 0.0, last_mu = 2.0;
     int n = 0;
     for (std::size_t i = 0; i < t.rows(); ++i) {
-      if (t.number(i, "R") != R || t.number(i, "a") >= crossover_a[R]) continue;
+      // The measured points: at R = 100 d the one past the crossover is a lower bound.
+      if (t.number(i, "R") != R || t.integer(i, "mu_is_lower_bound") != 0) continue;
       const double a = t.number(i, "a"), x = t.number(i, "a_over_bcore0"),
                    mu = t.number(i, "mu_over_alpha");
       ASSERT_GT(a, last_a);  // the table is sorted by a
@@ -330,12 +330,16 @@ TEST(FitScalingRegression, UpturnAtR100PastTheCrossover) {
   ASSERT_EQ((*u)["points"].size(), 2u);
   EXPECT_EQ((*u)["points"][0]["a"].get<double>(), 50.0);
   EXPECT_FALSE((*u)["points"][0]["mu_is_lower_bound"].get<bool>());
-  // The fit of c0 does not see the bound: the sources count it as one, and the window holds
-  // measured points only.
+  // The fit of c0 does not see the bound: the sources count it as one, and c0 is to the bit
+  // that of the same tables without it.
   int bounds = 0;
   for (const auto& src : s["inputs"]["sweeps"])
     bounds += src["lower_bounds"].get<int>();
   EXPECT_EQ(bounds, 1);
+  const auto measured = summary(FIT_MEASURED_DIR);
+  EXPECT_EQ(s["regime_two"]["c0"].get<double>(), measured["regime_two"]["c0"].get<double>());
+  EXPECT_EQ(s["regime_two"]["c0_error"].get<double>(),
+            measured["regime_two"]["c0_error"].get<double>());
 }
 
 // Acceptance 3 over the committed large-contact range: the prediction built from the project's

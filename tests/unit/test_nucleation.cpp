@@ -564,50 +564,69 @@ TEST(Comparison, LowerBoundsPlaceAPointOnlyWhereTheyRisePast) {
   for (double x : {4.0, 8.0, 15.0, 30.0})
     pts.push_back({.a_over_bcore0 = x, .mu_over_alpha = regime_two_law(x, c0), .a = x, .R = 100});
   const double lowest = pts.back().mu_over_alpha;
-  // A bound below the lowest point (a slide stopped early, say), then one 5% above it.
-  pts.push_back(
-      {.a_over_bcore0 = 40, .mu_over_alpha = 0.9 * lowest, .a = 40, .R = 100, .lower_bound = true});
-  pts.push_back({.a_over_bcore0 = 50,
-                 .mu_over_alpha = 1.05 * lowest,
-                 .a = 50,
-                 .R = 100,
-                 .lower_bound = true});
-  // A measured point 3% above the lowest: rising past it, not past the first bound's value.
-  pts.push_back({.a_over_bcore0 = 60, .mu_over_alpha = 1.03 * lowest, .a = 60, .R = 100});
+  const auto add = [&](double x, double over_lowest, bool bound) {
+    pts.push_back({.a_over_bcore0 = x,
+                   .mu_over_alpha = over_lowest * lowest,
+                   .a = x,
+                   .R = 100,
+                   .lower_bound = bound});
+  };
+  add(40, 0.90, true);    // 4: a bound under the lowest (a slide stopped early, say)
+  add(45, 1.005, false);  // 5: measured, 0.5% above the lowest: II (III against the 0.9 bound)
+  add(50, 1.05, true);    // 6: a bound 5% above the lowest: III whatever its true value
+  add(60, 1.03, false);   // 7: measured, 3% above the lowest: III
   const auto sim = simulated_regimes(pts, c0);
   EXPECT_EQ(sim[3], Regime::two);
   EXPECT_NE(sim[4], Regime::three);  // its bound does not rise past: classified from the bound
-  EXPECT_EQ(sim[5], Regime::three);  // rises past whatever its true value
-  EXPECT_EQ(sim[6], Regime::three);  // the 0.9 bound did not become the branch's lowest
-  // The window ends at the first bound, and holds no bound.
-  const auto used = automatic_window(pts, {.max_deviation = 1e6, .min_points = 3});
-  EXPECT_EQ(used, (std::vector<std::size_t>{0, 1, 2, 3}));
-  const auto given = fit_regime_two(pts, {.window = std::pair{1.0, 100.0}});
-  for (std::size_t i : given.used)
-    EXPECT_FALSE(pts[i].lower_bound) << i;
-  // The comparison flags the bound whose regime the data leave open, and it counts against
-  // nothing.
+  EXPECT_EQ(sim[5], Regime::two);    // the 0.9 bound did not become the branch's lowest
+  EXPECT_EQ(sim[6], Regime::three);
+  EXPECT_EQ(sim[7], Regime::three);
+  // The automatic window passes over the bound that does not rise past and ends at the one
+  // that does; a given window holds the measured points in it only.
+  EXPECT_EQ(automatic_window(pts, {.max_deviation = 1e6, .min_points = 3}),
+            (std::vector<std::size_t>{0, 1, 2, 3, 5}));
+  EXPECT_EQ(fit_regime_two(pts, {.window = std::pair{1.0, 100.0}}).used,
+            (std::vector<std::size_t>{0, 1, 2, 3, 5, 7}));
+  // A bound before the branch starts (mu/alpha above crossover_max) does not end it.
+  std::vector<ScalingPoint> early = pts;
+  early.insert(
+      early.begin(),
+      {.a_over_bcore0 = 1.0, .mu_over_alpha = 0.95, .a = 1.0, .R = 100, .lower_bound = true});
+  EXPECT_EQ(automatic_window(early, {.max_deviation = 1e6, .min_points = 3}),
+            (std::vector<std::size_t>{1, 2, 3, 4, 6}));
+  // The comparison flags the bound whose regime the data leave open, and the map counts it
+  // as nothing: with it, the agreements and contradictions are those without it.
   const Model model{.c0 = c0, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
   const auto cmp = compare_points(pts, sim, model, 0.0);
   EXPECT_TRUE(cmp[4].lower_bound);
   EXPECT_TRUE(cmp[4].simulated_undetermined);
-  EXPECT_TRUE(cmp[5].lower_bound);
-  EXPECT_FALSE(cmp[5].simulated_undetermined);
+  EXPECT_TRUE(cmp[6].lower_bound);
   EXPECT_FALSE(cmp[6].simulated_undetermined);
-  const MapAgreement m = map_agreement(cmp);
+  EXPECT_FALSE(cmp[7].simulated_undetermined);
+  std::vector<PointComparison> others = cmp;
+  others.erase(others.begin() + 4);
+  const MapAgreement m = map_agreement(cmp), m_others = map_agreement(others);
+  EXPECT_EQ(m.points, m_others.points + 1);
+  EXPECT_EQ(m.agree, m_others.agree);
+  EXPECT_EQ(m.contradictions, m_others.contradictions);
   EXPECT_EQ(m.simulated_undetermined, 1u);
-  std::size_t counted = 0;
-  for (const auto& c : cmp)
-    counted += !c.agrees() && !c.undetermined && !c.simulated_undetermined;
-  EXPECT_EQ(m.contradictions, counted);
-  // The upturn starts at the lowest measured point and runs through the bound.
+  EXPECT_EQ(m_others.simulated_undetermined, 0u);
+  // The upturn starts at the lowest measured point before the first rising one and runs
+  // through the bound; the Regime III fit takes the measured rising point only.
   const auto ups = regime_three_upturns(pts, cmp);
   ASSERT_EQ(ups.size(), 1u);
-  EXPECT_EQ(ups[0].points, (std::vector<std::size_t>{3, 5, 6}));
+  EXPECT_EQ(ups[0].points, (std::vector<std::size_t>{3, 6, 7}));
   EXPECT_TRUE(ups[0].lower_bounds);
   // ln 50 lies above the mean of ln 30, ln 50, ln 60: raising the bound only steepens the line.
   EXPECT_TRUE(ups[0].slope_data_is_lower_bound);
-  // The Regime III fit takes the measured rising point only.
+  EXPECT_EQ(ups[0].slope_data_sign_known(), ups[0].slope_data > 0.0);
+  // The worst factor is the measured points' (3 and 7), not the bound's.
+  double worst = 1.0;
+  for (std::size_t i : {3u, 7u}) {
+    const double r = pts[i].mu_over_alpha / cmp[i].prediction.integrated;
+    worst = std::max({worst, r, 1.0 / r});
+  }
+  EXPECT_EQ(ups[0].worst_factor, worst);
   EXPECT_EQ(fit_regime_three_to_upturns(pts, cmp, ups, 0.5).points, 1u);
 }
 
