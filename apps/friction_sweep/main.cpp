@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
                  "Continue checkpoints and keep finished rows of another build, or of other "
                  "slide.*, solver.* and fft.* settings of the same problem (a long run carried "
                  "over to a new build, or given a longer distance); each adoption is recorded "
-                 "in points/<point>/adopted.json and the adopted file kept beside it");
+                 "in points/<point>/adopted.json and the adopted file kept beside it; a lower "
+                 "bound stopped at slide.max_distance or slide.max_slips continues from the "
+                 "checkpoint it kept (checkpoint.capped.cbor) when these settings raise the limit");
     cli.add_flag("--plan", o.plan,
                  "Only print what the sweep would do: its points with a/b_core^0 and the memory "
                  "each slide needs, and which rows an existing table in --out would keep; runs "

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <numeric>
 #include <optional>
@@ -81,9 +82,10 @@ class SweepRunner {
     const std::string settings = settings_fingerprint(s_.base);
     const std::string settings_x = explicit_settings_fingerprint(s_);
     const fs::path out = o_.out;
-    const ResumedRows kept = resume_rows(out / "sweep.csv", points_, settings, o_.adopt);
-    const ResumedRows kept_x =
-        resume_rows(out / "sweep_explicit.csv", xpoints_, settings_x, o_.adopt);
+    const ResumedRows kept =
+        resume_rows(out / "sweep.csv", points_, settings, o_.adopt, extendable(out, false));
+    const ResumedRows kept_x = resume_rows(out / "sweep_explicit.csv", xpoints_, settings_x,
+                                           o_.adopt, extendable(out, true));
     std::printf("friction_sweep --plan: %zu point%s (model lfm), %zu explicit; output %s\n",
                 points_.size(), points_.size() == 1 ? "" : "s", xpoints_.size(),
                 out.string().c_str());
@@ -136,8 +138,8 @@ class SweepRunner {
       }
       csv_ = dir_ / "sweep.csv";
       csv_x_ = dir_ / "sweep_explicit.csv";
-      resumed = resume_rows(csv_, points_, settings_, o_.adopt);
-      resumed_x = resume_rows(csv_x_, xpoints_, settings_x_, o_.adopt);
+      resumed = resume_rows(csv_, points_, settings_, o_.adopt, extendable(dir_, false));
+      resumed_x = resume_rows(csv_x_, xpoints_, settings_x_, o_.adopt, extendable(dir_, true));
       rows_ = std::move(resumed.rows);
       rows_x_ = std::move(resumed_x.rows);
       plan();
@@ -265,6 +267,16 @@ class SweepRunner {
 
   // What the sweep is, what it reused and dropped, what it runs; the tables rewritten to hold
   // exactly the reused rows (points are added as they finish).
+  // Whether point k (of points_, or xpoints_ with `x`) of the sweep in `out` kept the
+  // checkpoint of a capped lower bound (capped_lower_bound): one a larger limit continues.
+  [[nodiscard]] std::function<bool(std::size_t)> extendable(const fs::path& out, bool x) const {
+    return [this, out, x](std::size_t k) {
+      const SweepPoint& p = x ? xpoints_[k] : points_[k];
+      std::error_code ec;
+      return fs::exists(out / "points" / point_folder(p, x) / "checkpoint.capped.cbor", ec);
+    };
+  }
+
   void announce(const ResumedRows& resumed, const ResumedRows& resumed_x) {
     std::fprintf(stderr,
                  "friction_sweep: %zu points (model %s): R = %s d; %s = %s; %s envelope, "
@@ -294,6 +306,12 @@ class SweepRunner {
       if (res->adopted > 0) {
         std::fprintf(stderr, " (%zu of another build or other numerical settings, --adopt)",
                      res->adopted);
+      }
+      if (res->to_extend > 0) {
+        std::fprintf(stderr,
+                     "; %zu lower bound%s at a limit these settings raise continue%s from the "
+                     "checkpoint kept at the limit (--adopt)",
+                     res->to_extend, res->to_extend > 1 ? "s" : "", res->to_extend > 1 ? "" : "s");
       }
       // Dropped rows leave the table; their point folders stay until the points are run again.
       std::string why;
@@ -457,6 +475,20 @@ class SweepRunner {
     // sweep's own lock on dir_ (rank 0's, over MPI ranks) is not in the way.
     const DirectoryLock point_lock(ensure_directory(point_dir), dir_);
     const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
+    // A lower bound stopped at a limit keeps its last checkpoint (below); under --adopt a run
+    // with other limits continues from it. Without --adopt the point starts over as before, and
+    // the kept checkpoint stays for a later --adopt.
+    const fs::path capped_file = point_dir / "checkpoint.capped.cbor";
+    if (std::error_code ec;
+        o_.adopt && !fs::exists(checkpoint_file, ec) && fs::exists(capped_file, ec)) {
+      fs::rename(capped_file, checkpoint_file, ec);
+      const std::lock_guard lock(table_mutex_);
+      std::fprintf(stderr,
+                   "friction_sweep: %s%s, a lower bound at its limit, continues from the "
+                   "checkpoint kept there%s%s\n",
+                   job.x ? "explicit " : "", describe_point(point).c_str(),
+                   ec ? ": could not take it: " : "", ec ? ec.message().c_str() : "");
+    }
     // With --figures the point writes snapshots as it goes: a checkpoint of a run without them
     // cannot continue one with them (the frames before it would be missing).
     const std::string point_settings =
@@ -500,7 +532,17 @@ class SweepRunner {
       write_slide_outputs(point_dir, ps, result, oo);
     }
     std::error_code ec;
-    fs::remove(checkpoint_file, ec);  // the row is final
+    if (capped_lower_bound(result.mu_is_lower_bound, result.stop_reason) &&
+        fs::exists(checkpoint_file, ec)) {
+      // A lower bound only because a limit stopped it: its last checkpoint stays, for a larger
+      // limit under --adopt. It is from before the step that reached the limit (the slide
+      // checkpoints at the top of a step, and not at the cap), so a run continuing it with the
+      // larger limit takes the steps a run with that limit takes from the start.
+      fs::rename(checkpoint_file, capped_file, ec);
+    } else {
+      fs::remove(checkpoint_file, ec);  // the row is final
+      fs::remove(capped_file, ec);
+    }
     return sweep_row(ps, result, row_settings(job));
   }
 

@@ -568,8 +568,15 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   return row;
 }
 
+bool capped_lower_bound(bool mu_is_lower_bound, const std::string& stop_reason) {
+  // The stop reasons of slide/protocol.hpp at the automatic distance's cap and at max_slips.
+  return mu_is_lower_bound && (stop_reason == "distance cap reached" ||
+                               stop_reason.starts_with("slip event limit reached"));
+}
+
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
-                        const std::string& settings, bool adopt) {
+                        const std::string& settings, bool adopt,
+                        const std::function<bool(std::size_t)>& extendable) {
   ResumedRows out;
   out.rows.resize(points.size());
   if (!std::filesystem::exists(csv)) return out;
@@ -611,7 +618,14 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
       ++out.failed;
       continue;
     }
-    auto& slot = out.rows[static_cast<std::size_t>(it - points.begin())];
+    const auto k = static_cast<std::size_t>(it - points.begin());
+    if (other && extendable &&
+        capped_lower_bound(t.integer(i, "mu_is_lower_bound") != 0, t.text(i, "stop_reason")) &&
+        extendable(k)) {
+      ++out.to_extend;
+      continue;
+    }
+    auto& slot = out.rows[k];
     if (slot) continue;  // a repeated row (edited file): the first one stands
     const std::string envelope = t.text(i, "envelope");
     SweepRow row{

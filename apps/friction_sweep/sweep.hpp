@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -173,7 +174,16 @@ struct ResumedRows {
   std::size_t reused = 0;
   std::size_t adopted = 0;  // of the reused: rows of other settings taken under `adopt`
   std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
+  // Lower bounds of other settings stopped at a limit (capped_lower_bound) that `extendable`
+  // says can be continued: dropped under `adopt`, so that the point runs on from its kept
+  // checkpoint under the new limits instead of keeping the bound.
+  std::size_t to_extend = 0;
 };
+// Whether a finished point's friction is a lower bound only because it reached a limit a
+// longer run lifts: the automatic distance's cap (slide.max_distance) or slide.max_slips (the
+// stop reasons of slide/protocol.hpp). friction_sweep keeps the last checkpoint of such a
+// point (checkpoint.capped.cbor) so that a run with a larger limit and --adopt continues it.
+bool capped_lower_bound(bool mu_is_lower_bound, const std::string& stop_reason);
 // Throws std::invalid_argument if the file is not a sweep.csv (other columns). A table of an
 // earlier layout (without the tip's columns, or with a wall_s column) is accepted and all its
 // rows are dropped as other_settings: they came from another build, which the settings
@@ -182,8 +192,11 @@ struct ResumedRows {
 // checkpoint may be adopted across (the build, slide.*, solver.*, fft.*;
 // fingerprint_difference()) is reused too, its settings cell unchanged: the table says which
 // build and settings made each row.
+// With `adopt` and `extendable` (index into `points` -> whether the point keeps a capped
+// checkpoint), a capped lower bound of other settings is dropped instead (to_extend).
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
-                        const std::string& settings, bool adopt = false);
+                        const std::string& settings, bool adopt = false,
+                        const std::function<bool(std::size_t)>& extendable = {});
 
 // The quantity a sweep of this envelope plots and fits (SweepRow::relative_friction), e.g.
 // "mu/alpha", and the Regime II slope of its law: -2/3 (hertz: MODEL.md 8), -1/2 (adhesive:

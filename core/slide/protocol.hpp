@@ -797,12 +797,15 @@ class ProtocolRun {
   // when the stepping ends.
   std::optional<SlideResult> step() {
     if (stop_requested()) return interrupt(capture(false));
-    checkpoint_if_due();
     if (state_.Dx >= limit_ - 1e-12) {
       res_.stop_reason = automatic_ ? "distance cap reached" : "distance reached";
       stopped_ = true;
       return std::nullopt;
     }
+    // After the distance test: the last checkpoint of a slide stopped by its cap is then from
+    // before the step that was cut to land on the cap, so that a longer cap continuing it takes
+    // the steps a slide with that cap takes from the start (friction_sweep keeps it).
+    checkpoint_if_due();
     const Plan p = plan();
     State trial = state_;
     warm_start(trial, p.Dx);

@@ -397,6 +397,30 @@ TEST(SlideCheckpoint, IntervalCheckpointsChangeNothing) {
               "resumed from the last interval checkpoint");
 }
 
+// A slide stopped by its distance cap hands over no checkpoint at the cap: its last one is from
+// before the step that was cut to land there (protocol.hpp, step()). So a longer cap continuing
+// it (friction_sweep's capped lower bounds, --adopt) gives, bit for bit, the slide that had the
+// longer cap from the start.
+TEST(SlideCheckpoint, TheLastCheckpointOfACappedSlideContinuesUnderALongerCap) {
+  auto capped = scene(20.0, 0.0);
+  capped.options.max_distance = 0.45;
+  std::optional<SlideState> last;
+  const SlideResult first =
+      slide::slide(capped.contact, capped.options,
+                   SlideControl{.checkpoint = [&](const SlideState& st) { last = st; },
+                                .checkpoint_every_s = 0.0});
+  ASSERT_EQ(first.stop_reason, "distance cap reached");
+  ASSERT_TRUE(last.has_value());
+  EXPECT_LT(last->Dx, 0.45);  // not the state at the cap
+  auto longer = capped;
+  longer.options.max_distance = 2.0;
+  const SlideResult reference = slide::slide(longer.contact, longer.options);
+  EXPECT_GT(reference.trace.back().Dx, 0.45);
+  expect_same(reference,
+              slide::slide(longer.contact, longer.options, SlideControl{.start = &*last}),
+              "the capped slide's last checkpoint under a longer cap");
+}
+
 TEST(SlideCheckpoint, NonConvergenceStopsWithStepParametersAndLastGoodState) {
   auto s = scene(20.0, 0.0);
   s.options.minimizer.max_iterations = 12;  // enough on the ramp, not through the first slip
