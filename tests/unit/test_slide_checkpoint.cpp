@@ -411,7 +411,7 @@ TEST(SlideCheckpoint, TheLastCheckpointOfACappedSlideContinuesUnderALongerCap) {
                                 .checkpoint_every_s = 0.0});
   ASSERT_EQ(first.stop_reason, "distance cap reached");
   ASSERT_TRUE(last.has_value());
-  EXPECT_LT(last->Dx, 0.45);  // not the state at the cap
+  EXPECT_LT(last->current.Dx, 0.45);  // not the state at the cap
   auto longer = capped;
   longer.options.max_distance = 2.0;
   const SlideResult reference = slide::slide(longer.contact, longer.options);
