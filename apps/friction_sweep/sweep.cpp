@@ -568,11 +568,48 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   return row;
 }
 
+// The stop reasons of slide/protocol.hpp at the automatic distance's cap and at max_slips.
+constexpr std::string_view kCapReason = "distance cap reached";
+constexpr std::string_view kSlipLimitReason = "slip event limit reached";
+
 bool capped_lower_bound(bool mu_is_lower_bound, const std::string& stop_reason) {
-  // The stop reasons of slide/protocol.hpp at the automatic distance's cap and at max_slips.
-  return mu_is_lower_bound && (stop_reason == "distance cap reached" ||
-                               stop_reason.starts_with("slip event limit reached"));
+  return mu_is_lower_bound &&
+         (stop_reason == kCapReason || stop_reason.starts_with(kSlipLimitReason));
 }
+
+namespace {
+
+// The value of `key` in a settings fingerprint ("... slide.max_slips=12 ..."); NaN if absent.
+double fingerprint_number(const std::string& fingerprint, const std::string& key) {
+  const std::string item = " " + key + "=";
+  const std::string padded = " " + fingerprint;
+  const auto at = padded.find(item);
+  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+  try {
+    return std::stod(padded.substr(at + item.size()));
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+// Whether `now` raises the limit that stopped a row of `then` (stop_reason): a longer
+// slide.max_distance for the cap (0, the default cap, is not compared), a larger or no
+// slide.max_slips for the slip limit.
+bool raises_limit(const std::string& then, const std::string& now, const std::string& stop_reason) {
+  if (stop_reason == kCapReason) {
+    const double a = fingerprint_number(then, "slide.max_distance"),
+                 b = fingerprint_number(now, "slide.max_distance");
+    return a > 0.0 && b > a;
+  }
+  if (stop_reason.starts_with(kSlipLimitReason)) {
+    const double a = fingerprint_number(then, "slide.max_slips"),
+                 b = fingerprint_number(now, "slide.max_slips");
+    return a > 0.0 && (b == 0.0 || b > a);
+  }
+  return false;
+}
+
+}  // namespace
 
 ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<SweepPoint>& points,
                         const std::string& settings, bool adopt,
@@ -621,7 +658,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
     const auto k = static_cast<std::size_t>(it - points.begin());
     if (other && extendable &&
         capped_lower_bound(t.integer(i, "mu_is_lower_bound") != 0, t.text(i, "stop_reason")) &&
-        extendable(k)) {
+        raises_limit(row_settings, settings, t.text(i, "stop_reason")) && extendable(k)) {
       ++out.to_extend;
       continue;
     }

@@ -174,9 +174,10 @@ struct ResumedRows {
   std::size_t reused = 0;
   std::size_t adopted = 0;  // of the reused: rows of other settings taken under `adopt`
   std::size_t other_settings = 0, not_requested = 0, failed = 0;  // rows dropped, and why
-  // Lower bounds of other settings stopped at a limit (capped_lower_bound) that `extendable`
-  // says can be continued: dropped under `adopt`, so that the point runs on from its kept
-  // checkpoint under the new limits instead of keeping the bound.
+  // Lower bounds stopped at a limit (capped_lower_bound) that these settings raise
+  // (slide.max_distance or slide.max_slips) and that `extendable` says can be continued:
+  // dropped under `adopt`, so that the point runs on from its kept checkpoint instead of
+  // keeping the bound.
   std::size_t to_extend = 0;
 };
 // Whether a finished point's friction is a lower bound only because it reached a limit a
