@@ -241,6 +241,17 @@ TEST(FitScalingRegression, NoUpturnAtR1700) {
   }
 }
 
+namespace {
+
+// The summary's upturn at R, or nullptr.
+const nlohmann::json* upturn_at(const nlohmann::json& summary, double R) {
+  for (const auto& u : summary["regime_three_upturns"])
+    if (u["R"].get<double>() == R) return &u;
+  return nullptr;
+}
+
+}  // namespace
+
 // Acceptance 3 on the upturn the simulator produced (R = 40 d): past its lowest point mu/alpha
 // rises with a, and the integrated Regime III prediction (f_P = 0.5 of the local edge Peierls
 // stress of the project's own scan) rises too and lies within a factor 2 of every point of the
@@ -289,9 +300,7 @@ TEST(FitScalingRegression, RegimeThreePredictionFollowsTheUpturn) {
   EXPECT_LT(full / data, 2.0);
 
   const auto s = summary();
-  const nlohmann::json* u = nullptr;
-  for (const auto& v : s["regime_three_upturns"])
-    if (v["R"].get<double>() == 40.0) u = &v;
+  const nlohmann::json* u = upturn_at(s, 40.0);
   ASSERT_NE(u, nullptr) << "no upturn at R = 40 d in the summary";
   EXPECT_TRUE((*u)["same_sign_of_slope"].get<bool>());
   EXPECT_TRUE((*u)["within_factor_2"].get<bool>());
@@ -319,9 +328,7 @@ TEST(FitScalingRegression, UpturnAtR100PastTheCrossover) {
   }
   ASSERT_TRUE(found) << "no a = 60 d, R = 100 d row in predictions.csv";
   const auto s = summary();
-  const nlohmann::json* u = nullptr;
-  for (const auto& v : s["regime_three_upturns"])
-    if (v["R"].get<double>() == 100.0) u = &v;
+  const nlohmann::json* u = upturn_at(s, 100.0);
   ASSERT_NE(u, nullptr) << "no upturn at R = 100 d in the summary";
   EXPECT_TRUE((*u)["lower_bounds"].get<bool>());
   EXPECT_TRUE((*u)["slope_data_is_lower_bound"].get<bool>());
