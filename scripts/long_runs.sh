@@ -25,10 +25,12 @@ build=${BUILD_DIR:-build}
 # bare `start`)
 # Issue 23: Regime III at R = 800 d from a = 300 d, with step growth (data/reference/regime3_R800.md);
 # R = 100 d past the crossover (data/reference/regime3_R100.md); R = 1700 d, a = 510 d
-# (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9).
+# (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9); R = 100 d, a = 60 d with
+# a 16 d cap, to a final value (data/reference/regime3_R100.md).
 table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto
 r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip|auto
-r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|"
+r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|
+r100_a60|regime3_R100_a60_long.toml|r100/a60_long|--largest-slip|"
 
 pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
 
