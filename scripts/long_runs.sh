@@ -7,6 +7,11 @@
 #                                          below: this machine has 2 cores, so two at a time)
 #   scripts/long_runs.sh status            where each run is: its last progress line
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
+#   scripts/long_runs.sh adopt name...     continue a stopped run once with --adopt under a copy
+#                                          of this checkout's build, which it keeps from then on:
+#                                          a run whose binary is gone, one moved to a new build,
+#                                          or one whose scene copy (<out>.scene.toml) raises a
+#                                          limit its capped points stopped at (docs/reliability.md)
 #
 # Each run keeps its own copy of friction_sweep, named by the commit it was built from: a
 # checkpoint names its build, and a later build continues it only with --adopt
@@ -34,6 +39,31 @@ r100_a60|regime3_R100_a60_long.toml|r100/a60_long|--largest-slip|"
 
 pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
 
+# A copy of this checkout's friction_sweep in $runs/bin, named by its commit (built if needed).
+current_binary() {
+  git diff --quiet HEAD -- core apps ||
+    { echo "core/ or apps/ has changes: commit first (a binary is named by its commit)" >&2; return 1; }
+  local bin
+  bin="$runs/bin/friction_sweep.$(git rev-parse --short HEAD)"
+  if [ ! -x "$bin" ]; then
+    mkdir -p "$runs/bin"
+    cmake --build "$build" --target friction_sweep -j 2 >/dev/null
+    cp "$build/bin/friction_sweep" "$bin"
+  fi
+  echo "$bin"
+}
+
+# The run's command, in the background at nice 10, its output appended to its log.
+launch() {
+  local bin=$1 out=$2 scene=$3 flags=$4
+  # The scene beside the run, as the run first read it (the repository's copy may move on).
+  local copy="$runs/$out.scene.toml"
+  [ -f "$copy" ] || cp "data/scenes/$scene" "$copy"
+  # shellcheck disable=SC2086
+  nohup nice -n 10 "$bin" "$copy" --out "$runs/$out" $flags >>"$runs/$out.log" 2>&1 &
+  echo "started $(basename "$bin") (pid $!); log $runs/$out.log"
+}
+
 start() {
   local name=$1 scene=$2 out=$3 flags=$4
   if [ -n "$(pids_of "$out")" ]; then
@@ -48,24 +78,27 @@ start() {
   if [ -z "$bin" ] || [ ! -x "$bin" ]; then
     if [ -n "$bin" ] && ls "$runs/$out"/points/*/checkpoint.cbor >/dev/null 2>&1; then
       echo "$name: its binary $bin is gone but its checkpoints are not: continue them under" \
-        "this build with --adopt (docs/reliability.md), by hand" >&2
+        "this build with: scripts/long_runs.sh adopt $name" >&2
       return 1
     fi
-    git diff --quiet HEAD -- core apps ||
-      { echo "$name: core/ or apps/ has changes: commit first (a binary is named by its commit)" >&2; return 1; }
-    bin="$runs/bin/friction_sweep.$(git rev-parse --short HEAD)"
-    if [ ! -x "$bin" ]; then
-      cmake --build "$build" --target friction_sweep -j 2 >/dev/null
-      cp "$build/bin/friction_sweep" "$bin"
-    fi
+    bin=$(current_binary) || return 1
     basename "$bin" >"$runs/$out.binary"
   fi
-  # The scene beside the run, as the run first read it (the repository's copy may move on).
-  local copy="$runs/$out.scene.toml"
-  [ -f "$copy" ] || cp "data/scenes/$scene" "$copy"
-  # shellcheck disable=SC2086
-  nohup nice -n 10 "$bin" "$copy" --out "$runs/$out" $flags >>"$runs/$out.log" 2>&1 &
-  echo "$name: started $(basename "$bin") (pid $!); log $runs/$out.log"
+  echo "$name: $(launch "$bin" "$out" "$scene" "$flags")"
+}
+
+adopt() {
+  local name=$1 scene=$2 out=$3 flags=$4
+  if [ -n "$(pids_of "$out")" ]; then
+    echo "$name: running: stop it first (scripts/long_runs.sh stop $name)" >&2
+    return 1
+  fi
+  mkdir -p "$runs/$out"
+  local bin
+  bin=$(current_binary) || return 1
+  basename "$bin" >"$runs/$out.binary"
+  echo "--- $(date -u +%FT%TZ) continued with --adopt under $(basename "$bin")" >>"$runs/$out.log"
+  echo "$name: $(launch "$bin" "$out" "$scene" "$flags --adopt")"
 }
 
 status() {
@@ -102,8 +135,12 @@ while IFS='|' read -r name scene out flags auto; do
     start) start "$name" "$scene" "$out" "$flags" ;;
     status) status "$name" "$scene" "$out" "$flags" ;;
     stop) stop "$name" "$scene" "$out" "$flags" ;;
+    adopt)
+      [ "$want" != "  " ] || { echo "adopt: name the runs" >&2; exit 2; }
+      adopt "$name" "$scene" "$out" "$flags"
+      ;;
     *)
-      echo "usage: scripts/long_runs.sh start|status|stop [name...]" >&2
+      echo "usage: scripts/long_runs.sh start|status|stop|adopt [name...]" >&2
       exit 2
       ;;
   esac
