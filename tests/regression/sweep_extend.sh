@@ -1,41 +1,42 @@
 #!/usr/bin/env bash
 # Regression tier: a lower bound stopped at a limit is continued, not recomputed. A point cut at
-# 6 slip events (slide.max_slips: mu a lower bound) keeps its last checkpoint as
-# checkpoint.capped.cbor; the sweep run again with the limit at 12 and --adopt drops the bound's
-# row, continues the point from that checkpoint and writes the row a sweep with 12 from the start
+# 3 slip events (slide.max_slips: mu a lower bound) keeps its last checkpoint as
+# checkpoint.capped.cbor; the sweep run again with the limit at 6 and --adopt drops the bound's
+# row, continues the point from that checkpoint and writes the row a sweep with 6 from the start
 # writes, byte for byte. Without --adopt the point would start over (and keep the checkpoint).
 # Usage: sweep_extend.sh FRICTION_SWEEP SCENE OUT   (SCENE: sweep_adopt.toml, max_slips = 12)
 set -euo pipefail
 bin=$1 scene=$2 out=$3
 rm -rf "$out"
 mkdir -p "$out"
-short="$out/short.toml"
-sed 's/^max_slips = 12$/max_slips = 6/' "$scene" > "$short"
-grep -q '^max_slips = 6$' "$short" || { echo "the scene has no 'max_slips = 12' line"; exit 1; }
+short="$out/short.toml" long="$out/long.toml"
+sed 's/^max_slips = 12$/max_slips = 3/' "$scene" > "$short"
+sed 's/^max_slips = 12$/max_slips = 6/' "$scene" > "$long"
+grep -q '^max_slips = 3$' "$short" || { echo "the scene has no 'max_slips = 12' line"; exit 1; }
 sweep="$out/sweep" point="$out/sweep/points/a24_R40"
 
 # A checkpoint after every step, so that the point has one whatever the machine's speed.
 "$bin" "$short" --out "$sweep" --checkpoint-every 0 > "$out/short.log" 2>&1 ||
   { cat "$out/short.log"; exit 1; }
 row=$(grep '^24,' "$sweep/sweep.csv") || { cat "$sweep/sweep.csv"; exit 1; }
-case "$row" in *",6,"*"slip event limit reached"*) ;; *) echo "short row: $row"; exit 1 ;; esac
+case "$row" in *",3,"*"slip event limit reached"*) ;; *) echo "short row: $row"; exit 1 ;; esac
 [ -f "$point/checkpoint.capped.cbor" ] || { echo "the capped point kept no checkpoint"; ls "$point"; exit 1; }
 [ ! -e "$point/checkpoint.cbor" ] || { echo "the finished point left checkpoint.cbor"; exit 1; }
 
-"$bin" "$scene" --out "$sweep" --adopt --checkpoint-every 0 > "$out/extend.log" 2>&1 ||
+"$bin" "$long" --out "$sweep" --adopt --checkpoint-every 0 > "$out/extend.log" 2>&1 ||
   { cat "$out/extend.log"; exit 1; }
 for expected in "1 lower bound at a limit these settings raise continues" \
   "a = 24 d, R = 40 d, a lower bound at its limit, continues from the checkpoint kept there" \
   "resuming a = 24 d, R = 40 d from its checkpoint"; do
   grep -q "$expected" "$out/extend.log" || { echo "missing '$expected':"; cat "$out/extend.log"; exit 1; }
 done
-# Stopped at 12 slips, the point is a capped lower bound again: it keeps its newer checkpoint.
+# Stopped at 6 slips, the point is a capped lower bound again: it keeps its newer checkpoint.
 [ -f "$point/checkpoint.capped.cbor" ] && [ ! -e "$point/checkpoint.cbor" ] ||
   { echo "checkpoints:"; ls "$point"; exit 1; }
 
-"$bin" "$scene" --out "$out/direct" --checkpoint-every 0 > "$out/direct.log" 2>&1 ||
+"$bin" "$long" --out "$out/direct" --checkpoint-every 0 > "$out/direct.log" 2>&1 ||
   { cat "$out/direct.log"; exit 1; }
 extended=$(grep '^24,' "$sweep/sweep.csv") direct=$(grep '^24,' "$out/direct/sweep.csv")
-case "$direct" in *",12,"*"slip event limit reached"*) ;; *) echo "direct row: $direct"; exit 1 ;; esac
+case "$direct" in *",6,"*"slip event limit reached"*) ;; *) echo "direct row: $direct"; exit 1 ;; esac
 [ "$extended" = "$direct" ] || { printf 'extended: %s\ndirect:   %s\n' "$extended" "$direct"; exit 1; }
-echo "the 6-slip lower bound continued to 12 slips: the row of a 12-slip sweep, byte for byte"
+echo "the 3-slip lower bound continued to 6 slips: the row of a 6-slip sweep, byte for byte"
