@@ -7,11 +7,15 @@
 #                                          below: this machine has 2 cores, so two at a time)
 #   scripts/long_runs.sh status            where each run is: its last progress line
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
-#   scripts/long_runs.sh adopt name...     continue a stopped run once with --adopt under a copy
-#                                          of this checkout's build, which it keeps from then on:
+#   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
+#                                          this checkout's build, which it keeps from then on:
 #                                          a run whose binary is gone, one moved to a new build,
 #                                          or one whose scene copy (<out>.scene.toml) raises a
-#                                          limit its capped points stopped at (docs/reliability.md)
+#                                          limit its capped points stopped at (docs/reliability.md).
+#                                          The run is marked (<out>.adopt): every later start
+#                                          passes --adopt too, since its table keeps rows and
+#                                          checkpoints of the earlier build that only --adopt
+#                                          accepts (without it they would be computed again)
 #
 # Each run keeps its own copy of friction_sweep, named by the commit it was built from: a
 # checkpoint names its build, and a later build continues it only with --adopt
@@ -46,9 +50,10 @@ current_binary() {
   local bin
   bin="$runs/bin/friction_sweep.$(git rev-parse --short HEAD)"
   if [ ! -x "$bin" ]; then
-    mkdir -p "$runs/bin"
-    cmake --build "$build" --target friction_sweep -j 2 >/dev/null
-    cp "$build/bin/friction_sweep" "$bin"
+    mkdir -p "$runs/bin" || return 1
+    cmake --build "$build" --target friction_sweep -j 2 >/dev/null ||
+      { echo "the build of friction_sweep failed" >&2; return 1; }
+    cp "$build/bin/friction_sweep" "$bin" || return 1
   fi
   echo "$bin"
 }
@@ -84,6 +89,8 @@ start() {
     bin=$(current_binary) || return 1
     basename "$bin" >"$runs/$out.binary"
   fi
+  # An adopted run's table and checkpoints hold rows and states of an earlier build.
+  [ -f "$runs/$out.adopt" ] && flags="$flags --adopt"
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags")"
 }
 
@@ -97,6 +104,7 @@ adopt() {
   local bin
   bin=$(current_binary) || return 1
   basename "$bin" >"$runs/$out.binary"
+  date -u +%FT%TZ >"$runs/$out.adopt"
   echo "--- $(date -u +%FT%TZ) continued with --adopt under $(basename "$bin")" >>"$runs/$out.log"
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags --adopt")"
 }

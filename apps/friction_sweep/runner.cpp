@@ -485,7 +485,7 @@ class SweepRunner {
       const std::lock_guard lock(table_mutex_);
       std::fprintf(stderr,
                    "friction_sweep: %s%s, a lower bound at its limit, continues from the "
-                   "checkpoint kept there%s%s\n",
+                   "checkpoint kept there if it fits these settings%s%s\n",
                    job.x ? "explicit " : "", describe_point(point).c_str(),
                    ec ? ": could not take it: " : "", ec ? ec.message().c_str() : "");
     }
@@ -505,6 +505,11 @@ class SweepRunner {
     PointSinks sinks;
     open_sinks(sinks, point_dir, point, ps, extra, start);
     auto& frames = sinks.frames;
+    // Whether the last checkpoint holds a paused slip flow: such a state continues the step it
+    // was in as that step was cut by the limit, and under the reference protocol a larger
+    // limit would plan another step than the paused one (a refused start), so it is not kept
+    // for a larger limit (below).
+    bool last_checkpoint_paused = start && start->state.pending.has_value();
     const slide::SlideControl control{
         .progress = progress_of(job, point),
         .checkpoint =
@@ -512,6 +517,7 @@ class SweepRunner {
               ensure_directory(point_dir);
               if (frames) frames->flush();
               write_checkpoint(checkpoint_file, {.settings = point_settings, .state = state});
+              last_checkpoint_paused = state.pending.has_value();
             },
         .checkpoint_every_s = o_.checkpoint_every,
         .stop_requested = stop_requested,
@@ -533,11 +539,13 @@ class SweepRunner {
     }
     std::error_code ec;
     if (capped_lower_bound(result.mu_is_lower_bound, result.stop_reason) &&
-        fs::exists(checkpoint_file, ec)) {
+        !last_checkpoint_paused && fs::exists(checkpoint_file, ec)) {
       // A lower bound only because a limit stopped it: its last checkpoint stays, for a larger
-      // limit under --adopt. It is from before the step that reached the limit (the slide
-      // checkpoints at the top of a step, and not at the cap), so a run continuing it with the
-      // larger limit takes the steps a run with that limit takes from the start.
+      // limit under --adopt. It is from the top of a step before the one that reached the limit
+      // (the slide does not checkpoint at the cap), so the continued run takes that step again
+      // under the larger limit: the steps of a run with that limit from the start, unless a
+      // trial step before the checkpoint was already cut to the cap and slipped (an adaptive
+      // bracket ending at the cap), when it continues that bracket (docs/reliability.md).
       fs::rename(checkpoint_file, capped_file, ec);
     } else {
       fs::remove(checkpoint_file, ec);  // the row is final

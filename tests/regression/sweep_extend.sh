@@ -26,7 +26,7 @@ case "$row" in *",3,"*"slip event limit reached"*) ;; *) echo "short row: $row";
 "$bin" "$long" --out "$sweep" --adopt --checkpoint-every 0 > "$out/extend.log" 2>&1 ||
   { cat "$out/extend.log"; exit 1; }
 for expected in "1 lower bound at a limit these settings raise continues" \
-  "a = 24 d, R = 40 d, a lower bound at its limit, continues from the checkpoint kept there" \
+  "a = 24 d, R = 40 d, a lower bound at its limit, continues from the checkpoint kept there if" \
   "resuming a = 24 d, R = 40 d from its checkpoint"; do
   grep -q "$expected" "$out/extend.log" || { echo "missing '$expected':"; cat "$out/extend.log"; exit 1; }
 done
