@@ -82,17 +82,14 @@ MapAgreement map_agreement(std::span<const PointComparison> comparisons) {
   m.points = comparisons.size();
   for (const PointComparison& c : comparisons) {
     if (c.undetermined) ++m.undetermined;
+    if (!c.law_extrapolated) ++m.in_law;
     // A lower bound of unknown regime is no evidence either way: neither an agreement nor a
     // contradiction.
     if (c.simulated_undetermined) {
       ++m.simulated_undetermined;
-      if (!c.law_extrapolated) ++m.in_law;
       continue;
     }
-    if (!c.law_extrapolated) {
-      ++m.in_law;
-      if (c.agrees()) ++m.agree_in_law;
-    }
+    if (!c.law_extrapolated && c.agrees()) ++m.agree_in_law;
     if (c.agrees()) {
       ++m.agree;
     } else if (!c.undetermined) {

@@ -21,6 +21,13 @@ namespace nuc = asperity::nucleation;
 
 namespace {
 
+// The marker of lower bounds (a slide that reached its cap still rising), in both figures: an
+// up-triangle around the point.
+app::Series lower_bound_series() {
+  return {.title = "lower bound (slide capped while rising)",
+          .style = "points pt 8 ps 3 lc 'black'"};
+}
+
 // mu/alpha vs a/b_core^0 (log-log): data by model and R, the Regime I line, the fitted Regime II
 // law and the nucleation condition, the Regime III predictions per R.
 fs::path collapse_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
@@ -46,9 +53,7 @@ fs::path collapse_figure(const fs::path& dir, const std::vector<DataPoint>& pts,
         "points pt " + marker_of[key.first] + " ps 1.6 lc rgb '" + colour_of[key.second] + "'";
     s.push_back(g);
   }
-  // Lower bounds (the slide reached its cap still rising): an up-triangle around the point.
-  app::Series bounds{.title = "lower bound (slide capped while rising)",
-                     .style = "points pt 8 ps 3 lc 'black'"};
+  app::Series bounds = lower_bound_series();
   for (const auto& p : pts) {
     if (!p.lower_bound) continue;
     bounds.x.push_back(p.x);
@@ -199,8 +204,7 @@ fs::path regime_map_figure(const fs::path& dir, const std::vector<DataPoint>& pt
   app::Series wrong{.title = "predicted regime differs", .style = "points pt 6 ps 3 lc 'black'"};
   app::Series open{.title = "differs, on a boundary within 2 errors or a lower bound",
                    .style = "points pt 4 ps 3 lc 'black'"};
-  app::Series bound{.title = "lower bound (slide capped while rising)",
-                    .style = "points pt 8 ps 3 lc 'black'"};
+  app::Series bound = lower_bound_series();
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const nuc::PointComparison& cmp = an.comparisons[i];
     if (cmp.lower_bound) {

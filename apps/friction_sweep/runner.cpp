@@ -265,8 +265,6 @@ class SweepRunner {
         dir_.string(), disk, "estimate for 10 slip events per point, uncompressed");
   }
 
-  // What the sweep is, what it reused and dropped, what it runs; the tables rewritten to hold
-  // exactly the reused rows (points are added as they finish).
   // Whether point k (of points_, or xpoints_ with `x`) of the sweep in `out` kept the
   // checkpoint of a capped lower bound (capped_lower_bound): one a larger limit continues.
   [[nodiscard]] std::function<bool(std::size_t)> extendable(const fs::path& out, bool x) const {
@@ -277,6 +275,8 @@ class SweepRunner {
     };
   }
 
+  // What the sweep is, what it reused and dropped, what it runs; the tables rewritten to hold
+  // exactly the reused rows (points are added as they finish).
   void announce(const ResumedRows& resumed, const ResumedRows& resumed_x) {
     std::fprintf(stderr,
                  "friction_sweep: %zu points (model %s): R = %s d; %s = %s; %s envelope, "

@@ -579,34 +579,31 @@ bool capped_lower_bound(bool mu_is_lower_bound, const std::string& stop_reason) 
 
 namespace {
 
-// The value of `key` in a settings fingerprint ("... slide.max_slips=12 ..."); NaN if absent.
-double fingerprint_number(const std::string& fingerprint, const std::string& key) {
-  const std::string item = " " + key + "=";
-  const std::string padded = " " + fingerprint;
-  const auto at = padded.find(item);
-  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
-  try {
-    return std::stod(padded.substr(at + item.size()));
-  } catch (const std::exception&) {
-    return std::numeric_limits<double>::quiet_NaN();
+// The value of `key` among fingerprint items ("slide.max_slips=12"); NaN if none holds it.
+double item_number(const std::vector<std::string>& items, const std::string& key) {
+  const std::string prefix = key + "=";
+  for (const auto& item : items) {
+    if (!item.starts_with(prefix)) continue;
+    double v = std::numeric_limits<double>::quiet_NaN();
+    const char* first = item.data() + prefix.size();
+    std::from_chars(first, item.data() + item.size(), v);
+    return v;
   }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
-// Whether `now` raises the limit that stopped a row of `then` (stop_reason): a longer
-// slide.max_distance for the cap (0, the default cap, is not compared), a larger or no
-// slide.max_slips for the slip limit.
-bool raises_limit(const std::string& then, const std::string& now, const std::string& stop_reason) {
-  if (stop_reason == kCapReason) {
-    const double a = fingerprint_number(then, "slide.max_distance"),
-                 b = fingerprint_number(now, "slide.max_distance");
-    return a > 0.0 && b > a;
-  }
-  if (stop_reason.starts_with(kSlipLimitReason)) {
-    const double a = fingerprint_number(then, "slide.max_slips"),
-                 b = fingerprint_number(now, "slide.max_slips");
-    return a > 0.0 && (b == 0.0 || b > a);
-  }
-  return false;
+// Whether the settings of a row (`diff.removed`) raise, in these (`diff.added`), the limit that
+// stopped it (stop_reason): a longer slide.max_distance for the cap (0, the default cap, is not
+// compared), a larger or no slide.max_slips for the slip limit.
+bool raises_limit(const FingerprintDifference& diff, const std::string& stop_reason) {
+  const std::string key = stop_reason == kCapReason                   ? "slide.max_distance"
+                          : stop_reason.starts_with(kSlipLimitReason) ? "slide.max_slips"
+                                                                      : "";
+  if (key.empty()) return false;
+  const double then = item_number(diff.removed, key), now = item_number(diff.added, key);
+  if (!(then > 0.0)) return false;
+  if (key == "slide.max_slips" && now == 0.0) return true;  // no slip limit any more
+  return now > then;
 }
 
 }  // namespace
@@ -647,7 +644,9 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
     // A row of other settings is kept only when adopted (--adopt, adoptable items only).
     const std::string row_settings = t.text(i, "settings");
     const bool other = row_settings != settings;
-    if (other && !(adopt && fingerprint_difference(row_settings, settings).fixed.empty())) {
+    const FingerprintDifference diff =
+        other ? fingerprint_difference(row_settings, settings) : FingerprintDifference{};
+    if (other && !(adopt && diff.fixed.empty())) {
       ++out.other_settings;
       continue;
     }
@@ -658,7 +657,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
     const auto k = static_cast<std::size_t>(it - points.begin());
     if (other && extendable &&
         capped_lower_bound(t.integer(i, "mu_is_lower_bound") != 0, t.text(i, "stop_reason")) &&
-        raises_limit(row_settings, settings, t.text(i, "stop_reason")) && extendable(k)) {
+        raises_limit(diff, t.text(i, "stop_reason")) && extendable(k)) {
       ++out.to_extend;
       continue;
     }
