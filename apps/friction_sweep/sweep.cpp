@@ -568,13 +568,9 @@ SweepRow error_row(const SlideScene& scene, const std::string& message, double w
   return row;
 }
 
-// The stop reasons of slide/protocol.hpp at the automatic distance's cap and at max_slips.
-constexpr std::string_view kCapReason = "distance cap reached";
-constexpr std::string_view kSlipLimitReason = "slip event limit reached";
-
 bool capped_lower_bound(bool mu_is_lower_bound, const std::string& stop_reason) {
   return mu_is_lower_bound &&
-         (stop_reason == kCapReason || stop_reason.starts_with(kSlipLimitReason));
+         (stop_reason == slide::kStopDistanceCap || stop_reason == slide::kStopSlipLimit);
 }
 
 namespace {
@@ -596,9 +592,9 @@ double item_number(const std::vector<std::string>& items, const std::string& key
 // stopped it (stop_reason): a longer slide.max_distance for the cap (0, the default cap, is not
 // compared), a larger or no slide.max_slips for the slip limit.
 bool raises_limit(const FingerprintDifference& diff, const std::string& stop_reason) {
-  const std::string key = stop_reason == kCapReason                   ? "slide.max_distance"
-                          : stop_reason.starts_with(kSlipLimitReason) ? "slide.max_slips"
-                                                                      : "";
+  const std::string key = stop_reason == slide::kStopDistanceCap ? "slide.max_distance"
+                          : stop_reason == slide::kStopSlipLimit ? "slide.max_slips"
+                                                                 : "";
   if (key.empty()) return false;
   const double then = item_number(diff.removed, key), now = item_number(diff.added, key);
   if (!(then > 0.0)) return false;

@@ -290,7 +290,6 @@ class ProtocolRun {
   // 0.86 to 1.006 in Regime II, where edge sites catch up while sticking; mostly 0.001 to 0.03
   // in Regime III, with a few larger partial slips of 0.58 to 0.84).
   static constexpr double kSweptSlip = 0.5;
-  static constexpr const char* kSlipLimit = "slip event limit reached (slide.max_slips)";
 
   // Where the next step goes: its tip position; whether it is a trial that is undone if it
   // slips (the adaptive protocol's steps and bisection); the window state it probes the cycle
@@ -681,7 +680,7 @@ class ProtocolRun {
     // The user's bound on the slips (a long Regime III run): after the automatic rule, so that a
     // peak that held at this slip is reported as established.
     if (options_.max_slips > 0 && res_.slip_events >= options_.max_slips) {
-      res_.stop_reason = kSlipLimit;
+      res_.stop_reason = kStopSlipLimit;
       return true;
     }
     // Adaptive: the even steps start at most one step past the maximum, and the kinetic window
@@ -798,7 +797,7 @@ class ProtocolRun {
   std::optional<SlideResult> step() {
     if (stop_requested()) return interrupt(capture(false));
     if (state_.Dx >= limit_ - 1e-12) {
-      res_.stop_reason = automatic_ ? "distance cap reached" : "distance reached";
+      res_.stop_reason = automatic_ ? std::string(kStopDistanceCap) : "distance reached";
       stopped_ = true;
       return std::nullopt;
     }
@@ -1086,8 +1085,8 @@ class ProtocolRun {
     // So is a peak of a slide stopped by SlideOptions::max_slips before the peak had held.
     res_.mu_is_lower_bound =
         peak_->Dx == res_.trace.back().Dx ||
-        (automatic_ && res_.slip_events > 0 && res_.stop_reason == "distance cap reached") ||
-        res_.stop_reason == kSlipLimit;
+        (automatic_ && res_.slip_events > 0 && res_.stop_reason == kStopDistanceCap) ||
+        res_.stop_reason == kStopSlipLimit;
     peak_value_ = best_;
     res_.peak_Dx = peak_->Dx;
     const auto at_peak = std::find_if(res_.trace.begin(), res_.trace.end(),

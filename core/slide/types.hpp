@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "asperity/core/common/comm.hpp"
@@ -118,6 +119,11 @@ struct TraceRow {
                            // repeats, SlideOptions::replay_cycle), not computed: no iterations
   double area = 0.0;       // contact-site area N_c d^2 (d^2; lateral force model; explicit: 0)
 };
+
+// The stop reasons (SlideResult::stop_reason) that other layers test: friction_sweep continues a
+// lower bound stopped at one of these limits when a later run raises it.
+inline constexpr std::string_view kStopDistanceCap = "distance cap reached";  // slide.max_distance
+inline constexpr std::string_view kStopSlipLimit = "slip event limit reached (slide.max_slips)";
 
 struct SlideResult {
   std::vector<TraceRow> trace;  // accepted steps, Dx increasing (first row: Dx = 0)

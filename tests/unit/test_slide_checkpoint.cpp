@@ -409,7 +409,7 @@ TEST(SlideCheckpoint, TheLastCheckpointOfACappedSlideContinuesUnderALongerCap) {
       slide::slide(capped.contact, capped.options,
                    SlideControl{.checkpoint = [&](const SlideState& st) { last = st; },
                                 .checkpoint_every_s = 0.0});
-  ASSERT_EQ(first.stop_reason, "distance cap reached");
+  ASSERT_EQ(first.stop_reason, slide::kStopDistanceCap);
   ASSERT_TRUE(last.has_value());
   EXPECT_LT(last->current.Dx, 0.45);  // not the state at the cap
   auto longer = capped;
