@@ -5,9 +5,9 @@
 // - data/reference/regime3_R1700.csv (R = 1700 d, a = 250 d up) and regime3_R100.csv (R = 100 d,
 //   a = 30 ... 50 d): the prediction against the large contacts, and what they show (no upturn
 //   in their range);
-// - data/reference/regime3_R40.csv (R = 40 d, a = 12 ... 36 d, slid until the peak holds): the
-//   Regime III upturn, against the prediction built from the project's Peierls scan
-//   (acceptance 3);
+// - data/reference/regime3_R40.csv (R = 40 d, a = 12 ... 36 d, slid until the peak holds) and
+//   regime3_R40_fill.csv (a = 22, 26, 30 d between them): the Regime III upturn, against the
+//   prediction built from the project's Peierls scan (acceptance 3);
 // - the regime map puts every committed point in its simulated regime where the Peierls law is
 //   used within its fitted window, and every simulated Regime III point is predicted so.
 // The Peierls law comes from the project's own peierls_scan (default scene, run by the fixture).
@@ -108,10 +108,13 @@ TEST(FitScalingRegression, RegimeTwoFitOnTheR535Sweep) {
 
 // Acceptance 4, as far as the prediction's input holds: every point whose centre core width
 // b_core^0 lies within the Peierls fit window (2..6 d) is predicted in its simulated regime.
-// Outside it disagreements are listed, not hidden (docs/nucleation.md: R = 40 d, a = 28 d, on
-// the predicted crossover). Inside the window the Regime III law is small against nucleation,
-// so the check that tests the law is the other: every point the simulation puts in Regime III
-// (friction rising with load) is predicted in Regime III.
+// Outside it disagreements are listed, not hidden. Inside the window the Regime III law is small
+// against nucleation, so the check that tests the law is the other: every point the simulation
+// puts in Regime III (friction rising with load) is predicted in Regime III. And since the
+// R = 40 d branch was sampled at a = 22, 26 and 30 d too (its lowest point is a = 26 d, not
+// 24 d: data/reference/regime3_R40_fill.md), every committed point is in its simulated regime
+// (issue 23's third acceptance item); a table that breaks this must be explained, not the rise
+// tolerance moved (docs/nucleation.md).
 namespace {
 
 // Every point of the fit in `dir` is predicted in its simulated regime where the Peierls law is
@@ -163,6 +166,7 @@ void expect_map_reproduces_simulated_regimes(const std::string& dir) {
   // Not a blanket pass: the boundary points are few.
   EXPECT_LE(undetermined, 3);
   EXPECT_EQ(map["agree_law_in_window"].get<int>(), map["points_law_in_window"].get<int>());
+  EXPECT_EQ(map["agree"].get<int>(), map["points"].get<int>() - simulated_open);
 }
 
 }  // namespace
@@ -178,7 +182,7 @@ TEST(FitScalingRegression, RegimeMapReproducesEverySimulatedRegimeWithinTheLawsW
 TEST(FitScalingRegression, RegimeMapOfEveryCommittedTableBothModels) {
   expect_map_reproduces_simulated_regimes(FIT_ALL_DIR);
   const auto s = summary(FIT_ALL_DIR);
-  EXPECT_EQ(s["inputs"]["sweeps"].size(), 9u);  // the 5 LFM tables, R = 800 d, the 3 others
+  EXPECT_EQ(s["inputs"]["sweeps"].size(), 10u);  // the 6 LFM tables, R = 800 d, the 3 others
   EXPECT_EQ(s["inputs"]["alpha"].get<double>(), 0.7);
   EXPECT_EQ(s["inputs"]["alpha_rule"].get<std::string>(), "the lateral force model's");
   EXPECT_EQ(s["inputs"]["alpha_range"][0].get<double>(), 0.7);
@@ -261,6 +265,8 @@ TEST(FitScalingRegression, RegimeThreePredictionFollowsTheUpturn) {
   std::vector<std::size_t> rows;
   for (std::size_t i = 0; i < t.rows(); ++i)
     if (t.number(i, "R") == 40.0) rows.push_back(i);
+  // By a: the points of R = 40 d come from two tables (regime3_R40_fill.csv fills in between).
+  std::ranges::sort(rows, {}, [&](std::size_t i) { return t.number(i, "a"); });
   ASSERT_GE(rows.size(), 5u);
   std::size_t lowest = 0;
   for (std::size_t k = 1; k < rows.size(); ++k)
