@@ -98,7 +98,10 @@ class SweepRunner {
       to_run += kept.rows[k] ? 0 : 1;
       std::printf("  %s: a/b_core^0 = %.4g, about %.0f MB: %s\n",
                   describe_point(points_[k]).c_str(), c.a_over_bcore0(), bytes / 1e6,
-                  kept.rows[k] ? "kept from the table" : "to run");
+                  kept.rows[k]     ? "kept from the table"
+                  : kept.extend[k] ? "to run on from the checkpoint kept at the limit these "
+                                     "settings raise (a lower bound in the table)"
+                                   : "to run");
     }
     for (std::size_t k = 0; k < xpoints_.size(); ++k) {
       to_run += kept_x.rows[k] ? 0 : 1;
@@ -106,10 +109,10 @@ class SweepRunner {
                   kept_x.rows[k] ? "kept from the table" : "to run");
     }
     std::printf(
-        "to run: %zu; kept: %zu; rows of other settings dropped: %zu; largest slide "
-        "about %.0f MB\n",
-        to_run, kept.reused + kept_x.reused, kept.other_settings + kept_x.other_settings,
-        largest / 1e6);
+        "to run: %zu (%zu of them continued from a capped checkpoint); kept: %zu; rows of "
+        "other settings dropped: %zu; largest slide about %.0f MB\n",
+        to_run, kept.to_extend + kept_x.to_extend, kept.reused + kept_x.reused,
+        kept.other_settings + kept_x.other_settings, largest / 1e6);
     return 0;
   }
 

@@ -609,6 +609,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
                         const std::function<bool(std::size_t)>& extendable) {
   ResumedRows out;
   out.rows.resize(points.size());
+  out.extend.resize(points.size());
   if (!std::filesystem::exists(csv)) return out;
   const CsvTable t = CsvTable::read(csv);
   if (is_earlier_layout(t.columns())) {
@@ -655,6 +656,7 @@ ResumedRows resume_rows(const std::filesystem::path& csv, const std::vector<Swee
         capped_lower_bound(t.integer(i, "mu_is_lower_bound") != 0, t.text(i, "stop_reason")) &&
         raises_limit(diff, t.text(i, "stop_reason")) && extendable(k)) {
       ++out.to_extend;
+      out.extend[k] = true;
       continue;
     }
     auto& slot = out.rows[k];

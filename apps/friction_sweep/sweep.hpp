@@ -179,6 +179,7 @@ struct ResumedRows {
   // dropped under `adopt`, so that the point runs on from its kept checkpoint instead of
   // keeping the bound.
   std::size_t to_extend = 0;
+  std::vector<bool> extend;  // per point of `points`: one of the to_extend
 };
 // Whether a finished point's friction is a lower bound only because it reached a limit a
 // longer run lifts: the automatic distance's cap (slide.max_distance) or slide.max_slips (the

@@ -23,6 +23,13 @@ case "$row" in *",3,"*"slip event limit reached"*) ;; *) echo "short row: $row";
 [ -f "$point/checkpoint.capped.cbor" ] || { echo "the capped point kept no checkpoint"; ls "$point"; exit 1; }
 [ ! -e "$point/checkpoint.cbor" ] || { echo "the finished point left checkpoint.cbor"; exit 1; }
 
+# --plan says so before anything runs.
+"$bin" "$long" --out "$sweep" --adopt --plan > "$out/plan.log" 2>&1 || { cat "$out/plan.log"; exit 1; }
+for expected in "a = 24 d, R = 40 d: .*to run on from the checkpoint kept at the limit" \
+  "^to run: 1 (1 of them continued from a capped checkpoint); kept: 0;"; do
+  grep -q "$expected" "$out/plan.log" || { echo "plan lacks '$expected':"; cat "$out/plan.log"; exit 1; }
+done
+
 "$bin" "$long" --out "$sweep" --adopt --checkpoint-every 0 > "$out/extend.log" 2>&1 ||
   { cat "$out/extend.log"; exit 1; }
 for expected in "1 lower bound at a limit these settings raise continues" \
