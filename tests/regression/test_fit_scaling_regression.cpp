@@ -106,20 +106,22 @@ TEST(FitScalingRegression, RegimeTwoFitOnTheR535Sweep) {
               c0, in_window, r2["points_trimmed"].get<int>(), r2["free_slope"].get<double>());
 }
 
-// Acceptance 4, as far as the prediction's input holds: every point whose centre core width
-// b_core^0 lies within the Peierls fit window (2..6 d) is predicted in its simulated regime.
-// Outside it disagreements are listed, not hidden. Inside the window the Regime III law is small
-// against nucleation, so the check that tests the law is the other: every point the simulation
-// puts in Regime III (friction rising with load) is predicted in Regime III. And since the
-// R = 40 d branch was sampled at a = 22, 26 and 30 d too (its lowest point is a = 26 d, not
-// 24 d: data/reference/regime3_R40_fill.md), every committed point is in its simulated regime
-// (issue 23's third acceptance item); a table that breaks this must be explained, not the rise
-// tolerance moved (docs/nucleation.md).
+// Acceptance 4 of issue 9 and the third of issue 23: every committed point whose simulated
+// regime the data decide is predicted in it. Inside the Peierls fit window (2..6 d of the centre
+// core width b_core^0) the Regime III law is small against nucleation, so the check that tests
+// the law is that every point the simulation puts in Regime III (friction rising with load) is
+// predicted in Regime III. The check is deliberately strict where the prediction cannot decide
+// (a point within 2 errors of a boundary): until 2026-11-27 one such point, R = 40 d, a = 28 d,
+// disagreed, and it was let through; sampling the branch at a = 22, 26, 30 d showed its lowest
+// point is a = 26 d, not 24 d, and a = 28 d rises 4.5% past it
+// (data/reference/regime3_R40_fill.md). A table that breaks this again must be explained in its
+// note (a point 1-3% above its branch's lowest is classified by how the minimum is sampled), not
+// met by moving the 2% rise tolerance (docs/nucleation.md).
 namespace {
 
-// Every point of the fit in `dir` is predicted in its simulated regime where the Peierls law is
-// used within its window, every simulated Regime III point is, and elsewhere a point may
-// disagree only where the prediction cannot decide.
+// Every point of the fit in `dir` whose simulated regime the data decide is predicted in it;
+// counts of the points within the law's window, the simulated Regime III points and those the
+// prediction or the data cannot decide.
 void expect_map_reproduces_simulated_regimes(const std::string& dir) {
   const auto s = summary(dir);
   const auto& map = s["regime_map"];
@@ -136,28 +138,25 @@ void expect_map_reproduces_simulated_regimes(const std::string& dir) {
     if (t.integer(i, "law_extrapolated") == 0) {
       ++in_law;
       EXPECT_TRUE(same) << "a = " << t.number(i, "a") << ", R = " << t.number(i, "R");
-    } else if (!same) {
-      std::printf(
-          "extrapolated Peierls law: a = %g d, R = %g d, b_core^0 = %.2f d: predicted %s, "
-          "simulated %s\n",
-          t.number(i, "a"), t.number(i, "R"), t.number(i, "bcore0"),
-          t.text(i, "predicted_regime").c_str(), t.text(i, "simulated_regime").c_str());
     }
   }
   EXPECT_GE(in_law, 7);
   EXPECT_GE(simulated_three, 2);
-  // Everywhere: a point may disagree only where the prediction cannot decide, i.e. moving one
-  // of c0, k1, k2 by 2 reported errors changes its predicted regime (a point on a boundary), or
-  // where the data cannot: a lower bound that does not rise past its branch's lowest point.
+  // Everywhere the data decide, also where the prediction cannot (moving one of c0, k1, k2 by 2
+  // reported errors changes its predicted regime: a point on a boundary). The data cannot
+  // decide a lower bound that does not rise past its branch's lowest point.
   int undetermined = 0, simulated_open = 0;
   for (std::size_t i = 0; i < t.rows(); ++i) {
     const bool open = t.integer(i, "regime_undetermined") != 0;
     const bool data_open = t.integer(i, "simulated_undetermined") != 0;
     undetermined += open;
     simulated_open += data_open;
-    if (!open && !data_open) {
+    if (!data_open) {
       EXPECT_EQ(t.text(i, "predicted_regime"), t.text(i, "simulated_regime"))
-          << "a = " << t.number(i, "a") << ", R = " << t.number(i, "R");
+          << "a = " << t.number(i, "a") << " d, R = " << t.number(i, "R")
+          << " d, b_core^0 = " << t.number(i, "bcore0") << " d, Peierls law "
+          << (t.integer(i, "law_extrapolated") != 0 ? "extrapolated" : "within its window")
+          << (open ? ", the prediction undetermined" : "");
     }
   }
   EXPECT_EQ(map["contradictions"].get<int>(), 0);
@@ -166,7 +165,8 @@ void expect_map_reproduces_simulated_regimes(const std::string& dir) {
   // Not a blanket pass: the boundary points are few.
   EXPECT_LE(undetermined, 3);
   EXPECT_EQ(map["agree_law_in_window"].get<int>(), map["points_law_in_window"].get<int>());
-  EXPECT_EQ(map["agree"].get<int>(), map["points"].get<int>() - simulated_open);
+  EXPECT_EQ(map["agree"].get<int>(), map["points"].get<int>() - simulated_open)
+      << map["disagreements"].dump();
 }
 
 }  // namespace
@@ -193,8 +193,8 @@ TEST(FitScalingRegression, RegimeMapOfEveryCommittedTableBothModels) {
     explicit_rows += t.text(i, "model") == "explicit";
   EXPECT_GE(explicit_rows, 8) << "the explicit model's points are not in the fit";
   // The explicit model's points lie on the LFM's collapse (docs/explicit.md), so adding them
-  // moves c0 by less than the reported error of the LFM points' fit (measured: 0.2164 against
-  // 0.2196 +- 0.0042).
+  // moves c0 by less than the reported error of the LFM points' fit (measured 2026-11-27: 0.2180
+  // against 0.2178 +- 0.0035; when first added: 0.2164 against 0.2196 +- 0.0042).
   const auto lfm = summary()["regime_two"];
   EXPECT_NEAR(s["regime_two"]["c0"].get<double>(), lfm["c0"].get<double>(),
               lfm["c0_error"].get<double>());
@@ -311,6 +311,15 @@ TEST(FitScalingRegression, RegimeThreePredictionFollowsTheUpturn) {
   EXPECT_TRUE((*u)["same_sign_of_slope"].get<bool>());
   EXPECT_TRUE((*u)["within_factor_2"].get<bool>());
   EXPECT_FALSE((*u)["lower_bounds"].get<bool>());
+
+  // With four simulated Regime III points (a = 28 ... 36 d, all measured) fit_scaling also fits
+  // k1, k2 of the law to the friction itself (docs/nucleation.md reports it beside the scan's).
+  const auto& fit = s["regime_three_fit_to_friction"];
+  ASSERT_TRUE(fit["valid"].get<bool>());
+  EXPECT_GE(fit["points"].get<int>(), static_cast<int>(rows.size() - lowest - 1));  // R = 40 d's
+  std::printf("Regime III law fitted to friction: k1 = %.3f +- %.3f, k2 = %.3f +- %.3f\n",
+              fit["k1"].get<double>(), fit["k1_error"].get<double>(), fit["k2"].get<double>(),
+              fit["k2_error"].get<double>());
 }
 
 // The upturn at R = 100 d (issue 23, data/reference/regime3_R100.md): a = 60 d, past the
