@@ -510,17 +510,26 @@ class SweepRunner {
     auto& frames = sinks.frames;
     // Whether the last checkpoint holds a paused slip flow: such a state continues the step it
     // was in as that step was cut by the limit, and under the reference protocol a larger
-    // limit would plan another step than the paused one (a refused start), so it is not kept
-    // for a larger limit (below).
+    // limit would plan another step than the paused one (a refused start), so it is not the one
+    // kept for a larger limit. The last checkpoint between steps is kept beside it instead
+    // (checkpoint.step.cbor) until a newer one replaces both; the slide writes one at the top of
+    // the step after every paused checkpoint (SlideControl), so that is at most a step old.
+    const fs::path step_file = point_dir / "checkpoint.step.cbor";
     bool last_checkpoint_paused = start && start->state.pending.has_value();
+    if (std::error_code ec; !last_checkpoint_paused) fs::remove(step_file, ec);  // not this run's
     const slide::SlideControl control{
         .progress = progress_of(job, point),
         .checkpoint =
             [&](const slide::SlideState& state) {
               ensure_directory(point_dir);
               if (frames) frames->flush();
+              const bool paused = state.pending.has_value();
+              std::error_code ec;
+              if (paused && !last_checkpoint_paused && fs::exists(checkpoint_file, ec))
+                fs::rename(checkpoint_file, step_file, ec);  // the one between steps stays
               write_checkpoint(checkpoint_file, {.settings = point_settings, .state = state});
-              last_checkpoint_paused = state.pending.has_value();
+              if (!paused) fs::remove(step_file, ec);
+              last_checkpoint_paused = paused;
             },
         .checkpoint_every_s = o_.checkpoint_every,
         .stop_requested = stop_requested,
@@ -541,19 +550,29 @@ class SweepRunner {
       write_slide_outputs(point_dir, ps, result, oo);
     }
     std::error_code ec;
+    const fs::path& between_steps = last_checkpoint_paused ? step_file : checkpoint_file;
     if (capped_lower_bound(result.mu_is_lower_bound, result.stop_reason) &&
-        !last_checkpoint_paused && fs::exists(checkpoint_file, ec)) {
-      // A lower bound only because a limit stopped it: its last checkpoint stays, for a larger
-      // limit under --adopt. It is from the top of a step before the one that reached the limit
-      // (the slide does not checkpoint at the cap), so the continued run takes that step again
-      // under the larger limit: the steps of a run with that limit from the start, unless a
-      // trial step before the checkpoint was already cut to the cap and slipped (an adaptive
-      // bracket ending at the cap), when it continues that bracket (docs/reliability.md).
-      fs::rename(checkpoint_file, capped_file, ec);
+        fs::exists(between_steps, ec)) {
+      // A lower bound only because a limit stopped it: its last checkpoint between steps stays,
+      // for a larger limit under --adopt. It is from the top of a step before the one that
+      // reached the limit (the slide does not checkpoint at the cap), so the continued run takes
+      // that step again under the larger limit: the steps of a run with that limit from the
+      // start, unless a trial step before the checkpoint was already cut to the cap and slipped
+      // (an adaptive bracket ending at the cap), when it continues that bracket
+      // (docs/reliability.md).
+      fs::rename(between_steps, capped_file, ec);
+      const std::lock_guard lock(table_mutex_);
+      std::fprintf(stderr,
+                   "friction_sweep: %s%s, a lower bound at its limit, keeps its last checkpoint "
+                   "between steps%s for a larger limit (--adopt)%s%s\n",
+                   job.x ? "explicit " : "", describe_point(point).c_str(),
+                   last_checkpoint_paused ? " (the later one inside a slip's flow is dropped)" : "",
+                   ec ? ": could not keep it: " : "", ec ? ec.message().c_str() : "");
     } else {
-      fs::remove(checkpoint_file, ec);  // the row is final
       fs::remove(capped_file, ec);
     }
+    fs::remove(checkpoint_file, ec);  // the row is final
+    fs::remove(step_file, ec);
     return sweep_row(ps, result, row_settings(job));
   }
 

@@ -491,6 +491,7 @@ class ProtocolRun {
       window_rows_ = st.window_rows;
       cycle_check_due_ = st.cycle_check_due;
       pending_ = st.pending;
+      after_paused_checkpoint_ = pending_.has_value();  // it came from a paused checkpoint
       if (pending_) {
         const char* why =
             !pausable  ? "this model cannot continue"
@@ -783,12 +784,14 @@ class ProtocolRun {
     }
   }
 
-  // Checkpoints at the top of the stepping loop, when one is due.
+  // Checkpoints at the top of the stepping loop, when one is due or the last one was inside a
+  // paused slip flow (SlideControl: the state between steps follows it).
   void checkpoint_if_due() {
     if (!control_.checkpoint) return;
-    if (checkpoint_due()) {
+    if (after_paused_checkpoint_ || checkpoint_due()) {
       checkpoint(capture(false));
       last_checkpoint_ = std::chrono::steady_clock::now();
+      after_paused_checkpoint_ = false;
     }
   }
 
@@ -937,6 +940,7 @@ class ProtocolRun {
           }
           checkpoint(st);
           last_checkpoint_ = std::chrono::steady_clock::now();
+          after_paused_checkpoint_ = true;
           return false;
         };
         may_pause_ = true;
@@ -1217,6 +1221,7 @@ class ProtocolRun {
   std::optional<SlideState> local_start_;   // a distributed model's rows of the start state
   std::optional<SlideState> stepping_end_;  // refine_peak(): the state a stop hands over
   std::chrono::steady_clock::time_point last_checkpoint_;
+  bool after_paused_checkpoint_ = false;  // the last checkpoint was inside a paused slip flow
   // The heartbeat's view: the relaxation running, and what a stop request does within it.
   SlidePhase relaxing_ = SlidePhase::start;
   double relaxing_to_ = 0.0;

@@ -270,7 +270,10 @@ struct SlideState {
 // exception is the slip minimiser's flow (SlideOptions::slip_minimizer with method flow, lateral
 // force model): it is paused instead, at the next accepted step, and checkpoints are also taken
 // inside it when they are due; the state handed over holds it (SlideState::pending), and a
-// resumed slide continues it bit for bit.
+// resumed slide continues it bit for bit. A checkpoint inside a flow is followed by one at the
+// top of the next step, due or not: a state between steps, which a slide with other limits can
+// continue too (a paused flow belongs to its step; friction_sweep keeps the one between steps for
+// a point stopped at a limit). With checkpoint_every_s = 0 there are no checkpoints inside flows.
 // The processes one slide is spread over (issue 26; the lateral force model): each holds the
 // rows of the block that its slab of the Green's function's padded grid covers, with their
 // contact sites. engine: the GF's FFT backend (fft::mpi_engine_factory(comm) over MPI); comm: the

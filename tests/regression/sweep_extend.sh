@@ -4,6 +4,7 @@
 # checkpoint.capped.cbor; the sweep run again with the limit at 6 and --adopt drops the bound's
 # row, continues the point from that checkpoint and writes the row a sweep with 6 from the start
 # writes, byte for byte. Without --adopt the point would start over (and keep the checkpoint).
+# Then the same where the last checkpoint falls inside the last slip's flow (below).
 # Usage: sweep_extend.sh FRICTION_SWEEP SCENE OUT   (SCENE: sweep_adopt.toml, max_slips = 12)
 set -euo pipefail
 bin=$1 scene=$2 out=$3
@@ -47,3 +48,26 @@ extended=$(grep '^24,' "$sweep/sweep.csv") direct=$(grep '^24,' "$out/direct/swe
 case "$direct" in *",6,"*"slip event limit reached"*) ;; *) echo "direct row: $direct"; exit 1 ;; esac
 [ "$extended" = "$direct" ] || { printf 'extended: %s\ndirect:   %s\n' "$extended" "$direct"; exit 1; }
 echo "the 3-slip lower bound continued to 6 slips: the row of a 6-slip sweep, byte for byte"
+
+# The same when the last checkpoint falls inside the last slip's flow (a checkpoint due at every
+# chance: 1e-6 s), as it mostly does in Regime III: that one holds the paused flow of the step
+# that reached the limit, which a larger limit cannot continue, so the point keeps the last one
+# between steps (checkpoint.step.cbor while it runs; the slide writes one after every paused
+# checkpoint). A smaller contact (a = 15 d, R = 20 d, Regime III) keeps the writes cheap.
+small="--a 15 --R 20" sweep="$out/flow" point="$out/flow/points/a15_R20"
+"$bin" "$short" $small --out "$sweep" --checkpoint-every 1e-6 > "$out/flow_short.log" 2>&1 ||
+  { cat "$out/flow_short.log"; exit 1; }
+grep -q "keeps its last checkpoint between steps (the later one inside a slip's flow is dropped)" \
+  "$out/flow_short.log" || { echo "no checkpoint between steps kept:"; cat "$out/flow_short.log"; exit 1; }
+[ -f "$point/checkpoint.capped.cbor" ] && [ ! -e "$point/checkpoint.cbor" ] &&
+  [ ! -e "$point/checkpoint.step.cbor" ] || { echo "checkpoints:"; ls "$point"; exit 1; }
+"$bin" "$long" $small --out "$sweep" --adopt --checkpoint-every 0 > "$out/flow_extend.log" 2>&1 ||
+  { cat "$out/flow_extend.log"; exit 1; }
+grep -q "resuming a = 15 d, R = 20 d from its checkpoint" "$out/flow_extend.log" ||
+  { echo "not continued:"; cat "$out/flow_extend.log"; exit 1; }
+"$bin" "$long" $small --out "$out/flow_direct" --checkpoint-every 0 > "$out/flow_direct.log" 2>&1 ||
+  { cat "$out/flow_direct.log"; exit 1; }
+extended=$(grep '^15,' "$sweep/sweep.csv") direct=$(grep '^15,' "$out/flow_direct/sweep.csv")
+case "$direct" in *",6,"*"slip event limit reached"*) ;; *) echo "direct row: $direct"; exit 1 ;; esac
+[ "$extended" = "$direct" ] || { printf 'extended: %s\ndirect:   %s\n' "$extended" "$direct"; exit 1; }
+echo "the same from a last checkpoint inside a slip's flow: the checkpoint between steps before it"
