@@ -497,6 +497,12 @@ class SweepRunner {
     const std::string point_settings =
         (job.x ? explicit_slide_fingerprint(es, alpha_x) : slide_fingerprint(ps)) +
         (o_.figures ? " snapshots=1" : " snapshots=0");
+    // A kill between a checkpoint's steps cannot leave only checkpoint.step.cbor (it is a second
+    // name, made before the write), but a file lost otherwise can: then continue from that one.
+    const fs::path step_file = point_dir / "checkpoint.step.cbor";
+    if (std::error_code ec; !fs::exists(checkpoint_file, ec) && fs::exists(step_file, ec)) {
+      fs::rename(step_file, checkpoint_file, ec);
+    }
     const std::optional<SlideCheckpoint> start =
         load_checkpoint(point_dir, checkpoint_file, point_settings);
     if (start) {
@@ -514,7 +520,6 @@ class SweepRunner {
     // kept for a larger limit. The last checkpoint between steps is kept beside it instead
     // (checkpoint.step.cbor) until a newer one replaces both; the slide writes one at the top of
     // the step after every paused checkpoint (SlideControl), so that is at most a step old.
-    const fs::path step_file = point_dir / "checkpoint.step.cbor";
     bool last_checkpoint_paused = start && start->state.pending.has_value();
     if (std::error_code ec; !last_checkpoint_paused) fs::remove(step_file, ec);  // not this run's
     const slide::SlideControl control{
@@ -525,8 +530,12 @@ class SweepRunner {
               if (frames) frames->flush();
               const bool paused = state.pending.has_value();
               std::error_code ec;
-              if (paused && !last_checkpoint_paused && fs::exists(checkpoint_file, ec))
-                fs::rename(checkpoint_file, step_file, ec);  // the one between steps stays
+              if (paused && !last_checkpoint_paused && fs::exists(checkpoint_file, ec)) {
+                // The one between steps stays, as a second name of its file: the atomic write
+                // below replaces checkpoint.cbor's entry, so no moment is without a checkpoint.
+                fs::remove(step_file, ec);
+                fs::create_hard_link(checkpoint_file, step_file, ec);
+              }
               write_checkpoint(checkpoint_file, {.settings = point_settings, .state = state});
               if (!paused) fs::remove(step_file, ec);
               last_checkpoint_paused = paused;
@@ -551,8 +560,8 @@ class SweepRunner {
     }
     std::error_code ec;
     const fs::path& between_steps = last_checkpoint_paused ? step_file : checkpoint_file;
-    if (capped_lower_bound(result.mu_is_lower_bound, result.stop_reason) &&
-        fs::exists(between_steps, ec)) {
+    const bool capped = capped_lower_bound(result.mu_is_lower_bound, result.stop_reason);
+    if (capped && fs::exists(between_steps, ec)) {
       // A lower bound only because a limit stopped it: its last checkpoint between steps stays,
       // for a larger limit under --adopt. It is from the top of a step before the one that
       // reached the limit (the slide does not checkpoint at the cap), so the continued run takes
@@ -561,15 +570,27 @@ class SweepRunner {
       // (an adaptive bracket ending at the cap), when it continues that bracket
       // (docs/reliability.md).
       fs::rename(between_steps, capped_file, ec);
-      const std::lock_guard lock(table_mutex_);
-      std::fprintf(stderr,
-                   "friction_sweep: %s%s, a lower bound at its limit, keeps its last checkpoint "
-                   "between steps%s for a larger limit (--adopt)%s%s\n",
-                   job.x ? "explicit " : "", describe_point(point).c_str(),
-                   last_checkpoint_paused ? " (the later one inside a slip's flow is dropped)" : "",
-                   ec ? ": could not keep it: " : "", ec ? ec.message().c_str() : "");
+      {
+        const std::lock_guard lock(table_mutex_);
+        std::fprintf(
+            stderr,
+            "friction_sweep: %s%s, a lower bound at its limit, keeps its last checkpoint "
+            "between steps%s for a larger limit (--adopt)%s%s\n",
+            job.x ? "explicit " : "", describe_point(point).c_str(),
+            last_checkpoint_paused ? " (the later one inside a slip's flow is dropped)" : "",
+            ec ? ": could not keep it (the files stay as they are): " : "",
+            ec ? ec.message().c_str() : "");
+      }
+      if (ec) return sweep_row(ps, result, row_settings(job));
     } else {
       fs::remove(capped_file, ec);
+      if (capped) {
+        const std::lock_guard lock(table_mutex_);
+        std::fprintf(stderr,
+                     "friction_sweep: %s%s, a lower bound at its limit, has no checkpoint "
+                     "between steps to keep: a larger limit runs it again\n",
+                     job.x ? "explicit " : "", describe_point(point).c_str());
+      }
     }
     fs::remove(checkpoint_file, ec);  // the row is final
     fs::remove(step_file, ec);

@@ -785,13 +785,14 @@ class ProtocolRun {
   }
 
   // Checkpoints at the top of the stepping loop, when one is due or the last one was inside a
-  // paused slip flow (SlideControl: the state between steps follows it).
+  // paused slip flow (SlideControl: the state between steps follows it). Not while a resumed
+  // slide's paused flow is still to be continued (pending_): that state is the paused one again.
   void checkpoint_if_due() {
     if (!control_.checkpoint) return;
-    if (after_paused_checkpoint_ || checkpoint_due()) {
+    if ((after_paused_checkpoint_ && !pending_) || checkpoint_due()) {
       checkpoint(capture(false));
       last_checkpoint_ = std::chrono::steady_clock::now();
-      after_paused_checkpoint_ = false;
+      if (!pending_) after_paused_checkpoint_ = false;
     }
   }
 

@@ -438,6 +438,22 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
     if (paused == 1) {
       expect_same(reference, resume_through_file(s, saved[j]),
                   "resumed from the checkpoint between steps after a paused one");
+      // A slide resumed from the paused checkpoint itself writes one between steps after
+      // continuing that flow, not the paused state again at its first step's top (with no
+      // checkpoint ever due, that one is the only checkpoint it writes).
+      std::vector<SlideState> again;
+      const auto bytes =
+          app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = saved[i]});
+      const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+      const SlideResult resumed = slide::slide(
+          s.contact, s.options,
+          SlideControl{.checkpoint = [&](const SlideState& st) { again.push_back(st); },
+                       .checkpoint_every_s = 1e9,
+                       .start = &back.state});
+      expect_same(reference, resumed, "resumed from the paused checkpoint");
+      ASSERT_EQ(again.size(), 1u) << "checkpoints of the resumed slide";
+      EXPECT_FALSE(again[0].pending.has_value());
+      EXPECT_GE(again[0].current.Dx, saved[i].pending->Dx);  // after the flow's step
     }
     i = j - 1;
   }
