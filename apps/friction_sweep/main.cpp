@@ -64,8 +64,8 @@ int main(int argc, char** argv) {
                  "checkpoint it kept (checkpoint.capped.cbor) when these settings raise the limit");
     cli.add_flag("--plan", o.plan,
                  "Only print what the sweep would do: its points with a/b_core^0 and the memory "
-                 "each slide needs, and which rows an existing table in --out would keep; runs "
-                 "and writes nothing");
+                 "each slide needs, which rows an existing table in --out would keep, and "
+                 "which points would continue from a checkpoint; runs and writes nothing");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     cli.add_option("--checkpoint-every", o.checkpoint_every,
                    "Seconds of run time between checkpoints of each running point (0: every step)")

@@ -74,9 +74,9 @@ class SweepRunner {
         points_(sweep_points(s)),  // validates s
         xpoints_(explicit_sweep_points(s)) {}
 
-  // --plan: the points, with a/b_core^0 and the memory each slide needs, and whether an
-  // existing table in the output folder holds its row already (it would be kept). Reads, writes
-  // nothing, runs nothing.
+  // --plan: the points, with a/b_core^0 and the memory each slide needs, whether an existing
+  // table in the output folder holds its row already (it would be kept), and whether it would
+  // continue from a checkpoint. Reads, writes nothing, runs nothing.
   int plan_only() {
     if (!ranks_.leader()) return 0;
     const std::string settings = settings_fingerprint(s_.base);
@@ -90,28 +90,46 @@ class SweepRunner {
                 points_.size(), points_.size() == 1 ? "" : "s", xpoints_.size(),
                 out.string().c_str());
     double largest = 0.0;
-    std::size_t to_run = 0;
+    std::size_t to_run = 0, in_flight = 0;
+    // A point in flight: its checkpoint (or the one between steps beside it) is continued if it
+    // fits these settings, which only the run reads (a checkpoint can be hundreds of MB).
+    const auto has_checkpoint = [&](const SweepPoint& p, bool x) {
+      const fs::path dir = out / "points" / point_folder(p, x);
+      std::error_code ec;
+      return fs::exists(dir / "checkpoint.cbor", ec) ||
+             fs::exists(dir / "checkpoint.step.cbor", ec);
+    };
+    const char* const from_checkpoint = "to run on from its checkpoint, if it fits these settings";
     for (std::size_t k = 0; k < points_.size(); ++k) {
       const auto [c, opt] = point_slide(k);
       const double bytes = slide::estimated_slide_bytes(c, opt);
       largest = std::max(largest, bytes);
+      const bool flight = !kept.rows[k] && !kept.extend[k] && has_checkpoint(points_[k], false);
       to_run += kept.rows[k] ? 0 : 1;
+      in_flight += flight;
       std::printf("  %s: a/b_core^0 = %.4g, about %.0f MB: %s\n",
                   describe_point(points_[k]).c_str(), c.a_over_bcore0(), bytes / 1e6,
                   kept.rows[k]     ? "kept from the table"
                   : kept.extend[k] ? "to run on from the checkpoint kept at the limit these "
                                      "settings raise (a lower bound in the table)"
+                  : flight         ? from_checkpoint
                                    : "to run");
     }
     for (std::size_t k = 0; k < xpoints_.size(); ++k) {
+      const bool flight = !kept_x.rows[k] && !kept_x.extend[k] && has_checkpoint(xpoints_[k], true);
       to_run += kept_x.rows[k] ? 0 : 1;
+      in_flight += flight;
       std::printf("  explicit %s: %s\n", describe_point(xpoints_[k]).c_str(),
-                  kept_x.rows[k] ? "kept from the table" : "to run");
+                  kept_x.rows[k]     ? "kept from the table"
+                  : kept_x.extend[k] ? "to run on from the checkpoint kept at the limit"
+                  : flight           ? from_checkpoint
+                                     : "to run");
     }
     std::printf(
-        "to run: %zu (%zu of them continued from a capped checkpoint); kept: %zu; rows of "
-        "other settings dropped: %zu; largest slide about %.0f MB\n",
-        to_run, kept.to_extend + kept_x.to_extend, kept.reused + kept_x.reused,
+        "to run: %zu (%zu of them continued from a capped checkpoint, %zu from their "
+        "checkpoint); kept: %zu; rows of other settings dropped: %zu; largest slide about %.0f "
+        "MB\n",
+        to_run, kept.to_extend + kept_x.to_extend, in_flight, kept.reused + kept_x.reused,
         kept.other_settings + kept_x.other_settings, largest / 1e6);
     return 0;
   }

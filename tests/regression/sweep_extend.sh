@@ -27,7 +27,7 @@ case "$row" in *",3,"*"slip event limit reached"*) ;; *) echo "short row: $row";
 # --plan says so before anything runs.
 "$bin" "$long" --out "$sweep" --adopt --plan > "$out/plan.log" 2>&1 || { cat "$out/plan.log"; exit 1; }
 for expected in "a = 24 d, R = 40 d: .*to run on from the checkpoint kept at the limit" \
-  "^to run: 1 (1 of them continued from a capped checkpoint); kept: 0;"; do
+  "^to run: 1 (1 of them continued from a capped checkpoint, 0 from their checkpoint); kept: 0;"; do
   grep -q "$expected" "$out/plan.log" || { echo "plan lacks '$expected':"; cat "$out/plan.log"; exit 1; }
 done
 
@@ -61,6 +61,15 @@ grep -q "keeps its last checkpoint between steps (the later one inside a slip's 
   "$out/flow_short.log" || { echo "no checkpoint between steps kept:"; cat "$out/flow_short.log"; exit 1; }
 [ -f "$point/checkpoint.capped.cbor" ] && [ ! -e "$point/checkpoint.cbor" ] &&
   [ ! -e "$point/checkpoint.step.cbor" ] || { echo "checkpoints:"; ls "$point"; exit 1; }
+# --plan names a point in flight (a checkpoint in its folder, no row): here a copy of that one.
+mkdir -p "$out/flight/points/a15_R20"
+cp "$point/checkpoint.capped.cbor" "$out/flight/points/a15_R20/checkpoint.cbor"
+"$bin" "$long" $small --out "$out/flight" --plan > "$out/flight_plan.log" 2>&1 ||
+  { cat "$out/flight_plan.log"; exit 1; }
+for expected in "a = 15 d, R = 20 d: .*to run on from its checkpoint, if it fits these settings" \
+  "^to run: 1 (0 of them continued from a capped checkpoint, 1 from their checkpoint)"; do
+  grep -q "$expected" "$out/flight_plan.log" || { echo "plan lacks '$expected':"; cat "$out/flight_plan.log"; exit 1; }
+done
 "$bin" "$long" $small --out "$sweep" --adopt --checkpoint-every 0 > "$out/flow_extend.log" 2>&1 ||
   { cat "$out/flow_extend.log"; exit 1; }
 grep -q "resuming a = 15 d, R = 20 d from its checkpoint" "$out/flow_extend.log" ||
