@@ -25,6 +25,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A point's checkpoints in its folder: the latest; the last one between steps while the latest is
+// inside a paused slip flow; the one a capped lower bound keeps for a larger limit.
+constexpr const char* kCheckpointName = "checkpoint.cbor";
+constexpr const char* kStepCheckpointName = "checkpoint.step.cbor";
+constexpr const char* kCappedCheckpointName = "checkpoint.capped.cbor";
+
 // "a = 43 d, R = 535 d" and, for a tip out of registry, ", tip 2 deg / m = 0".
 std::string describe_point(const SweepPoint& p) {
   char text[160];
@@ -96,10 +102,15 @@ class SweepRunner {
     const auto has_checkpoint = [&](const SweepPoint& p, bool x) {
       const fs::path dir = out / "points" / point_folder(p, x);
       std::error_code ec;
-      return fs::exists(dir / "checkpoint.cbor", ec) ||
-             fs::exists(dir / "checkpoint.step.cbor", ec);
+      return fs::exists(dir / kCheckpointName, ec) || fs::exists(dir / kStepCheckpointName, ec);
     };
-    const char* const from_checkpoint = "to run on from its checkpoint, if it fits these settings";
+    const auto status = [](bool kept_row, bool extend, bool flight) {
+      return kept_row ? "kept from the table"
+             : extend ? "to run on from the checkpoint kept at the limit these settings raise (a "
+                        "lower bound in the table)"
+             : flight ? "to run on from its checkpoint, if it fits these settings"
+                      : "to run";
+    };
     for (std::size_t k = 0; k < points_.size(); ++k) {
       const auto [c, opt] = point_slide(k);
       const double bytes = slide::estimated_slide_bytes(c, opt);
@@ -109,21 +120,14 @@ class SweepRunner {
       in_flight += flight;
       std::printf("  %s: a/b_core^0 = %.4g, about %.0f MB: %s\n",
                   describe_point(points_[k]).c_str(), c.a_over_bcore0(), bytes / 1e6,
-                  kept.rows[k]     ? "kept from the table"
-                  : kept.extend[k] ? "to run on from the checkpoint kept at the limit these "
-                                     "settings raise (a lower bound in the table)"
-                  : flight         ? from_checkpoint
-                                   : "to run");
+                  status(kept.rows[k].has_value(), kept.extend[k], flight));
     }
     for (std::size_t k = 0; k < xpoints_.size(); ++k) {
       const bool flight = !kept_x.rows[k] && !kept_x.extend[k] && has_checkpoint(xpoints_[k], true);
       to_run += kept_x.rows[k] ? 0 : 1;
       in_flight += flight;
       std::printf("  explicit %s: %s\n", describe_point(xpoints_[k]).c_str(),
-                  kept_x.rows[k]     ? "kept from the table"
-                  : kept_x.extend[k] ? "to run on from the checkpoint kept at the limit"
-                  : flight           ? from_checkpoint
-                                     : "to run");
+                  status(kept_x.rows[k].has_value(), kept_x.extend[k], flight));
     }
     std::printf(
         "to run: %zu (%zu of them continued from a capped checkpoint, %zu from their "
@@ -292,7 +296,7 @@ class SweepRunner {
     return [this, out, x](std::size_t k) {
       const SweepPoint& p = x ? xpoints_[k] : points_[k];
       std::error_code ec;
-      return fs::exists(out / "points" / point_folder(p, x) / "checkpoint.capped.cbor", ec);
+      return fs::exists(out / "points" / point_folder(p, x) / kCappedCheckpointName, ec);
     };
   }
 
@@ -495,11 +499,11 @@ class SweepRunner {
     // this point (failed, the sweep goes on) if a contact_slide already writes there. The
     // sweep's own lock on dir_ (rank 0's, over MPI ranks) is not in the way.
     const DirectoryLock point_lock(ensure_directory(point_dir), dir_);
-    const fs::path checkpoint_file = point_dir / "checkpoint.cbor";
+    const fs::path checkpoint_file = point_dir / kCheckpointName;
     // A lower bound stopped at a limit keeps its last checkpoint (below); under --adopt a run
     // with other limits continues from it. Without --adopt the point starts over as before, and
     // the kept checkpoint stays for a later --adopt.
-    const fs::path capped_file = point_dir / "checkpoint.capped.cbor";
+    const fs::path capped_file = point_dir / kCappedCheckpointName;
     if (std::error_code ec;
         o_.adopt && !fs::exists(checkpoint_file, ec) && fs::exists(capped_file, ec)) {
       fs::rename(capped_file, checkpoint_file, ec);
@@ -517,7 +521,7 @@ class SweepRunner {
         (o_.figures ? " snapshots=1" : " snapshots=0");
     // A kill between a checkpoint's steps cannot leave only checkpoint.step.cbor (it is a second
     // name, made before the write), but a file lost otherwise can: then continue from that one.
-    const fs::path step_file = point_dir / "checkpoint.step.cbor";
+    const fs::path step_file = point_dir / kStepCheckpointName;
     if (std::error_code ec; !fs::exists(checkpoint_file, ec) && fs::exists(step_file, ec)) {
       fs::rename(step_file, checkpoint_file, ec);
     }
