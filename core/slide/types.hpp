@@ -183,8 +183,9 @@ struct SlideResult {
 enum class SlidePhase {
   start,      // relaxing the first state (Dx = 0)
   accepted,   // a state was taken into the trace (computed or replayed)
-  step,       // relaxing a step that is undone if it slips
-  bisection,  // relaxing a trial inside the bracket of an instability
+  step,       // relaxing a step that is undone if it slips (one at most min_step long is taken
+              // as the slip if it slips: the slip minimiser's relaxation follows, phase slip)
+  bisection,  // relaxing a trial inside the bracket of an instability (the same for the last)
   slip,       // relaxing through a bracketed instability: the slip itself, often the longest
   probe,      // relaxing one period on, to compare with a kept state (cycle replay)
   peak,       // relaxing a point of the peak refinement, after the stepping

@@ -50,6 +50,23 @@ app::SlideScene scene(double a, double distance) {
   return s;
 }
 
+// Whether a relaxation that starts is a slip's flow: the step of a slip is reported twice at
+// the same target (iteration 0), the slide minimiser's relaxation (phase slip; step or
+// bisection for a trial at most min_step wide, handed to the flow at once if it slips), then the
+// flow's (phase slip).
+struct FlowStarts {
+  bool relaxing = false;  // the last start report was a step's relaxation
+  double target = -1.0;
+  bool starts_flow(const slide::SlideProgressInfo& p) {
+    using slide::SlidePhase;
+    const bool flow = p.phase == SlidePhase::slip && relaxing && p.target_Dx == target;
+    relaxing = !flow && (p.phase == SlidePhase::step || p.phase == SlidePhase::bisection ||
+                         p.phase == SlidePhase::slip);
+    target = p.target_Dx;
+    return flow;
+  }
+};
+
 bool same_bits(double x, double y) {
   return std::memcmp(&x, &y, sizeof x) == 0;
 }
@@ -270,23 +287,19 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
   ASSERT_GT(reference.slip_relaxations, 0);
   // Stop at the n-th poll inside a flow (from `start`, if given; n = -1: at the first poll,
-  // wherever it is). The step of a slip is reported twice before its relaxations (phase slip,
-  // iteration 0): the slide minimiser's, then the flow's.
+  // wherever it is; FlowStarts tells the flow's relaxation).
   const auto stop_at = [&](int n, std::optional<SlideState>& saved,
                            const SlideState* start = nullptr) {
     int iteration = 0, polls = 0;
-    bool in_flow = false, slip_reported = false;
-    double slip_target = -1.0;
+    bool in_flow = false;
+    FlowStarts starts;
     const SlideResult r = slide::slide(
         s.contact, s.options,
         SlideControl{.progress =
                          [&](const slide::SlideProgressInfo& p) {
                            iteration = p.iteration;
                            if (p.iteration > 0) return;
-                           const bool slip = p.phase == slide::SlidePhase::slip;
-                           in_flow = slip && slip_reported && p.target_Dx == slip_target;
-                           slip_reported = slip && !in_flow;
-                           slip_target = p.target_Dx;
+                           in_flow = starts.starts_flow(p);
                          },
                      .checkpoint = [&](const SlideState& st) { saved = st; },
                      .checkpoint_every_s = 1e9,
@@ -398,8 +411,8 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
   const SlideResult reference = slide::slide(s.contact, s.options);
   ASSERT_GT(reference.slip_relaxations, 0);
   std::vector<SlideState> saved;
-  bool slept = false, in_flow = false, slip_reported = false;
-  double slip_target = -1.0;
+  bool slept = false, in_flow = false;
+  FlowStarts starts;
   const SlideResult r = slide::slide(
       s.contact, s.options,
       SlideControl{.progress =
@@ -412,12 +425,7 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
                            }
                            return;
                          }
-                         // The step of a slip is reported twice (phase slip, iteration 0): the
-                         // slide minimiser's relaxation, then the flow's.
-                         const bool slip = p.phase == slide::SlidePhase::slip;
-                         in_flow = slip && slip_reported && p.target_Dx == slip_target;
-                         slip_reported = slip && !in_flow;
-                         slip_target = p.target_Dx;
+                         in_flow = starts.starts_flow(p);
                        },
                    .checkpoint = [&](const SlideState& st) { saved.push_back(st); },
                    .checkpoint_every_s = 0.5});

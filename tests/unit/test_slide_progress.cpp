@@ -6,6 +6,7 @@
 // not change the slide.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,46 @@ TEST(SlideProgress, ReportsEveryRelaxationInOrderAndChangesNothing) {
   EXPECT_EQ(starts, res.minimizations) << "one start report per relaxation";
   EXPECT_GT(heartbeats, 0) << "the slips take hundreds of iterations";
   EXPECT_LE(reps.back().gf_applications, res.gf_applications);
+}
+
+// With a slip minimiser, a trial at most min_step from the stable state (a bisection's last, or
+// the first step after a slip under step growth) that slips is the slip itself: it goes to the
+// flow at once, not undone and relaxed again by the fast minimiser from the same state to the
+// same Dx (which repeated the same relaxation to the same verdict: plan(), protocol.hpp). So no
+// tip position gets more than two relaxations from one state, and the second is the flow's.
+TEST(SlideProgress, ASlipIsNotRelaxedTwiceFromTheSameState) {
+  slide::SlideOptions options;
+  options.slip_minimizer = slide::slip_minimizer_from(options.minimizer, minimize::Method::flow,
+                                                      minimize::Preconditioner::interface);
+  // A bracket 0.05 d wide: the bisection of the first slip ends with a trial that slips (at
+  // 0.01 d it ends with a stable one here, and the slip is relaxed from there).
+  options.min_step = 0.05;
+  options.step_growth = 2.0;  // the first step after a slip is min_step wide
+  const Recorded rec = slide_recording(options);
+  const slide::SlideResult& res = rec.result;
+  ASSERT_FALSE(res.failed) << res.stop_reason;
+  ASSERT_GE(res.slip_events, 2);
+  int taken_at_once = 0;  // slips whose flow follows a step or bisection trial directly
+  std::vector<const SlideProgressInfo*> since;  // relaxations started since the last accepted
+  for (const SlideProgressInfo& r : rec.reports) {
+    if (r.phase == SlidePhase::accepted) {
+      if (since.size() >= 2 && since.back()->phase == SlidePhase::slip &&
+          since[since.size() - 2]->target_Dx == r.Dx &&
+          since[since.size() - 2]->phase != SlidePhase::slip) {
+        ++taken_at_once;
+      }
+      since.clear();
+      continue;
+    }
+    if (r.iteration != 0 || r.phase == SlidePhase::peak || r.phase == SlidePhase::start) continue;
+    const auto at_same = std::count_if(since.begin(), since.end(), [&](const auto* q) {
+      return q->target_Dx == r.target_Dx;
+    });
+    EXPECT_LE(at_same, 1) << "a third relaxation to Dx = " << r.target_Dx << " from Dx = " << r.Dx;
+    if (at_same == 1) EXPECT_EQ(r.phase, SlidePhase::slip) << "Dx = " << r.target_Dx;
+    since.push_back(&r);
+  }
+  EXPECT_GE(taken_at_once, 1) << "no slip was taken from its trial at once in this slide";
 }
 
 TEST(SlideProgress, LinesAtTheIntervalAndAtSlipEvents) {
