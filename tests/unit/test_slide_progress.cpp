@@ -131,7 +131,9 @@ TEST(SlideProgress, ASlipIsNotRelaxedTwiceFromTheSameState) {
       return q->target_Dx == r.target_Dx;
     });
     EXPECT_LE(at_same, 1) << "a third relaxation to Dx = " << r.target_Dx << " from Dx = " << r.Dx;
-    if (at_same == 1) EXPECT_EQ(r.phase, SlidePhase::slip) << "Dx = " << r.target_Dx;
+    if (at_same == 1) {
+      EXPECT_EQ(r.phase, SlidePhase::slip) << "Dx = " << r.target_Dx;
+    }
     since.push_back(&r);
   }
   EXPECT_GE(taken_at_once, 1) << "no slip was taken from its trial at once in this slide";
