@@ -15,29 +15,39 @@ Instability bracket_slip(const interface::ContactScene& scene, SlideOptions opti
   options.protocol = Protocol::adaptive;
   options.replay_cycle = false;  // a replayed slip has no bracket
   options.slips_to_stop = std::max(options.slips_to_stop, event);
-  std::optional<SlideState> bracket;
+  // The state at the top of each step before slip `event`: the slipping step starts from the
+  // last of them, the bracket's stable end. (Its other end is that step's Dx, at most min_step
+  // on: the step to a bisection's closed bracket, or a trial that narrow, which a slide with a
+  // slip minimiser hands to it at once, so that no step top shows the closed bracket.)
+  std::optional<SlideState> top;
   int slips = 0;
   SlideControl control;
-  control.checkpoint_every_s = 0.0;  // after every step: the bracket is seen at the loop's top
+  control.checkpoint_every_s = 0.0;  // at every step's top
   control.checkpoint = [&](const SlideState& st) {
     slips = st.partial.slip_events;
-    if (st.partial.slip_events == event - 1 && std::isfinite(st.slip_at) &&
-        st.slip_at - st.current.Dx <= options.min_step * 1.0001) {
-      bracket = st;
-    }
+    if (st.partial.slip_events == event - 1 && !st.pending) top = st;
   };
   control.stop_requested = [&] { return slips >= event; };
   DiscardFrames discard;
   control.frames = &discard;
   SlideResult r = slide(scene, options, control);
-  if (r.slip_events < event || !bracket) {
+  const auto row =
+      std::find_if(r.trace.begin(), r.trace.end(),
+                   [&, n = 0](const TraceRow& t) mutable { return t.slip && ++n == event; });
+  if (r.slip_events < event || !top || row == r.trace.end()) {
     throw std::runtime_error("bracket_slip: the slide reached " + std::to_string(r.slip_events) +
                              " slip events (" + r.stop_reason + "), not slip " +
                              std::to_string(event));
   }
+  const double width = row->Dx - top->current.Dx;
+  if (!(width > 0.0 && width <= options.min_step * 1.0001)) {
+    throw std::logic_error("bracket_slip: slip " + std::to_string(event) + " at Dx = " +
+                           std::to_string(row->Dx) + " d was taken from the state at " +
+                           std::to_string(top->current.Dx) + " d, not within min_step");
+  }
   Instability out;
-  out.stable = bracket->current;
-  out.slip_Dx = bracket->slip_at;
+  out.stable = top->current;
+  out.slip_Dx = row->Dx;
   out.event = event;
   out.slide = std::move(r);
   return out;

@@ -836,8 +836,8 @@ class ProtocolRun {
     // the relaxation that called the step a slip is not repeated.
     std::optional<PendingSlip> resuming = std::exchange(pending_, std::nullopt);
     if (resuming) check_resuming(*resuming, p, want_frames);
-    report(p.cycle_of                 ? SlidePhase::probe
-           : !std::isfinite(slip_at_) ? SlidePhase::step
+    report(p.cycle_of                       ? SlidePhase::probe
+           : !std::isfinite(slip_at_)       ? SlidePhase::step
            : p.may_undo || p.closes_bracket ? SlidePhase::bisection
                                             : SlidePhase::slip,
            p.Dx);

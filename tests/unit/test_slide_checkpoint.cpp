@@ -293,23 +293,23 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
     int iteration = 0, polls = 0;
     bool in_flow = false;
     FlowStarts starts;
-    const SlideResult r = slide::slide(
-        s.contact, s.options,
-        SlideControl{.progress =
-                         [&](const slide::SlideProgressInfo& p) {
-                           iteration = p.iteration;
-                           if (p.iteration > 0) return;
-                           in_flow = starts.starts_flow(p);
-                         },
-                     .checkpoint = [&](const SlideState& st) { saved = st; },
-                     .checkpoint_every_s = 1e9,
-                     .stop_requested =
-                         [&] {
-                           if (n == -1) return true;
-                           if (iteration == 0 || !in_flow) return false;
-                           return ++polls == n;
-                         },
-                     .start = start});
+    const SlideResult r =
+        slide::slide(s.contact, s.options,
+                     SlideControl{.progress =
+                                      [&](const slide::SlideProgressInfo& p) {
+                                        iteration = p.iteration;
+                                        if (p.iteration > 0) return;
+                                        in_flow = starts.starts_flow(p);
+                                      },
+                                  .checkpoint = [&](const SlideState& st) { saved = st; },
+                                  .checkpoint_every_s = 1e9,
+                                  .stop_requested =
+                                      [&] {
+                                        if (n == -1) return true;
+                                        if (iteration == 0 || !in_flow) return false;
+                                        return ++polls == n;
+                                      },
+                                  .start = start});
     return std::pair{r, polls};
   };
   std::optional<SlideState> none;

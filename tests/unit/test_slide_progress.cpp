@@ -127,9 +127,8 @@ TEST(SlideProgress, ASlipIsNotRelaxedTwiceFromTheSameState) {
       continue;
     }
     if (r.iteration != 0 || r.phase == SlidePhase::peak || r.phase == SlidePhase::start) continue;
-    const auto at_same = std::count_if(since.begin(), since.end(), [&](const auto* q) {
-      return q->target_Dx == r.target_Dx;
-    });
+    const auto at_same = std::count_if(since.begin(), since.end(),
+                                       [&](const auto* q) { return q->target_Dx == r.target_Dx; });
     EXPECT_LE(at_same, 1) << "a third relaxation to Dx = " << r.target_Dx << " from Dx = " << r.Dx;
     if (at_same == 1) {
       EXPECT_EQ(r.phase, SlidePhase::slip) << "Dx = " << r.target_Dx;
