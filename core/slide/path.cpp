@@ -31,10 +31,15 @@ Instability bracket_slip(const interface::ContactScene& scene, SlideOptions opti
   DiscardFrames discard;
   control.frames = &discard;
   SlideResult r = slide(scene, options, control);
-  const auto row =
-      std::find_if(r.trace.begin(), r.trace.end(),
-                   [&, n = 0](const TraceRow& t) mutable { return t.slip && ++n == event; });
-  if (r.slip_events < event || !top || row == r.trace.end()) {
+  // The trace row of slip `event` (a plain loop: a predicate that counts must not be copied).
+  const TraceRow* row = nullptr;
+  for (int n = 0; const TraceRow& t : r.trace) {
+    if (t.slip && ++n == event) {
+      row = &t;
+      break;
+    }
+  }
+  if (r.slip_events < event || !top || !row) {
     throw std::runtime_error("bracket_slip: the slide reached " + std::to_string(r.slip_events) +
                              " slip events (" + r.stop_reason + "), not slip " +
                              std::to_string(event));
