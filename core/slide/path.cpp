@@ -19,13 +19,15 @@ Instability bracket_slip(const interface::ContactScene& scene, SlideOptions opti
   // last of them, the bracket's stable end. (Its other end is that step's Dx, at most min_step
   // on: the step to a bisection's closed bracket, or a trial that narrow, which a slide with a
   // slip minimiser hands to it at once, so that no step top shows the closed bracket.)
-  std::optional<SlideState> top;
+  // Only the accepted state is kept: the whole SlideState (trace, window, peak, ...) would be
+  // copied at every step top (at a = 300 d, R = 800 d about 240 MB, the size of a checkpoint).
+  std::optional<SlideFields> top;
   int slips = 0;
   SlideControl control;
   control.checkpoint_every_s = 0.0;  // at every step's top
   control.checkpoint = [&](const SlideState& st) {
     slips = st.partial.slip_events;
-    if (st.partial.slip_events == event - 1 && !st.pending) top = st;
+    if (st.partial.slip_events == event - 1 && !st.pending) top = st.current;
   };
   control.stop_requested = [&] { return slips >= event; };
   DiscardFrames discard;
@@ -44,14 +46,14 @@ Instability bracket_slip(const interface::ContactScene& scene, SlideOptions opti
                              " slip events (" + r.stop_reason + "), not slip " +
                              std::to_string(event));
   }
-  const double width = row->Dx - top->current.Dx;
-  if (!(width > 0.0 && width <= options.min_step * 1.0001)) {
-    throw std::logic_error("bracket_slip: slip " + std::to_string(event) + " at Dx = " +
-                           std::to_string(row->Dx) + " d was taken from the state at " +
-                           std::to_string(top->current.Dx) + " d, not within min_step");
+  const double width = row->Dx - top->Dx;
+  if (!(width > 0.0 && options.within_min_step(width))) {
+    throw std::logic_error(
+        "bracket_slip: slip " + std::to_string(event) + " at Dx = " + std::to_string(row->Dx) +
+        " d was taken from the state at " + std::to_string(top->Dx) + " d, not within min_step");
   }
   Instability out;
-  out.stable = top->current;
+  out.stable = std::move(*top);
   out.slip_Dx = row->Dx;
   out.event = event;
   out.slide = std::move(r);

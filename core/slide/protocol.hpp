@@ -715,7 +715,7 @@ class ProtocolRun {
       const double gap = slip_at_ - state_.Dx;
       if (!std::isfinite(slip_at_)) {
         p.may_undo = true;
-      } else if (gap > options_.min_step * 1.0001) {
+      } else if (!options_.within_min_step(gap)) {
         p.Dx = state_.Dx + 0.5 * gap;
         p.may_undo = true;
       } else {
@@ -749,7 +749,7 @@ class ProtocolRun {
     // order, less the repeated one. (Without one the slip step relaxes to convergence where the
     // trial stops at the slip, so there is nothing to share.)
     if (options_.protocol == Protocol::adaptive && options_.slip_minimizer && p.may_undo &&
-        !p.cycle_of && !(p.Dx - state_.Dx > options_.min_step * 1.0001)) {
+        !p.cycle_of && options_.within_min_step(p.Dx - state_.Dx)) {
       p.may_undo = false;
       p.closes_bracket = true;
     }

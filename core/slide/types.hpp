@@ -106,6 +106,11 @@ struct SlideOptions {
   // Throws std::invalid_argument naming the violated constraint: the table's allowed sets,
   // min_step <= max_step, the slip minimiser's settings.
   void validate() const;
+  // Whether a gap in Dx (d) is a closed bracket: at most min_step, with a relative slack of
+  // 1e-4 for the round-off of positions summed from steps and halvings. The one test the
+  // protocol's bisection, its closing trials and bracket_slip (path.hpp) share, so that what
+  // the slide takes as a closed bracket is what the path check finds.
+  [[nodiscard]] bool within_min_step(double gap) const { return gap <= min_step * 1.0001; }
 };
 
 struct TraceRow {

@@ -137,3 +137,22 @@ TEST(SlideStepGrowth, RegimeThreeCostsLessForTheSameMuWithinTheBracket) {
   EXPECT_LE(std::abs(rg.mu - r0.mu), resolution);
   EXPECT_LT(rg.gf_applications, r0.gf_applications);
 }
+
+// The closed-bracket test the bisection, its closing trials and bracket_slip share: positions
+// are sums of steps and halvings, so a gap of min_step can come out an ulp or two over it (four
+// steps of 0.01 d from 0, then one more: 0.010000000000000002). Such a gap is closed; the
+// bisection's next halving of a gap over min_step (0.0125 from 0.4 halved five times) is not.
+TEST(SlideStepGrowth, AClosedBracketIsMinStepWideUpToRoundOff) {
+  slide::SlideOptions o;
+  o.min_step = 0.01;
+  double x = 0.0;
+  for (int k = 0; k < 4; ++k)
+    x += 0.01;
+  const double gap = (x + 0.01) - x;
+  EXPECT_GT(gap, 0.01);  // the round-off the slack is for
+  EXPECT_TRUE(o.within_min_step(gap));
+  EXPECT_TRUE(o.within_min_step(0.01));
+  EXPECT_TRUE(o.within_min_step(0.00625));
+  EXPECT_FALSE(o.within_min_step(0.0125));
+  EXPECT_FALSE(o.within_min_step(0.0101));
+}
