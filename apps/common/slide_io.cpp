@@ -742,6 +742,12 @@ std::string describe_progress(const slide::SlideProgressInfo& info) {
                     info.steps, info.steps == 1 ? "" : "s");
   std::string line(buf, static_cast<std::size_t>(std::max(n, 0)));
   if (info.replayed_steps > 0) line += " + " + std::to_string(info.replayed_steps) + " replayed";
+  if (std::isfinite(info.friction) && std::isfinite(info.peak_friction)) {
+    const bool load = info.measure == slide::FrictionMeasure::load;
+    n = std::snprintf(buf, sizeof buf, ", %s %.5g%s (largest %.5g)", load ? "Fx/Fz" : "Fx/area",
+                      info.friction, load ? "" : " G", info.peak_friction);
+    line.append(buf, static_cast<std::size_t>(std::max(n, 0)));
+  }
   line += ", " + std::to_string(info.gf_applications) + " GF, " + duration(info.wall_s);
   const char* what = nullptr;
   switch (info.phase) {

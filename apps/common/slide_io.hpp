@@ -103,9 +103,10 @@ struct SlideOutputOptions {
   nlohmann::json summary_extra;
 };
 
-// One line on a slide in progress (SlideControl::progress): where it is, what it has cost and
-// what it relaxes now, e.g. "Dx = 4.6250 d of at most 9.12 d, 0 slip events, 25 steps, 801 GF,
-// 5.3 min; relaxing the slip at Dx = 4.6260 d, iteration 3200".
+// One line on a slide in progress (SlideControl::progress): where it is, its friction now and
+// the largest so far, what it has cost and what it relaxes now, e.g. "Dx = 4.6250 d of at most
+// 9.12 d, 0 slip events, 25 steps, Fx/Fz 0.03412 (largest 0.03412), 801 GF, 5.3 min; relaxing
+// the slip at Dx = 4.6260 d, iteration 3200".
 std::string describe_progress(const slide::SlideProgressInfo& info);
 
 // Which progress reports get a line: the first, then one when `every_s` seconds of the slide's

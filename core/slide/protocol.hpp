@@ -356,6 +356,9 @@ class ProtocolRun {
       relaxing_ = phase;
       relaxing_to_ = target;
     }
+    // Before the first state (phase start) there is no friction to show.
+    const bool have_state = phase != SlidePhase::start && denominator(state_) > 0.0;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
     control_.progress(SlideProgressInfo{.phase = phase,
                                         .Dx = state_.Dx,
                                         .target_Dx = target,
@@ -365,7 +368,10 @@ class ProtocolRun {
                                         .replayed_steps = res_.replayed_steps,
                                         .gf_applications = gf_total(model_.gf_applications()),
                                         .wall_s = wall_before_ + elapsed(),
-                                        .iteration = iteration});
+                                        .iteration = iteration,
+                                        .measure = params_.measure,
+                                        .friction = have_state ? ratio(state_) : nan,
+                                        .peak_friction = have_state ? best_ : nan});
   }
 
   // A stop request is also polled from inside a relaxation of the stepping or of the peak

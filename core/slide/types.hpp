@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -209,6 +210,13 @@ struct SlideProgressInfo {
   double wall_s = 0.0;              // so far, earlier sessions included (s)
   int iteration = 0;  // minimiser iterations of the relaxation in progress; 0: it starts now (the
                       // lateral force model reports every 16 iterations while it relaxes)
+  // The friction of the last accepted state and the largest so far (the static peak's
+  // candidate), in the slide's measure: Fx/Fz (mu), or Fx/area (G) with FrictionMeasure::area.
+  // NaN before the first state. A Regime III slide runs for hours through small slips; whether
+  // the first climbs past the second is what one watches for (the upturn, MODEL.md 8).
+  FrictionMeasure measure = FrictionMeasure::load;
+  double friction = std::numeric_limits<double>::quiet_NaN();
+  double peak_friction = std::numeric_limits<double>::quiet_NaN();
 };
 using SlideProgress = std::function<void(const SlideProgressInfo&)>;
 

@@ -169,7 +169,9 @@ def slide(scene, progress=None, snapshots=True):
     """Slides `scene` (a Scene or a dict of settings) quasi-statically (MODEL.md 5).
 
     progress: None, or a callable taking a dict (phase, Dx, target_Dx, slip_events, steps,
-    gf_applications, wall_s, iteration), called before every relaxation, after every accepted
+    gf_applications, wall_s, iteration; measure, friction, peak_friction: the friction of the
+    last accepted state and the largest so far, Fx/Fz with measure "load" or Fx/area in G with
+    "area", NaN before the first state), called before every relaxation, after every accepted
     step and from inside long relaxations.
     snapshots: keep the states (peak, before and after each slip) and the relaxation paths the
     scene asks for (slide.path_frame_every) as result.snapshots; False keeps none (a long slide

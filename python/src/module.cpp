@@ -162,11 +162,13 @@ py::tuple run_slide(const app::SlideScene& scene, const py::object& progress, bo
     control.progress = [&](const slide::SlideProgressInfo& info) {
       py::gil_scoped_acquire gil;
       if (interrupted) return;  // a KeyboardInterrupt is pending: no more Python calls
-      progress(py::dict(py::arg("phase") = phase_name(info.phase), py::arg("Dx") = info.Dx,
-                        py::arg("target_Dx") = info.target_Dx,
-                        py::arg("slip_events") = info.slip_events, py::arg("steps") = info.steps,
-                        py::arg("gf_applications") = info.gf_applications,
-                        py::arg("wall_s") = info.wall_s, py::arg("iteration") = info.iteration));
+      progress(py::dict(
+          py::arg("phase") = phase_name(info.phase), py::arg("Dx") = info.Dx,
+          py::arg("target_Dx") = info.target_Dx, py::arg("slip_events") = info.slip_events,
+          py::arg("steps") = info.steps, py::arg("gf_applications") = info.gf_applications,
+          py::arg("wall_s") = info.wall_s, py::arg("iteration") = info.iteration,
+          py::arg("measure") = slide::to_string(info.measure), py::arg("friction") = info.friction,
+          py::arg("peak_friction") = info.peak_friction));
     };
   }
   // Ctrl-C: Python's handler runs when polled; the slide then stops where it stands.

@@ -79,6 +79,25 @@ def test_progress_is_called_and_phases_are_named():
     assert all(seen[i]["Dx"] <= seen[i + 1]["Dx"] for i in range(len(seen) - 1))
 
 
+def test_progress_carries_the_friction_now_and_the_largest_so_far():
+    # Each accepted state's report carries Fx/Fz of its trace row; the largest so far is the
+    # running maximum of the rows (a later maximum counts only if it is higher by more than
+    # 1e-6 relative, the slide's noise guard for a Regime I trace that repeats its maximum).
+    seen = []
+    result = asperity.slide(SMALL, progress=seen.append)
+    assert seen[0]["phase"] == "start" and np.isnan(seen[0]["friction"])
+    assert all(r["measure"] == "load" for r in seen)
+    rows = {float(t["Dx"]): float(t["Fx"]) / float(t["Fz"]) for t in result.trace}
+    accepted = [r for r in seen if r["phase"] == "accepted"]
+    assert len(accepted) >= 5
+    largest = rows[0.0]
+    for r in accepted:
+        assert r["friction"] == pytest.approx(rows[r["Dx"]], rel=1e-14)
+        largest = max(largest, rows[r["Dx"]])
+        assert largest * (1 - 1e-6) <= r["peak_friction"] <= largest
+    assert accepted[-1]["peak_friction"] > accepted[0]["friction"]
+
+
 def test_ctrl_c_stops_the_slide_with_keyboard_interrupt():
     # SIGINT while the slide runs in C++ without the GIL: the slide polls Python's handler and
     # stops where it stands, well before the uninterrupted slide's end (a = 43 d, R = 535 d:

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -178,4 +179,47 @@ TEST(SlideProgress, DescribesPositionCostAndRelaxation) {
   info.wall_s = 7300.0;
   EXPECT_EQ(app::describe_progress(info),
             "Dx = 4.6250 d of at most 9.25 d, 1 slip event, 25 steps, 801 GF, 2.03 h");
+  // The friction now and the largest so far, once there is a state (a = 300 d, R = 800 d after
+  // its fifth slip: Fx/Fz = 5342.89 / 179999.4 against the first peak's 6587.0 / 179999.4).
+  info.friction = 5342.89 / 179999.4;
+  info.peak_friction = 6587.0 / 179999.4;
+  EXPECT_EQ(app::describe_progress(info),
+            "Dx = 4.6250 d of at most 9.25 d, 1 slip event, 25 steps, Fx/Fz 0.029683 (largest "
+            "0.036595), 801 GF, 2.03 h");
+  info.measure = slide::FrictionMeasure::area;
+  info.friction = 0.0125;
+  info.peak_friction = 0.0131;
+  EXPECT_EQ(app::describe_progress(info),
+            "Dx = 4.6250 d of at most 9.25 d, 1 slip event, 25 steps, Fx/area 0.0125 G (largest "
+            "0.0131), 801 GF, 2.03 h");
+}
+
+// The slide reports the friction of its last accepted state and the largest so far: NaN before
+// the first state, then Fx/Fz of the trace row just accepted and the running maximum of the
+// rows (up to the 1e-6 noise guard by which a later maximum replaces the peak).
+TEST(SlideProgress, ReportsTheFrictionNowAndTheLargestSoFar) {
+  const interface::ContactScene scene { .a = 12.0, .R = 125.0 };  // Regime I, about a second
+  std::vector<SlideProgressInfo> seen;
+  slide::SlideControl control;
+  control.progress = [&](const SlideProgressInfo& info) { seen.push_back(info); };
+  const auto r = slide::slide(scene, slide::SlideOptions{}, control);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front().phase, SlidePhase::start);
+  EXPECT_TRUE(std::isnan(seen.front().friction));
+  EXPECT_TRUE(std::isnan(seen.front().peak_friction));
+  double largest = r.trace.front().Fx / r.trace.front().Fz;
+  int checked = 0;
+  for (const auto& info : seen) {
+    if (info.phase != SlidePhase::accepted) continue;
+    const auto row = std::find_if(r.trace.begin(), r.trace.end(),
+                                  [&](const slide::TraceRow& t) { return t.Dx == info.Dx; });
+    ASSERT_NE(row, r.trace.end()) << "no trace row at Dx = " << info.Dx;
+    const double now = row->Fx / row->Fz;
+    EXPECT_DOUBLE_EQ(info.friction, now);
+    largest = std::max(largest, now);
+    EXPECT_LE(info.peak_friction, largest);
+    EXPECT_GE(info.peak_friction, largest * (1.0 - 1e-6));
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
 }
