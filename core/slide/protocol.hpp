@@ -359,6 +359,9 @@ class ProtocolRun {
     // Before the first state (phase start) there is no friction to show.
     const bool have_state = phase != SlidePhase::start && denominator(state_) > 0.0;
     const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double now = have_state ? ratio(state_) : nan;
+    // The largest is never shown below the friction beside it: the peak refinement can take
+    // back best_ to a runner-up up to 1e-4 below the last state (refine_peak).
     control_.progress(SlideProgressInfo{.phase = phase,
                                         .Dx = state_.Dx,
                                         .target_Dx = target,
@@ -370,8 +373,8 @@ class ProtocolRun {
                                         .wall_s = wall_before_ + elapsed(),
                                         .iteration = iteration,
                                         .measure = params_.measure,
-                                        .friction = have_state ? ratio(state_) : nan,
-                                        .peak_friction = have_state ? best_ : nan});
+                                        .friction = now,
+                                        .peak_friction = have_state ? std::max(best_, now) : nan});
   }
 
   // A stop request is also polled from inside a relaxation of the stepping or of the peak

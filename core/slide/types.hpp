@@ -211,9 +211,10 @@ struct SlideProgressInfo {
   int iteration = 0;  // minimiser iterations of the relaxation in progress; 0: it starts now (the
                       // lateral force model reports every 16 iterations while it relaxes)
   // The friction of the last accepted state and the largest so far (the static peak's
-  // candidate), in the slide's measure: Fx/Fz (mu), or Fx/area (G) with FrictionMeasure::area.
-  // NaN before the first state. A Regime III slide runs for hours through small slips; whether
-  // the first climbs past the second is what one watches for (the upturn, MODEL.md 8).
+  // candidate, never below the first), in the slide's measure: Fx/Fz (mu), or Fx/area (G) with
+  // FrictionMeasure::area. NaN before the first state. A Regime III slide runs for hours through
+  // small slips; whether the first climbs past the second is what one watches for (the upturn,
+  // MODEL.md 8).
   FrictionMeasure measure = FrictionMeasure::load;
   double friction = std::numeric_limits<double>::quiet_NaN();
   double peak_friction = std::numeric_limits<double>::quiet_NaN();

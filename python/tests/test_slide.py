@@ -67,6 +67,13 @@ def test_adhesive_envelope_reports_the_friction_stress(tmp_path):
     assert 0 < result.summary["tau_fric_over_tau0"] <= 1
     assert result.summary["envelope"] == "adhesive" and result.summary["bcore0"] == 20
     assert np.all(result.trace["Fz"] == 0) and np.all(result.trace["area"] > 0)
+    # Without load the progress reports the same measure: Fx/area, in G.
+    seen = []
+    asperity.slide(scene, progress=seen.append)
+    friction = {float(t["Dx"]): float(t["Fx"]) / float(t["area"]) for t in result.trace}
+    accepted = [r for r in seen if r["phase"] == "accepted"]
+    assert accepted and all(r["measure"] == "area" for r in seen)
+    assert all(r["friction"] == pytest.approx(friction[r["Dx"]], rel=1e-14) for r in accepted)
     with pytest.raises(ValueError, match="contact.tau0 = 0"):
         asperity.Scene({"contact": {"envelope": "adhesive"}})
 

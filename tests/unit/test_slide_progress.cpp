@@ -195,8 +195,9 @@ TEST(SlideProgress, DescribesPositionCostAndRelaxation) {
 }
 
 // The slide reports the friction of its last accepted state and the largest so far: NaN before
-// the first state, then Fx/Fz of the trace row just accepted and the running maximum of the
-// rows (up to the 1e-6 noise guard by which a later maximum replaces the peak).
+// the first state, then Fx/Fz of the trace row last accepted, in every report (steps, trials,
+// the peak refinement), and the running maximum of the rows (up to the 1e-6 noise guard by
+// which a later maximum replaces the peak), never below the friction beside it.
 TEST(SlideProgress, ReportsTheFrictionNowAndTheLargestSoFar) {
   const interface::ContactScene scene { .a = 12.0, .R = 125.0 };  // Regime I, about a second
   std::vector<SlideProgressInfo> seen;
@@ -207,19 +208,32 @@ TEST(SlideProgress, ReportsTheFrictionNowAndTheLargestSoFar) {
   EXPECT_EQ(seen.front().phase, SlidePhase::start);
   EXPECT_TRUE(std::isnan(seen.front().friction));
   EXPECT_TRUE(std::isnan(seen.front().peak_friction));
-  double largest = r.trace.front().Fx / r.trace.front().Fz;
-  int checked = 0;
-  for (const auto& info : seen) {
-    if (info.phase != SlidePhase::accepted) continue;
+  double last = r.trace.front().Fx / r.trace.front().Fz;  // the first state's
+  double largest = last;
+  int checked = 0, others = 0;
+  bool refined = false;
+  for (std::size_t k = 1; k < seen.size(); ++k) {
+    const SlideProgressInfo& info = seen[k];
+    ASSERT_NE(info.phase, SlidePhase::start);
+    EXPECT_EQ(info.measure, slide::FrictionMeasure::load);
+    EXPECT_GE(info.peak_friction, info.friction) << "report " << k;
+    if (info.phase != SlidePhase::accepted) {
+      EXPECT_DOUBLE_EQ(info.friction, last) << "report " << k << ": not the last accepted state's";
+      refined = refined || info.phase == SlidePhase::peak;
+      ++others;
+      continue;
+    }
     const auto row = std::find_if(r.trace.begin(), r.trace.end(),
                                   [&](const slide::TraceRow& t) { return t.Dx == info.Dx; });
     ASSERT_NE(row, r.trace.end()) << "no trace row at Dx = " << info.Dx;
-    const double now = row->Fx / row->Fz;
-    EXPECT_DOUBLE_EQ(info.friction, now);
-    largest = std::max(largest, now);
+    last = row->Fx / row->Fz;
+    EXPECT_DOUBLE_EQ(info.friction, last);
+    largest = std::max(largest, last);
     EXPECT_LE(info.peak_friction, largest);
     EXPECT_GE(info.peak_friction, largest * (1.0 - 1e-6));
     ++checked;
   }
   EXPECT_GE(checked, 5);
+  EXPECT_GE(others, checked) << "every accepted step is preceded by its relaxation's report";
+  EXPECT_TRUE(refined) << "a Regime I slide refines its smooth maximum";
 }
