@@ -199,7 +199,7 @@ TEST(SlideProgress, DescribesPositionCostAndRelaxation) {
 // the peak refinement), and the running maximum of the rows (up to the 1e-6 noise guard by
 // which a later maximum replaces the peak), never below the friction beside it.
 TEST(SlideProgress, ReportsTheFrictionNowAndTheLargestSoFar) {
-  const interface::ContactScene scene { .a = 12.0, .R = 125.0 };  // Regime I, about a second
+  const interface::ContactScene scene { .a = 12.0, .R = 125.0 };  // Regime I, under 0.1 s
   std::vector<SlideProgressInfo> seen;
   slide::SlideControl control;
   control.progress = [&](const SlideProgressInfo& info) { seen.push_back(info); };
