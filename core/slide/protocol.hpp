@@ -897,7 +897,10 @@ class ProtocolRun {
     if (resuming) {
       r = resuming->fast;
     } else {
-      r = relax_abandonable(trial, p.Dx, want_frames ? &frames : nullptr,
+      // Its path frames would be thrown away: a slip is the flow's (and its path with it), and
+      // a step that does not slip shows none. Recording them cost a copy of the block's
+      // displacement every path_frame_every iterations.
+      r = relax_abandonable(trial, p.Dx, want_frames && !slip_goes_to_flow ? &frames : nullptr,
                             p.may_undo || slip_goes_to_flow);
       if (abandoned_) {
         // plan() took the due probe of the cycle for this relaxation: the resumed slide is to

@@ -152,7 +152,6 @@ class Slider {
             PathFrame frame{.iteration = it,
                             .fields = {.Dx = s.Dx, .shift = s.shift, .f = {}, .u = s.u}};
             scatter(uu, frame.fields.u);
-            std::vector<double> fint(uu.size());
             summarise(uu, ff, frame.fields);
             frames->push_back(std::move(frame));
           }
