@@ -237,3 +237,52 @@ TEST(SlideProgress, ReportsTheFrictionNowAndTheLargestSoFar) {
   EXPECT_GE(others, checked) << "every accepted step is preceded by its relaxation's report";
   EXPECT_TRUE(refined) << "a Regime I slide refines its smooth maximum";
 }
+
+// A resumed slide (SlideControl::start) has a state from its first report on: the friction of
+// the start state's last accepted state and the largest of its earlier sessions, not NaN (the
+// start phase, which would have none, is not repeated), and its reports then go on as the
+// uninterrupted slide's did from the same state.
+TEST(SlideProgress, AResumedSlideReportsItsStartStatesFrictionAndLargest) {
+  const interface::ContactScene scene {};  // a = 43 d, R = 535 d: Regime II, two slips
+  const slide::SlideOptions options;
+  std::vector<slide::SlideState> states;
+  std::vector<SlideProgressInfo> whole;
+  slide::SlideControl control{
+      .progress = [&](const SlideProgressInfo& i) { whole.push_back(i); },
+      .checkpoint = [&](const slide::SlideState& s) { states.push_back(s); },
+      .checkpoint_every_s = 0.0};
+  const auto full = slide::slide(scene, options, control);
+  ASSERT_GE(full.slip_events, 1);
+  // The first checkpoint after the first slip, where the friction has fallen below the peak.
+  const auto after_slip = std::find_if(
+      states.begin(), states.end(),
+      [](const slide::SlideState& s) { return s.partial.slip_events >= 1 && !s.stepping_done; });
+  ASSERT_NE(after_slip, states.end());
+  const slide::SlideState& st = *after_slip;
+  const double now = st.current.Fx / st.current.Fz;
+  ASSERT_LT(now, st.best) << "the checkpoint after a slip is below the peak";
+
+  std::vector<SlideProgressInfo> resumed;
+  const auto rest = slide::slide(
+      scene, options,
+      slide::SlideControl{.progress = [&](const SlideProgressInfo& i) { resumed.push_back(i); },
+                          .start = &st});
+  ASSERT_FALSE(resumed.empty());
+  const SlideProgressInfo& first = resumed.front();
+  EXPECT_NE(first.phase, SlidePhase::start);
+  EXPECT_EQ(first.Dx, st.current.Dx);
+  EXPECT_EQ(first.slip_events, st.partial.slip_events);
+  EXPECT_DOUBLE_EQ(first.friction, now);
+  EXPECT_DOUBLE_EQ(first.peak_friction, st.best);
+
+  // The uninterrupted slide's report of the same relaxation (the first from that state, of the
+  // same phase and target) says the same.
+  const auto same = std::find_if(whole.begin(), whole.end(), [&](const SlideProgressInfo& i) {
+    return i.Dx == first.Dx && i.target_Dx == first.target_Dx && i.phase == first.phase &&
+           i.iteration == first.iteration && i.steps == first.steps;
+  });
+  ASSERT_NE(same, whole.end()) << "no report of the relaxation to Dx = " << first.target_Dx;
+  EXPECT_DOUBLE_EQ(same->friction, first.friction);
+  EXPECT_DOUBLE_EQ(same->peak_friction, first.peak_friction);
+  EXPECT_EQ(rest.mu, full.mu);
+}
