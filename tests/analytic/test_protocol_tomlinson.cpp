@@ -18,9 +18,11 @@
 //   branch's k u(Dx_s) (solved here);
 // - mu = A / Fz from below, within the precision the slide reports, and that precision below
 //   the shortfall of a sample min_step from a parabolic maximum, |d2Fx/dDx2| min_step^2 / 2 with
-//   d2Fx/dDx2 = -A (2 pi / d)^2 at Dx_p (dDx/dtheta = d / 2 pi there). (A bound of the
-//   parabola only: towards the fold Fx falls faster, 1.7e-3 against 1.3e-3 A at +0.01 d for
-//   eta = 4; the refinement and the bracket of the fold keep the samples closer.)
+//   d2Fx/dDx2 = -A (2 pi / d)^2 at Dx_p (dDx/dtheta = d / 2 pi there). This is the parabola's
+//   bound, a leading-order one: towards the fold Fx falls faster (at +0.01 d, 1.7e-3 against
+//   1.3e-3 A for eta = 4). The reported precision (the parabola's excess over the best sample,
+//   or, for a peak just before a slip, the gap times the secant slope) was 4.4e-5 and 2.0e-3
+//   against bounds of 1.3e-3 and 6.3e-3 at eta = 4 and 20.
 // - the slip goes where the overdamped flow takes it: from the stable state's u, moved to
 //   Dx_slip, down Pi in u to the first equilibrium (a 1-D gradient flow cannot pass one), here
 //   the next well: the registry index round((Dx - u) / d) one up, Fx = k u_land.
