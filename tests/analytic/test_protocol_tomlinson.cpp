@@ -154,6 +154,7 @@ class TomlinsonModel {
 
   State initial() {
     State s{.Dx = 0.0, .shift = 0, .f = {0.0, 0.0}, .u = {0.0, 0.0}};
+    problem_.Dx = s.Dx;
     summarise(s);
     return s;
   }
@@ -205,13 +206,13 @@ class TomlinsonModel {
   std::vector<RelaxCall> calls;
 
  private:
+  // Of a state the problem describes (its Dx): Pi = 1/2 f.u + V(u) in the pair representation.
   void summarise(State& s) const {
     s.Fx = s.f[0];
     s.Fz = m_.Fz;
     s.area = m_.d * m_.d;
-    const double q = 2.0 * kPi / m_.d;
-    s.energy = 0.5 * m_.k * (s.u[0] * s.u[0] + s.u[1] * s.u[1]) +
-               m_.U0() * (2.0 - std::cos(q * (s.u[0] - s.Dx)) - std::cos(q * s.u[1]));
+    std::vector<double> f_int(2);
+    s.energy = 0.5 * (s.f[0] * s.u[0] + s.f[1] * s.u[1]) + problem_.interface(s.u, f_int);
   }
 
   Tomlinson1 m_;
