@@ -36,7 +36,8 @@ build=${BUILD_DIR:-build}
 # R = 100 d past the crossover (data/reference/regime3_R100.md); R = 1700 d, a = 510 d
 # (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9); R = 100 d, a = 60 d with
 # a 16 d cap, to a final value (data/reference/regime3_R100.md). Since 2026-11-27 r800 runs
-# alone on both cores ([fft] threads = 2 in its scene copy), so it is the only auto run.
+# alone on both cores ([fft] threads = 2 in its scene, since 2026-11-28 in the repository's copy
+# too, so that a new machine starts it that way), so it is the only auto run.
 table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto
 r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip|
 r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|
