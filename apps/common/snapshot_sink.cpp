@@ -6,6 +6,8 @@
 
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/xyz_io.hpp"
+#include "asperity/tracking/census.hpp"
+#include "asperity/tracking/lines.hpp"
 
 namespace asperity::app {
 
@@ -210,29 +212,116 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
   format_.validate();
 }
 
-std::string LargestSlipSink::start(std::optional<int> largest_so_far) {
+std::vector<std::string> LargestSlipSink::census_columns() {
+  return {"slip",
+          "Dx",
+          "Fx_before",
+          "Fx_after",
+          "Fz",
+          "slipped_sites",
+          "contact_sites",
+          "lines",
+          "loops",
+          "open_lines",
+          "wrapping_lines",
+          "loop_area",
+          "loop_length",
+          "open_length",
+          "loop_screw_fraction",
+          "largest_loop_area",
+          "largest_loop_x_extent",
+          "largest_loop_y_extent",
+          "largest_loop_screw_fraction",
+          "largest_loop_cx",
+          "largest_loop_cy",
+          "slipped_area"};
+}
+
+std::string LargestSlipSink::start(std::optional<Resume> resume) {
   ensure_directory(dir_);
   std::error_code ec;
   fs::remove(dir_ / "peak.nc", ec);  // made again at the end
   fs::remove(dir_ / "peak.xyz", ec);
-  if (!largest_so_far) {
+  census_ = CsvTable(census_columns());
+  if (!resume) {
     for (const fs::path& f :
          {before_file(), after_file(), latest_before_file(), latest_after_file()}) {
       fs::remove(f, ec);
       fs::remove(xyz_beside(f), ec);
     }
+    fs::remove(census_file(), ec);
     largest_ = 0;
     return {};
   }
-  largest_ = *largest_so_far;
+  largest_ = resume->largest_slipped_sites;
+  std::string warning;
+  const auto warn = [&warning](const std::string& w) {
+    warning += (warning.empty() ? "" : "; ") + w;
+  };
   // Files written after the checkpoint belong to a slip the resumed slide makes again (bit for
   // bit): they are replaced then, since largest_ does not count it yet.
   if (largest_ > 0 && !fs::exists(before_file())) {
-    return "the states of its largest slip before the checkpoint (" + std::to_string(largest_) +
-           " slipped sites) were not kept (a run without --largest-slip made the checkpoint); "
-           "only a larger slip is kept from here on";
+    warn("the states of its largest slip before the checkpoint (" + std::to_string(largest_) +
+         " slipped sites) were not kept (a run without --largest-slip made the checkpoint); "
+         "only a larger slip is kept from here on");
   }
-  return {};
+  // The rows of the checkpoint's slips; the later ones are made again.
+  int kept = 0;
+  if (fs::exists(census_file())) {
+    const CsvTable old = CsvTable::read(census_file());
+    if (old.columns() != census_columns()) {
+      warn("its slips.csv has other columns (an earlier build): set aside as slips.old.csv");
+      fs::rename(census_file(), dir_ / "slips.old.csv");
+    } else {
+      for (std::size_t i = 0; i < old.rows(); ++i) {
+        if (old.integer(i, "slip") > resume->slip_events) break;
+        std::vector<CsvTable::Cell> row;
+        for (std::size_t c = 0; c < old.columns().size(); ++c)
+          row.push_back(old.cell(i, c));
+        census_.add_row(std::move(row));
+        ++kept;
+      }
+    }
+  }
+  if (kept < resume->slip_events) {
+    warn("slips.csv has no rows for " + std::to_string(resume->slip_events - kept) + " of the " +
+         std::to_string(resume->slip_events) +
+         " slips before the checkpoint (a build without it made them); it goes on from the next");
+  }
+  census_.write(census_file());
+  return warning;
+}
+
+// A row of slips.csv: the slip's place in the slide and the census of the lines of the state it
+// ends in (the stable state the slide continues from).
+void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide::Snapshot& after) {
+  // The event number from the label ("slip_012_after": 12), the one place it is spelt.
+  const std::string stem = after.label.substr(0, after.label.size() - std::string("_after").size());
+  const long long slip = std::stoll(stem.substr(std::string("slip_").size()));
+  const tracking::LineCensus c = tracking::census(tracking::find_lines(tracking::view_of(after)));
+  census_.add_row({slip,
+                   after.Dx,
+                   before.Fx,
+                   after.Fx,
+                   after.Fz,
+                   static_cast<long long>(after.slipped_sites),
+                   static_cast<long long>(c.contact_sites),
+                   static_cast<long long>(c.lines),
+                   static_cast<long long>(c.loops),
+                   static_cast<long long>(c.open_lines),
+                   static_cast<long long>(c.wrapping_lines),
+                   c.loop_area,
+                   c.loop_length,
+                   c.open_length,
+                   c.loop_screw_fraction,
+                   c.largest_loop_area,
+                   c.largest_loop_x_extent,
+                   c.largest_loop_y_extent,
+                   c.largest_loop_screw_fraction,
+                   c.largest_loop_cx,
+                   c.largest_loop_cy,
+                   c.slipped_area});
+  census_.write(census_file());
 }
 
 void LargestSlipSink::state(const slide::Snapshot& frame) {
@@ -251,6 +340,7 @@ void LargestSlipSink::state(const slide::Snapshot& frame) {
       // their labels tell.
       write(*before_, latest_before_file());
       write(frame, latest_after_file());
+      add_census_row(*before_, frame);
       if (frame.slipped_sites > largest_) {
         write(*before_, before_file());
         write(frame, after_file());

@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
 #include "asperity/core/slide/frames.hpp"
 
@@ -90,17 +91,29 @@ class SnapshotSink final : public slide::FrameSink {
 // slide takes hundreds); the "before" state of every slip is held until its "after" arrives.
 // Also the pair of the latest slip, latest_slip_before.nc and latest_slip_after.nc, replaced at
 // every slip: a point that runs for days can be looked at (track_loops) while it runs.
+// And slips.csv, a row per slip: where it happened (Dx, Fx before and after, slipped sites) and
+// the census of the lines its "after" state holds (tracking::census: loops, their area and
+// character, the slipped area), so that how a Regime III slide's loops nucleate, creep and are
+// arrested is kept for every slip in a few hundred bytes each (the table is rewritten whole at
+// each slip, atomically, like every result file).
 // No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
   LargestSlipSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
                   std::mutex* netcdf = nullptr);
 
+  // Where a resumed run's checkpoint left the slide: its trace's slip events and the most
+  // sites any of them slipped.
+  struct Resume {
+    int largest_slipped_sites = 0;
+    int slip_events = 0;
+  };
   // A fresh run removes the files of an earlier one. A resumed run continues from a checkpoint
-  // whose trace has slips of up to `largest_so_far` sites: only a larger slip replaces the pair.
-  // Returns a warning when the checkpoint's slips include one whose states are not on disk (the
-  // checkpoint was made by a run that did not keep them), else an empty string.
-  std::string start(std::optional<int> largest_so_far);
+  // whose trace has slips of up to `largest_slipped_sites` sites: only a larger slip replaces the
+  // pair; slips.csv keeps its rows up to the checkpoint's slip events (later ones are made
+  // again). Returns a warning when the checkpoint's slips include one whose states or row are not
+  // on disk (the checkpoint was made by a run that did not keep them), else an empty string.
+  std::string start(std::optional<Resume> resume);
 
   void state(const slide::Snapshot& frame) override;
   void path_frame(const slide::Snapshot& /*frame*/) override {}
@@ -119,14 +132,20 @@ class LargestSlipSink final : public slide::FrameSink {
   [[nodiscard]] std::filesystem::path latest_after_file() const {
     return dir_ / "latest_slip_after.nc";
   }
+  [[nodiscard]] std::filesystem::path census_file() const { return dir_ / "slips.csv"; }
+  // The columns of slips.csv, in order.
+  static std::vector<std::string> census_columns();
 
  private:
   std::filesystem::path dir_;
   nlohmann::json attributes_;
   SnapshotFormat format_;
   std::mutex* netcdf_;
+  void add_census_row(const slide::Snapshot& before, const slide::Snapshot& after);
+
   int largest_ = 0;
   std::optional<slide::Snapshot> before_;  // of the slip whose "after" comes next
+  CsvTable census_{census_columns()};      // slips.csv as on disk
 };
 
 }  // namespace asperity::app

@@ -7,7 +7,8 @@
 //   settings reuses its rows instead of recomputing them;
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
 //   figures and snapshots of contact_slide; with --largest-slip, largest_slip/ with the states
-//   before and after the point's largest slip, those of its latest slip, and its peak state);
+//   before and after the point's largest slip, those of its latest slip, its peak state and
+//   slips.csv, the loops after each slip);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png;
@@ -53,7 +54,8 @@ int main(int argc, char** argv) {
                  "sites), the states around its latest slip (replaced at every slip: a long "
                  "point can be looked at while it runs) and the peak state, as NetCDF in "
                  "points/<point>/largest_slip/ (for track_loops): two pairs of frames however "
-                 "many slips")
+                 "many slips; and slips.csv there, a row per slip with the loops its state "
+                 "holds (number, area, screw fraction, slipped area)")
         ->excludes(figures_opt);
     cli.add_flag("--adopt", o.adopt,
                  "Continue checkpoints and keep finished rows of another build, or of other "

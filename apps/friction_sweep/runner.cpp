@@ -450,11 +450,14 @@ class SweepRunner {
       // checkpoint's trace, and says if their largest is not on disk.
       sinks.largest.emplace(point_dir / "largest_slip", snapshot_attributes(ps, extra),
                             ps.snapshot_format, &output_mutex_);
-      std::optional<int> so_far;
+      std::optional<LargestSlipSink::Resume> so_far;
       if (start) {
-        so_far = 0;
-        for (const slide::TraceRow& r : start->state.partial.trace)
-          if (r.slip) so_far = std::max(*so_far, r.slipped_sites);
+        so_far.emplace();
+        for (const slide::TraceRow& r : start->state.partial.trace) {
+          if (!r.slip) continue;
+          so_far->largest_slipped_sites = std::max(so_far->largest_slipped_sites, r.slipped_sites);
+          ++so_far->slip_events;
+        }
       }
       if (const std::string warning = sinks.largest->start(so_far); !warning.empty()) {
         say(point, warning);

@@ -28,6 +28,7 @@
 #include <numbers>
 #include <ostream>
 
+#include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
 #include "asperity/tracking/synthetic.hpp"
 #include "asperity/tracking/tracker.hpp"
@@ -135,6 +136,77 @@ INSTANTIATE_TEST_SUITE_P(Synthetic, Islands,
                                            Case{"offset_noise_w1", 1.0, 0.1, 0.02, 0.05, 0.6, 0.8},
                                            Case{"offset_w3", 3.0, 0.05, 0.0, 0.0, 0.6, 0.999}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
+
+// The census of a frame's lines (tracking/census.hpp) on three circular slipped islands inside
+// the contact and one cut by its edge. Answers: 3 loops and 1 open line; the loops' areas sum to
+// pi (15^2 + 8^2 + 5^2) d^2 within the 5 % of one loop's area above; the largest is the r = 15 d
+// circle (extents 30 d within 2 d, twice the 1 d of a semi-axis; centroid within 0.5 d). A
+// circle's tangent is within 45 degrees of x over exactly half its length, so the loops'
+// length-weighted screw fraction is 1/2. The tangent is the chord over three marching-squares
+// segments of a polygon inscribed in the circle, so near the four 45-degree points a segment is
+// classed by a chord a few degrees off: measured 0.516 on this field (0.5 +- 0.016 is an arc of
+// about 1.5 degrees misclassified at each of the eight boundaries); the tolerance 0.03 allows
+// about 3 degrees. The slipped area is the contact sites inside the islands, counted here from
+// the ellipses, plus some of the sites exactly on them: a site inside has sigma > 1/2 (registry
+// index -1), one outside sigma < 1/2, and one on an ellipse (integer points of the circles)
+// sigma = 1/2 and tau_x = 0, a site on the core itself, which the tracer joins to one side or the
+// other by which of its edges the marching squares cut. So the count lies between the sites
+// strictly inside and those inside or on the ellipses (1 117 and 1 148 on this field).
+TEST(Census, LoopsAreasScrewFractionAndSlippedArea) {
+  const std::vector<Island> islands = {
+      {-25, 15, 15, 15}, {20, 20, 8, 8}, {10, -30, 5, 5}, {57, 0, 10, 8}};
+  const SyntheticField field = synthetic_field(contact_options(), islands);
+  const LineCensus c = census(find_lines(field.view()));
+  EXPECT_EQ(c.lines, 4);
+  EXPECT_EQ(c.loops, 3);
+  EXPECT_EQ(c.open_lines, 1);
+  EXPECT_EQ(c.wrapping_lines, 0);
+  const double pi = std::numbers::pi;
+  EXPECT_NEAR(c.loop_area, pi * (225 + 64 + 25), 0.05 * pi * (225 + 64 + 25));
+  EXPECT_NEAR(c.largest_loop_area, pi * 225, 0.05 * pi * 225);
+  EXPECT_NEAR(c.largest_loop_x_extent, 30.0, 2.0);
+  EXPECT_NEAR(c.largest_loop_y_extent, 30.0, 2.0);
+  EXPECT_NEAR(c.largest_loop_cx, -25.0, 0.5);
+  EXPECT_NEAR(c.largest_loop_cy, 15.0, 0.5);
+  EXPECT_NEAR(c.loop_screw_fraction, 0.5, 0.03);
+  EXPECT_NEAR(c.largest_loop_screw_fraction, 0.5, 0.03);
+  EXPECT_NEAR(c.loop_length, 2 * pi * (15 + 8 + 5), 0.05 * 2 * pi * (15 + 8 + 5));
+  EXPECT_GT(c.open_length, 0.0);
+
+  std::size_t inside = 0, on_edge = 0, contact = 0;
+  const auto& b = field.block;
+  for (int i0 = 0; i0 < b.shape.n0; ++i0) {
+    for (int i1 = 0; i1 < b.shape.n1; ++i1) {
+      const auto k = static_cast<std::size_t>(i0 * b.shape.n1 + i1);
+      if (!field.in_contact[k]) continue;
+      ++contact;
+      const double x = b.origin0 + i0, y = b.origin1 + i1;
+      double q = 2.0;  // the smallest (x/ax)^2 + (y/ay)^2 over the islands
+      for (const Island& e : islands)
+        q = std::min(q, std::pow((x - e.cx) / e.ax, 2) + std::pow((y - e.cy) / e.ay, 2));
+      if (q < 1.0 - 1e-12) {
+        ++inside;
+      } else if (q <= 1.0 + 1e-12) {
+        ++on_edge;
+      }
+    }
+  }
+  EXPECT_EQ(c.contact_sites, contact);
+  EXPECT_GE(c.slipped_area, static_cast<double>(inside));
+  EXPECT_LE(c.slipped_area, static_cast<double>(inside + on_edge));
+  EXPECT_GT(on_edge, 0u) << "the bound is meant to be tested with sites on the cores";
+  std::printf(
+      "census: loop area %.1f (pi sum r^2 %.1f), screw fraction %.4f, slipped %.0f (inside %zu, "
+      "on the cores %zu)\n",
+      c.loop_area, pi * (225 + 64 + 25), c.loop_screw_fraction, c.slipped_area, inside, on_edge);
+
+  // No lines: nothing counted, the fractions undefined.
+  const LineCensus none = census(find_lines(synthetic_field(contact_options(), {}).view()));
+  EXPECT_EQ(none.lines, 0);
+  EXPECT_EQ(none.slipped_area, 0.0);
+  EXPECT_TRUE(std::isnan(none.loop_screw_fraction));
+  EXPECT_TRUE(std::isnan(none.largest_loop_screw_fraction));
+}
 
 TEST(Registry, ZeroCrossingsInRegistryAreNotCores) {
   for (const double noise : {0.0, 0.02}) {

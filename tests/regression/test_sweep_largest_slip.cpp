@@ -10,6 +10,8 @@
 
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/tracking/census.hpp"
+#include "asperity/tracking/lines.hpp"
 
 namespace {
 
@@ -75,9 +77,73 @@ TEST(FrictionSweepLargestSlip, KeepsTheStatesOfTheSlipWithMostSites) {
   EXPECT_DOUBLE_EQ(latest_after[0].Dx, trace.number(last_row, "Dx"));
   EXPECT_DOUBLE_EQ(latest_after[0].Fx, trace.number(last_row, "Fx"));
 
-  // Two pairs and the peak, however many slips.
+  // Two pairs, the peak and slips.csv, however many slips.
   EXPECT_EQ(std::distance(fs::directory_iterator(point / "largest_slip"), fs::directory_iterator()),
-            5);
+            6);
+}
+
+// slips.csv: a row per slip event of the trace, in order, at its row's Dx and Fx (Fx before: the
+// row above), with the census of its "after" state; the largest and the latest slip's rows are
+// the census of the kept frames. R = 40 d, a = 24 d is Regime III: the first slip nucleates a
+// loop at the edge that is arrested around the centre, and the slips after it are that loop's
+// front creeping inward, so every row holds one loop, whose area does not grow.
+TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
+  using asperity::app::CsvTable;
+  const fs::path point = kDir / "points" / "a24_R40";
+  const auto trace = CsvTable::read(point / "trace.csv");
+  const auto slips = CsvTable::read(point / "largest_slip" / "slips.csv");
+  std::size_t k = 0;
+  long long largest = 0;
+  std::size_t largest_k = 0;
+  for (std::size_t i = 0; i < trace.rows(); ++i) {
+    if (trace.integer(i, "slip") == 0) continue;
+    ASSERT_LT(k, slips.rows()) << "fewer rows than slips";
+    EXPECT_EQ(slips.integer(k, "slip"), static_cast<long long>(k + 1));
+    EXPECT_DOUBLE_EQ(slips.number(k, "Dx"), trace.number(i, "Dx"));
+    EXPECT_DOUBLE_EQ(slips.number(k, "Fx_after"), trace.number(i, "Fx"));
+    EXPECT_DOUBLE_EQ(slips.number(k, "Fx_before"), trace.number(i - 1, "Fx"));
+    EXPECT_EQ(slips.integer(k, "slipped_sites"), trace.integer(i, "slipped_sites"));
+    if (trace.integer(i, "slipped_sites") > largest) {
+      largest = trace.integer(i, "slipped_sites");
+      largest_k = k;
+    }
+    ++k;
+  }
+  EXPECT_EQ(k, slips.rows());
+  ASSERT_GE(k, 3u);
+
+  const auto census_of = [](const fs::path& nc) {
+    const auto frames = asperity::app::read_snapshots(nc);
+    return asperity::tracking::census(
+        asperity::tracking::find_lines(asperity::tracking::view_of(frames.at(0))));
+  };
+  // The sink takes the census of the state in memory, in double; the kept frames are float32
+  // (the tools' snapshot default), which moves s_x by up to 6e-8 of its size (some 30 d here):
+  // the cores by about 2e-6 d and a loop's area by its length (about 100 d) times that, 2e-4 d^2
+  // of some 800, 3e-7 relative. Counts are the same.
+  const auto same = [&](std::size_t row, const asperity::tracking::LineCensus& c) {
+    EXPECT_EQ(slips.integer(row, "contact_sites"), static_cast<long long>(c.contact_sites));
+    EXPECT_EQ(slips.integer(row, "loops"), c.loops);
+    EXPECT_EQ(slips.integer(row, "open_lines"), c.open_lines);
+    EXPECT_NEAR(slips.number(row, "loop_area"), c.loop_area, 1e-5 * c.loop_area);
+    EXPECT_NEAR(slips.number(row, "largest_loop_area"), c.largest_loop_area,
+                1e-5 * c.largest_loop_area);
+    EXPECT_EQ(slips.number(row, "slipped_area"), c.slipped_area);
+  };
+  same(largest_k, census_of(point / "largest_slip" / "largest_slip_after.nc"));
+  same(k - 1, census_of(point / "largest_slip" / "latest_slip_after.nc"));
+
+  // The arrested loop of Regime III (the fixture's scene comment: the first slip is the largest).
+  EXPECT_EQ(largest_k, 0u);
+  for (std::size_t r = 0; r < slips.rows(); ++r) {
+    EXPECT_EQ(slips.integer(r, "loops"), 1) << "row " << r;
+    EXPECT_GT(slips.number(r, "slipped_area"), 0.0) << "row " << r;
+    if (r > 0) {
+      EXPECT_LE(slips.number(r, "loop_area"), slips.number(r - 1, "loop_area")) << "row " << r;
+      EXPECT_GE(slips.number(r, "slipped_area"), slips.number(r - 1, "slipped_area"))
+          << "row " << r;
+    }
+  }
 }
 
 }  // namespace

@@ -22,6 +22,8 @@
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
 #include "asperity/apps/common/snapshot_sink.hpp"
+#include "asperity/tracking/census.hpp"
+#include "asperity/tracking/lines.hpp"
 
 namespace asperity::app {
 namespace {
@@ -717,13 +719,49 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_FALSE(fs::exists(dir / "peak.nc"));
     sink.state(slip(2, "peak", 2.0, 0));
     EXPECT_EQ(label_of(dir / "peak.nc"), "peak");
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 5);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 6);
+    // A row per slip in slips.csv: the slip's place (Fx before from its "before" state) and the
+    // census of its "after" state, the same as tracking's on that frame.
+    const CsvTable rows = CsvTable::read(sink.census_file());
+    EXPECT_EQ(rows.columns(), LargestSlipSink::census_columns());
+    ASSERT_EQ(rows.rows(), 4u);
+    const int kinds[4][2] = {{0, 1}, {2, 0}, {1, 2}, {0, 1}};  // frame() of before and after
+    const int sites[4] = {5, 40, 40, 7};
+    for (std::size_t i = 0; i < 4; ++i) {
+      const Snapshot after = frame(kinds[i][1], "slip_after", -1, 0, 0);
+      const tracking::LineCensus c =
+          tracking::census(tracking::find_lines(tracking::view_of(after)));
+      EXPECT_EQ(rows.integer(i, "slip"), static_cast<long long>(i + 1));
+      EXPECT_EQ(rows.number(i, "Dx"), static_cast<double>(i + 1));
+      EXPECT_EQ(rows.number(i, "Fx_before"), frame(kinds[i][0], "x", -1, 0, 0).Fx);
+      EXPECT_EQ(rows.number(i, "Fx_after"), after.Fx);
+      EXPECT_EQ(rows.integer(i, "slipped_sites"), sites[i]);
+      EXPECT_EQ(rows.integer(i, "contact_sites"), static_cast<long long>(c.contact_sites));
+      EXPECT_EQ(rows.integer(i, "lines"), c.lines);
+      EXPECT_EQ(rows.number(i, "slipped_area"), c.slipped_area);
+    }
+  }
+  {
+    // Resumed from a checkpoint taken after slip 2 (slips 3 and 4 were made after it and are
+    // made again): their rows go, the states on disk stay until a slip replaces them.
+    LargestSlipSink sink(dir, {}, {});
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{40, 2}), "");
+    EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 2u);
+    sink.state(slip(1, "slip_003_before", 3.0, 40));
+    sink.state(slip(2, "slip_003_after", 3.0, 40));
+    const CsvTable rows = CsvTable::read(sink.census_file());
+    ASSERT_EQ(rows.rows(), 3u);
+    EXPECT_EQ(rows.integer(2, "slip"), 3);
+    EXPECT_EQ(rows.number(2, "Dx"), 3.0);
+    sink.state(slip(0, "slip_004_before", 4.0, 7));
+    sink.state(slip(1, "slip_004_after", 4.0, 7));
+    EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 4u);
   }
   {
     // Resumed from a checkpoint whose slips reached 40 sites: a slip of 40 does not replace
     // the pair on disk, one of 41 does.
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_EQ(sink.start(40), "");
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{40, 4}), "");
     EXPECT_FALSE(fs::exists(dir / "peak.nc"));
     sink.state(slip(0, "slip_005_before", 5.0, 40));
     sink.state(slip(1, "slip_005_after", 5.0, 40));
@@ -732,15 +770,24 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     sink.state(slip(0, "slip_006_before", 6.0, 41));
     sink.state(slip(1, "slip_006_after", 6.0, 41));
     EXPECT_EQ(label_of(sink.before_file()), "slip_006_before");
+    const CsvTable rows = CsvTable::read(sink.census_file());
+    ASSERT_EQ(rows.rows(), 6u);
+    for (std::size_t i = 0; i < rows.rows(); ++i)
+      EXPECT_EQ(rows.integer(i, "slip"), static_cast<long long>(i + 1));
   }
   {
-    // A checkpoint of a run that did not keep its largest slip: said so; a fresh run clears.
+    // A checkpoint of a run that did not keep its largest slip, nor the rows of its slips: said
+    // so; a fresh run clears.
     fs::remove(dir / "largest_slip_before.nc");
+    fs::remove(dir / "slips.csv");
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_NE(sink.start(12).find("not kept"), std::string::npos);
+    const std::string warning = sink.start(LargestSlipSink::Resume{12, 3});
+    EXPECT_NE(warning.find("not kept"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("no rows for 3 of the 3 slips"), std::string::npos) << warning;
     EXPECT_EQ(sink.start(std::nullopt), "");
     EXPECT_FALSE(fs::exists(dir / "largest_slip_after.nc"));
     EXPECT_FALSE(fs::exists(dir / "latest_slip_after.nc"));
+    EXPECT_FALSE(fs::exists(sink.census_file()));
   }
 }
 
