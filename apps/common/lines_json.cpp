@@ -39,4 +39,24 @@ nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameL
           {"angle_deg", l.angle_deg}};
 }
 
+std::vector<std::pair<std::string, nlohmann::json>> census_fields(const tracking::LineCensus& c) {
+  const auto count = [](auto n) { return nlohmann::json(static_cast<long long>(n)); };
+  return {{"contact_sites", count(c.contact_sites)},
+          {"lines", count(c.lines)},
+          {"loops", count(c.loops)},
+          {"open_lines", count(c.open_lines)},
+          {"wrapping_lines", count(c.wrapping_lines)},
+          {"loop_area", c.loop_area},
+          {"loop_length", c.loop_length},
+          {"open_length", c.open_length},
+          {"loop_screw_fraction", c.loop_screw_fraction},
+          {"largest_loop_area", c.largest_loop_area},
+          {"largest_loop_x_extent", c.largest_loop_x_extent},
+          {"largest_loop_y_extent", c.largest_loop_y_extent},
+          {"largest_loop_screw_fraction", c.largest_loop_screw_fraction},
+          {"largest_loop_cx", c.largest_loop_cx},
+          {"largest_loop_cy", c.largest_loop_cy},
+          {"slipped_area", c.slipped_area}};
+}
+
 }  // namespace asperity::app

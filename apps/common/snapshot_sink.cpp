@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "asperity/apps/common/lines_json.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/xyz_io.hpp"
 #include "asperity/tracking/census.hpp"
@@ -212,29 +213,12 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
   format_.validate();
 }
 
+// The slip's place in the slide, then the census (lines_json.hpp, one description with Python).
 std::vector<std::string> LargestSlipSink::census_columns() {
-  return {"slip",
-          "Dx",
-          "Fx_before",
-          "Fx_after",
-          "Fz",
-          "slipped_sites",
-          "contact_sites",
-          "lines",
-          "loops",
-          "open_lines",
-          "wrapping_lines",
-          "loop_area",
-          "loop_length",
-          "open_length",
-          "loop_screw_fraction",
-          "largest_loop_area",
-          "largest_loop_x_extent",
-          "largest_loop_y_extent",
-          "largest_loop_screw_fraction",
-          "largest_loop_cx",
-          "largest_loop_cy",
-          "slipped_area"};
+  std::vector<std::string> columns = {"slip", "Dx", "Fx_before", "Fx_after", "Fz", "slipped_sites"};
+  for (const auto& [name, value] : census_fields({}))
+    columns.push_back(name);
+  return columns;
 }
 
 std::string LargestSlipSink::start(std::optional<Resume> resume) {
@@ -298,29 +282,17 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   // The event number from the label ("slip_012_after": 12), the one place it is spelt.
   const std::string stem = after.label.substr(0, after.label.size() - std::string("_after").size());
   const long long slip = std::stoll(stem.substr(std::string("slip_").size()));
-  const tracking::LineCensus c = tracking::census(tracking::find_lines(tracking::view_of(after)));
-  census_.add_row({slip,
-                   after.Dx,
-                   before.Fx,
-                   after.Fx,
-                   after.Fz,
-                   static_cast<long long>(after.slipped_sites),
-                   static_cast<long long>(c.contact_sites),
-                   static_cast<long long>(c.lines),
-                   static_cast<long long>(c.loops),
-                   static_cast<long long>(c.open_lines),
-                   static_cast<long long>(c.wrapping_lines),
-                   c.loop_area,
-                   c.loop_length,
-                   c.open_length,
-                   c.loop_screw_fraction,
-                   c.largest_loop_area,
-                   c.largest_loop_x_extent,
-                   c.largest_loop_y_extent,
-                   c.largest_loop_screw_fraction,
-                   c.largest_loop_cx,
-                   c.largest_loop_cy,
-                   c.slipped_area});
+  std::vector<CsvTable::Cell> row = {
+      slip, after.Dx, before.Fx, after.Fx, after.Fz, static_cast<long long>(after.slipped_sites)};
+  for (const auto& [name, value] :
+       census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))))) {
+    if (value.is_number_integer()) {
+      row.emplace_back(value.get<long long>());
+    } else {
+      row.emplace_back(value.get<double>());
+    }
+  }
+  census_.add_row(std::move(row));
   census_.write(census_file());
 }
 

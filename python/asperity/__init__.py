@@ -189,8 +189,10 @@ def find_lines(frame, index=0, periodic=None, **options):
     frame: an xarray Dataset in the snapshot layout (result.snapshots[...], or a tools' .nc
     opened with xarray); index: the frame in it. options: min_length (d, default 2),
     slip_sign (-1: sliding along +x), tangent_half_window, screw_angle_deg, centre_fraction.
-    Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order) and the
-    frame's counts (contact_sites, contact_radius, core_crossings, ...).
+    Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order),
+    "census" (what they add up to: loops, loop_area, loop_screw_fraction, the largest loop,
+    slipped_area, ...; the columns of friction_sweep --largest-slip's slips.csv, None where
+    there is no loop) and the frame's counts (contact_sites, contact_radius, core_crossings, ...).
     """
     ds = frame.isel(frame=index) if "frame" in frame.dims else frame
 

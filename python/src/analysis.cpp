@@ -77,8 +77,11 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k = 0; k < f.lines.size(); ++k)
     lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, centre_fraction));
+  nlohmann::json census = nlohmann::json::object();
+  for (const auto& [name, value] : app::census_fields(tracking::census(f)))
+    census[name] = value;  // NaN (no loop) becomes None
   return py::dict(
-      py::arg("lines") = json_to_python(lines),
+      py::arg("lines") = json_to_python(lines), py::arg("census") = json_to_python(census),
       py::arg("contact_centre") = py::make_tuple(f.contact_centre.x, f.contact_centre.y),
       py::arg("contact_radius") = f.contact_radius, py::arg("contact_sites") = f.contact_sites,
       py::arg("core_crossings") = f.core_crossings,

@@ -98,6 +98,46 @@ def test_find_lines_finds_what_track_loops_finds(runs, tmp_path):
             assert a[field] == b[field], field
 
 
+def test_find_lines_census_adds_up_its_lines(runs):
+    # The census (slips.csv's columns) is the sum over the records: counts by kind, the loops'
+    # areas and length-weighted screw fraction, the largest loop; no loop, no fraction (None).
+    # The module's slide (Regime II) has open lines before its slips and none after; R = 40 d,
+    # a = 24 d (Regime III, about 3 s) leaves one loop arrested around the centre after its first.
+    result, _ = runs
+    regime_three = asperity.slide({"contact": {"a": 24, "R": 40}, "slide": {"max_slips": 1},
+                                   "output": {"precision": "double"}})
+    frames = [result.snapshots[label] for label in ("slip_001_before", "slip_001_after", "start")]
+    frames.append(regime_three.snapshots["slip_001_after"])
+    loops_seen = 0
+    for frame in frames:
+        found = asperity.find_lines(frame)
+        lines, census = found["lines"], found["census"]
+        loops = [line for line in lines if line["kind"] == "loop"]
+        assert census["lines"] == len(lines)
+        assert census["loops"] == len(loops)
+        assert census["open_lines"] == sum(line["kind"] == "open" for line in lines)
+        assert census["contact_sites"] == found["contact_sites"]
+        assert census["loop_area"] == pytest.approx(sum(line["area"] for line in loops), rel=1e-12)
+        assert census["open_length"] == pytest.approx(
+            sum(line["length"] for line in lines if line["kind"] != "loop"), rel=1e-12)
+        if loops:
+            loops_seen += 1
+            largest = max(loops, key=lambda line: line["area"])
+            assert census["largest_loop_area"] == largest["area"]
+            assert census["largest_loop_x_extent"] == pytest.approx(largest["x_extent"])
+            length = sum(line["length"] for line in loops)
+            assert census["loop_screw_fraction"] == pytest.approx(
+                sum(line["screw_fraction"] * line["length"] for line in loops) / length)
+        else:
+            assert census["loop_screw_fraction"] is None
+            assert census["largest_loop_area"] == 0.0
+        # Distinct slipped domains: at most the sum over lines (a shared domain counts once),
+        # at least the largest line's.
+        areas = [line["slipped_area"] for line in lines]
+        assert max(areas, default=0.0) <= census["slipped_area"] <= sum(areas)
+    assert loops_seen == 1, "the Regime III slide must leave its arrested loop"
+
+
 def test_find_lines_reads_a_tools_file_opened_with_xarray(runs):
     result, files = runs
     with xr.open_dataset(files / "slip_001_after.nc") as ds:
