@@ -1,7 +1,10 @@
 #include "asperity/apps/common/snapshot_sink.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "asperity/apps/common/lines_json.hpp"
@@ -221,6 +224,32 @@ std::vector<std::string> LargestSlipSink::census_columns() {
   return columns;
 }
 
+int LargestSlipSink::Resume::largest_slipped_sites() const {
+  int largest = 0;
+  for (const Slip& s : slips)
+    largest = std::max(largest, s.slipped_sites);
+  return largest;
+}
+
+namespace {
+void add_warning(std::string& warning, const std::string& w) {
+  warning += (warning.empty() ? "" : "; ") + w;
+}
+}  // namespace
+
+// slips.csv moves to the first free slips.old[.N].csv, so that no earlier table is overwritten.
+void LargestSlipSink::set_census_aside(std::string& warning, const std::string& why) {
+  fs::path aside = dir_ / "slips.old.csv";
+  for (int k = 1; fs::exists(aside); ++k)
+    aside = dir_ / ("slips.old." + std::to_string(k) + ".csv");
+  std::error_code ec;
+  fs::rename(census_file(), aside, ec);
+  add_warning(warning, "its slips.csv " + why + ": " +
+                           (ec ? "could not be set aside (" + ec.message() + "), replaced"
+                               : "set aside as " + aside.filename().string()) +
+                           ", and started again");
+}
+
 std::string LargestSlipSink::start(std::optional<Resume> resume) {
   ensure_directory(dir_);
   std::error_code ec;
@@ -237,40 +266,60 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
     largest_ = 0;
     return {};
   }
-  largest_ = resume->largest_slipped_sites;
+  largest_ = resume->largest_slipped_sites();
   std::string warning;
-  const auto warn = [&warning](const std::string& w) {
-    warning += (warning.empty() ? "" : "; ") + w;
-  };
   // Files written after the checkpoint belong to a slip the resumed slide makes again (bit for
   // bit): they are replaced then, since largest_ does not count it yet.
   if (largest_ > 0 && !fs::exists(before_file())) {
-    warn("the states of its largest slip before the checkpoint (" + std::to_string(largest_) +
-         " slipped sites) were not kept (a run without --largest-slip made the checkpoint); "
-         "only a larger slip is kept from here on");
+    add_warning(warning, "the states of its largest slip before the checkpoint (" +
+                             std::to_string(largest_) +
+                             " slipped sites) were not kept (a run without --largest-slip made "
+                             "the checkpoint); only a larger slip is kept from here on");
   }
-  // The rows of the checkpoint's slips; the later ones are made again.
-  int kept = 0;
+  // The rows of the checkpoint's slips, each the slip it says it is (a table left by another
+  // slide of this point, say one started again without --largest-slip, is not); later ones are
+  // made again. Doubles are written to round-trip, so Dx compares exactly.
+  const std::size_t wanted = resume->slips.size();
+  std::size_t kept = 0;
   if (fs::exists(census_file())) {
-    const CsvTable old = CsvTable::read(census_file());
-    if (old.columns() != census_columns()) {
-      warn("its slips.csv has other columns (an earlier build): set aside as slips.old.csv");
-      fs::rename(census_file(), dir_ / "slips.old.csv");
-    } else {
-      for (std::size_t i = 0; i < old.rows(); ++i) {
-        if (old.integer(i, "slip") > resume->slip_events) break;
-        std::vector<CsvTable::Cell> row;
-        for (std::size_t c = 0; c < old.columns().size(); ++c)
-          row.push_back(old.cell(i, c));
-        census_.add_row(std::move(row));
-        ++kept;
+    try {
+      const CsvTable old = CsvTable::read(census_file());
+      if (old.columns() != census_columns()) {
+        set_census_aside(warning, "has other columns (an earlier build)");
+      } else {
+        bool mismatch = false;
+        std::size_t i = 0;
+        for (; i < old.rows() && i < wanted && !mismatch; ++i) {
+          const Resume::Slip& slip = resume->slips[i];
+          mismatch = old.integer(i, "slip") != static_cast<long long>(i + 1) ||
+                     old.number(i, "Dx") != slip.Dx ||
+                     old.integer(i, "slipped_sites") != slip.slipped_sites;
+          if (!mismatch) {
+            std::vector<CsvTable::Cell> row;
+            for (std::size_t c = 0; c < old.columns().size(); ++c)
+              row.push_back(old.cell(i, c));
+            census_.add_row(std::move(row));
+            ++kept;
+          }
+        }
+        if (mismatch) {
+          census_ = CsvTable(census_columns());
+          kept = 0;
+          set_census_aside(warning, "is not of this slide (its row of slip " + std::to_string(i) +
+                                        " differs from the checkpoint's in number, Dx or "
+                                        "slipped sites)");
+        }
       }
+    } catch (const std::exception& e) {
+      census_ = CsvTable(census_columns());
+      kept = 0;
+      set_census_aside(warning, std::string("cannot be read (") + e.what() + ")");
     }
   }
-  if (kept < resume->slip_events) {
-    warn("slips.csv has no rows for " + std::to_string(resume->slip_events - kept) + " of the " +
-         std::to_string(resume->slip_events) +
-         " slips before the checkpoint (a build without it made them); it goes on from the next");
+  if (kept < wanted) {
+    add_warning(warning, "slips.csv has no rows for " + std::to_string(wanted - kept) + " of the " +
+                             std::to_string(wanted) +
+                             " slips before the checkpoint; it goes on from the next");
   }
   census_.write(census_file());
   return warning;
@@ -279,18 +328,32 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
 // A row of slips.csv: the slip's place in the slide and the census of the lines of the state it
 // ends in (the stable state the slide continues from).
 void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide::Snapshot& after) {
-  // The event number from the label ("slip_012_after": 12), the one place it is spelt.
-  const std::string stem = after.label.substr(0, after.label.size() - std::string("_after").size());
-  const long long slip = std::stoll(stem.substr(std::string("slip_").size()));
+  // The event number from the label ("slip_012_after": 12), the one place it is spelt; -1 if a
+  // label is not of that form (no slide makes one).
+  long long slip = -1;
+  const std::string_view digits =
+      std::string_view(after.label)
+          .substr(0, after.label.size() - std::string_view("_after").size());
+  if (digits.starts_with("slip_")) {
+    const std::string_view n = digits.substr(std::string_view("slip_").size());
+    std::from_chars(n.data(), n.data() + n.size(), slip);
+  }
   std::vector<CsvTable::Cell> row = {
       slip, after.Dx, before.Fx, after.Fx, after.Fz, static_cast<long long>(after.slipped_sites)};
-  for (const auto& [name, value] :
-       census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))))) {
-    if (value.is_number_integer()) {
-      row.emplace_back(value.get<long long>());
-    } else {
-      row.emplace_back(value.get<double>());
+  try {
+    for (const auto& [name, value] :
+         census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))))) {
+      if (value.is_number_integer()) {
+        row.emplace_back(value.get<long long>());
+      } else {
+        row.emplace_back(value.get<double>());
+      }
     }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "largest_slip: no census of %s (%s): its row in slips.csv is empty\n",
+                 after.label.c_str(), e.what());
+    row.resize(6);
+    row.resize(census_columns().size(), CsvTable::Cell(std::string()));
   }
   census_.add_row(std::move(row));
   census_.write(census_file());
@@ -312,12 +375,12 @@ void LargestSlipSink::state(const slide::Snapshot& frame) {
       // their labels tell.
       write(*before_, latest_before_file());
       write(frame, latest_after_file());
-      add_census_row(*before_, frame);
       if (frame.slipped_sites > largest_) {
         write(*before_, before_file());
         write(frame, after_file());
         largest_ = frame.slipped_sites;
       }
+      add_census_row(*before_, frame);
     }
     before_.reset();
   } else if (frame.label == "peak") {

@@ -102,17 +102,23 @@ class LargestSlipSink final : public slide::FrameSink {
   LargestSlipSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
                   std::mutex* netcdf = nullptr);
 
-  // Where a resumed run's checkpoint left the slide: its trace's slip events and the most
-  // sites any of them slipped.
+  // Where a resumed run's checkpoint left the slide: its slip events in order (the trace rows
+  // with a slip), each with its Dx and slipped sites.
   struct Resume {
-    int largest_slipped_sites = 0;
-    int slip_events = 0;
+    struct Slip {
+      double Dx = 0.0;
+      int slipped_sites = 0;
+    };
+    std::vector<Slip> slips;
+    [[nodiscard]] int largest_slipped_sites() const;
   };
   // A fresh run removes the files of an earlier one. A resumed run continues from a checkpoint
-  // whose trace has slips of up to `largest_slipped_sites` sites: only a larger slip replaces the
-  // pair; slips.csv keeps its rows up to the checkpoint's slip events (later ones are made
-  // again). Returns a warning when the checkpoint's slips include one whose states or row are not
-  // on disk (the checkpoint was made by a run that did not keep them), else an empty string.
+  // whose trace has slips of up to largest_slipped_sites(): only a larger slip replaces the
+  // pair. slips.csv keeps its rows of the checkpoint's slips, each matched by its number, Dx and
+  // slipped sites (later ones are made again); a table that is not this slide's, or cannot be
+  // read, is set aside as slips.old.csv (or .old.1.csv, ...) and started again. Returns a
+  // warning when the checkpoint's slips include one whose states or row are not on disk (the
+  // checkpoint was made by a run that did not keep them), else an empty string.
   std::string start(std::optional<Resume> resume);
 
   void state(const slide::Snapshot& frame) override;
@@ -141,7 +147,10 @@ class LargestSlipSink final : public slide::FrameSink {
   nlohmann::json attributes_;
   SnapshotFormat format_;
   std::mutex* netcdf_;
+  // Never throws for the census itself (a side table must not end a slide of days): a state the
+  // tracer rejects gets a row with its place and empty census fields, and a note on stderr.
   void add_census_row(const slide::Snapshot& before, const slide::Snapshot& after);
+  void set_census_aside(std::string& warning, const std::string& why);
 
   int largest_ = 0;
   std::optional<slide::Snapshot> before_;  // of the slip whose "after" comes next

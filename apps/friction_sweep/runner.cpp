@@ -453,11 +453,8 @@ class SweepRunner {
       std::optional<LargestSlipSink::Resume> so_far;
       if (start) {
         so_far.emplace();
-        for (const slide::TraceRow& r : start->state.partial.trace) {
-          if (!r.slip) continue;
-          so_far->largest_slipped_sites = std::max(so_far->largest_slipped_sites, r.slipped_sites);
-          ++so_far->slip_events;
-        }
+        for (const slide::TraceRow& r : start->state.partial.trace)
+          if (r.slip) so_far->slips.push_back({.Dx = r.Dx, .slipped_sites = r.slipped_sites});
       }
       if (const std::string warning = sinks.largest->start(so_far); !warning.empty()) {
         say(point, warning);

@@ -116,6 +116,9 @@ def test_find_lines_census_adds_up_its_lines(runs):
         assert census["lines"] == len(lines)
         assert census["loops"] == len(loops)
         assert census["open_lines"] == sum(line["kind"] == "open" for line in lines)
+        assert census["wrapping_lines"] == sum(line["kind"] == "wrapping" for line in lines)
+        assert census["loop_length"] == pytest.approx(sum(line["length"] for line in loops),
+                                                      rel=1e-12)
         assert census["contact_sites"] == found["contact_sites"]
         assert census["loop_area"] == pytest.approx(sum(line["area"] for line in loops), rel=1e-12)
         assert census["open_length"] == pytest.approx(
@@ -125,6 +128,10 @@ def test_find_lines_census_adds_up_its_lines(runs):
             largest = max(loops, key=lambda line: line["area"])
             assert census["largest_loop_area"] == largest["area"]
             assert census["largest_loop_x_extent"] == pytest.approx(largest["x_extent"])
+            assert census["largest_loop_y_extent"] == pytest.approx(largest["y_extent"])
+            assert census["largest_loop_screw_fraction"] == largest["screw_fraction"]
+            assert (census["largest_loop_cx"], census["largest_loop_cy"]) == tuple(
+                largest["centroid"])
             length = sum(line["length"] for line in loops)
             assert census["loop_screw_fraction"] == pytest.approx(
                 sum(line["screw_fraction"] * line["length"] for line in loops) / length)

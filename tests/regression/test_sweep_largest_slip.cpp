@@ -120,7 +120,9 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
   // The sink takes the census of the state in memory, in double; the kept frames are float32
   // (the tools' snapshot default), which moves s_x by up to 6e-8 of its size (some 30 d here):
   // the cores by about 2e-6 d and a loop's area by its length (about 100 d) times that, 2e-4 d^2
-  // of some 800, 3e-7 relative. Counts are the same.
+  // of some 800, 3e-7 relative. Counts of lines are the same; a site whose tau_x lies within
+  // float32 rounding of zero could change sides of a core, so the slipped area may differ by a
+  // few sites (it did not here).
   const auto same = [&](std::size_t row, const asperity::tracking::LineCensus& c) {
     EXPECT_EQ(slips.integer(row, "contact_sites"), static_cast<long long>(c.contact_sites));
     EXPECT_EQ(slips.integer(row, "loops"), c.loops);
@@ -128,7 +130,7 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
     EXPECT_NEAR(slips.number(row, "loop_area"), c.loop_area, 1e-5 * c.loop_area);
     EXPECT_NEAR(slips.number(row, "largest_loop_area"), c.largest_loop_area,
                 1e-5 * c.largest_loop_area);
-    EXPECT_EQ(slips.number(row, "slipped_area"), c.slipped_area);
+    EXPECT_NEAR(slips.number(row, "slipped_area"), c.slipped_area, 3.0);
   };
   same(largest_k, census_of(point / "largest_slip" / "largest_slip_after.nc"));
   same(k - 1, census_of(point / "largest_slip" / "latest_slip_after.nc"));

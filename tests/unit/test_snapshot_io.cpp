@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,7 @@
 #include "asperity/apps/common/snapshot_sink.hpp"
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/synthetic.hpp"
 
 namespace asperity::app {
 namespace {
@@ -696,6 +698,27 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     return f;
   };
   const auto label_of = [](const fs::path& nc) { return read_snapshots(nc).at(0).label; };
+  // A state with one dislocation loop (tracking's synthetic field: a slipped disk of radius 5 d
+  // on a 24 x 24 block in contact everywhere), so that its census has something to count.
+  const auto loop_state = [](std::string label, double Dx, int sites) {
+    tracking::SyntheticOptions o;
+    o.block = LatticeBlock{.shape = {24, 24}, .origin0 = -12, .origin1 = -12};
+    const tracking::SyntheticField field = tracking::synthetic_field(o, {{0.0, 0.0, 5.0, 5.0}});
+    Snapshot f;
+    f.label = std::move(label);
+    f.Dx = Dx;
+    f.Fx = 0.25;
+    f.Fz = 1.0;
+    f.block = field.block;
+    const std::vector<double> zeros(field.sx.size(), 0.0);
+    f.ux = f.uy = f.sy = f.tau_y = f.pressure = zeros;
+    f.sx = field.sx;
+    f.tau_x = field.tau_x;
+    f.tau_max = field.tau_max;
+    f.in_contact = field.in_contact;
+    f.slipped_sites = sites;
+    return f;
+  };
   {
     LargestSlipSink sink(dir, {{"a", 3.0}}, {});
     EXPECT_EQ(sink.start(std::nullopt), "");
@@ -703,7 +726,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     sink.state(slip(0, "slip_001_before", 1.0, 5));
     sink.state(slip(1, "slip_001_after", 1.0, 5));
     sink.state(slip(2, "slip_002_before", 2.0, 40));
-    sink.state(slip(0, "slip_002_after", 2.0, 40));
+    sink.state(loop_state("slip_002_after", 2.0, 40));
     sink.state(slip(1, "slip_003_before", 3.0, 40));  // as large, not larger: the first stays
     sink.state(slip(2, "slip_003_after", 3.0, 40));
     sink.state(slip(0, "slip_004_before", 4.0, 7));
@@ -725,27 +748,37 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     const CsvTable rows = CsvTable::read(sink.census_file());
     EXPECT_EQ(rows.columns(), LargestSlipSink::census_columns());
     ASSERT_EQ(rows.rows(), 4u);
-    const int kinds[4][2] = {{0, 1}, {2, 0}, {1, 2}, {0, 1}};  // frame() of before and after
+    const std::vector<Snapshot> afters = {frame(1, "", -1, 0, 0), loop_state("", 2.0, 40),
+                                          frame(2, "", -1, 0, 0), frame(1, "", -1, 0, 0)};
+    const int befores[4] = {0, 2, 1, 0};  // frame() of each "before"
     const int sites[4] = {5, 40, 40, 7};
     for (std::size_t i = 0; i < 4; ++i) {
-      const Snapshot after = frame(kinds[i][1], "slip_after", -1, 0, 0);
       const tracking::LineCensus c =
-          tracking::census(tracking::find_lines(tracking::view_of(after)));
+          tracking::census(tracking::find_lines(tracking::view_of(afters[i])));
       EXPECT_EQ(rows.integer(i, "slip"), static_cast<long long>(i + 1));
       EXPECT_EQ(rows.number(i, "Dx"), static_cast<double>(i + 1));
-      EXPECT_EQ(rows.number(i, "Fx_before"), frame(kinds[i][0], "x", -1, 0, 0).Fx);
-      EXPECT_EQ(rows.number(i, "Fx_after"), after.Fx);
+      EXPECT_EQ(rows.number(i, "Fx_before"), frame(befores[i], "x", -1, 0, 0).Fx);
+      EXPECT_EQ(rows.number(i, "Fx_after"), afters[i].Fx);
       EXPECT_EQ(rows.integer(i, "slipped_sites"), sites[i]);
       EXPECT_EQ(rows.integer(i, "contact_sites"), static_cast<long long>(c.contact_sites));
       EXPECT_EQ(rows.integer(i, "lines"), c.lines);
+      EXPECT_EQ(rows.integer(i, "loops"), c.loops);
+      EXPECT_EQ(rows.number(i, "loop_area"), c.loop_area);
+      const double cx = rows.number(i, "largest_loop_cx");  // NaN without a loop
+      EXPECT_TRUE(cx == c.largest_loop_cx || (std::isnan(cx) && std::isnan(c.largest_loop_cx)))
+          << cx;
       EXPECT_EQ(rows.number(i, "slipped_area"), c.slipped_area);
     }
+    // The loop's row: one loop of about pi 5^2 d^2 (5 %, as tracking's analytic tests allow).
+    EXPECT_EQ(rows.integer(1, "loops"), 1);
+    EXPECT_NEAR(rows.number(1, "loop_area"), 25.0 * std::numbers::pi, 1.25 * std::numbers::pi);
+    EXPECT_EQ(rows.integer(1, "contact_sites"), 24 * 24);
   }
   {
     // Resumed from a checkpoint taken after slip 2 (slips 3 and 4 were made after it and are
     // made again): their rows go, the states on disk stay until a slip replaces them.
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_EQ(sink.start(LargestSlipSink::Resume{40, 2}), "");
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5}, {2.0, 40}}}), "");
     EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 2u);
     sink.state(slip(1, "slip_003_before", 3.0, 40));
     sink.state(slip(2, "slip_003_after", 3.0, 40));
@@ -756,12 +789,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     sink.state(slip(0, "slip_004_before", 4.0, 7));
     sink.state(slip(1, "slip_004_after", 4.0, 7));
     EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 4u);
+    EXPECT_EQ(CsvTable::read(sink.census_file()).integer(1, "loops"), 1);  // kept as it was
   }
   {
     // Resumed from a checkpoint whose slips reached 40 sites: a slip of 40 does not replace
     // the pair on disk, one of 41 does.
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_EQ(sink.start(LargestSlipSink::Resume{40, 4}), "");
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5}, {2.0, 40}, {3.0, 40}, {4.0, 7}}}), "");
     EXPECT_FALSE(fs::exists(dir / "peak.nc"));
     sink.state(slip(0, "slip_005_before", 5.0, 40));
     sink.state(slip(1, "slip_005_after", 5.0, 40));
@@ -776,12 +810,32 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_EQ(rows.integer(i, "slip"), static_cast<long long>(i + 1));
   }
   {
+    // A table that is not this slide's (slip 2 at another Dx: say the point was started again
+    // without --largest-slip, which leaves the sink's files alone) is set aside, not continued;
+    // one that cannot be read likewise, beside the first.
+    LargestSlipSink sink(dir, {}, {});
+    std::string warning = sink.start(LargestSlipSink::Resume{{{1.0, 5}, {2.5, 40}}});
+    EXPECT_NE(warning.find("is not of this slide (its row of slip 2"), std::string::npos)
+        << warning;
+    EXPECT_NE(warning.find("no rows for 2 of the 2 slips"), std::string::npos) << warning;
+    EXPECT_EQ(CsvTable::read(dir / "slips.old.csv").rows(), 6u);
+    EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 0u);
+    write_file_atomic(sink.census_file(), "slip,Dx\n1,2,3\n");
+    warning = sink.start(LargestSlipSink::Resume{{{1.0, 5}}});
+    EXPECT_NE(warning.find("cannot be read"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("set aside as slips.old.1.csv"), std::string::npos) << warning;
+    EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 0u);
+    fs::remove(dir / "slips.old.csv");
+    fs::remove(dir / "slips.old.1.csv");
+  }
+  {
     // A checkpoint of a run that did not keep its largest slip, nor the rows of its slips: said
     // so; a fresh run clears.
     fs::remove(dir / "largest_slip_before.nc");
     fs::remove(dir / "slips.csv");
     LargestSlipSink sink(dir, {}, {});
-    const std::string warning = sink.start(LargestSlipSink::Resume{12, 3});
+    const std::string warning =
+        sink.start(LargestSlipSink::Resume{{{1.0, 12}, {2.0, 3}, {3.0, 1}}});
     EXPECT_NE(warning.find("not kept"), std::string::npos) << warning;
     EXPECT_NE(warning.find("no rows for 3 of the 3 slips"), std::string::npos) << warning;
     EXPECT_EQ(sink.start(std::nullopt), "");

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
+#include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
 #include "asperity/tracking/profile.hpp"
 #include "asperity/tracking/synthetic.hpp"
@@ -200,6 +202,50 @@ slide::Snapshot snapshot_of(const SyntheticField& f, double Dx) {
   s.ux.assign(f.tau_x.size(), 0.0);
   s.uy = s.ux;
   return s;
+}
+
+// The census adds its lines up as the header says, on a frame made by hand: two nested loops
+// bounding one slipped ring (a domain both lines share counts once), an open line with its own
+// domain, a wrapping line without one.
+TEST(Census, SumsByKindAndCountsASharedDomainOnce) {
+  FrameLines f;
+  f.d = 0.5;
+  f.contact_sites = 1000;
+  f.regions = {std::vector<std::int64_t>(300), std::vector<std::int64_t>(40)};
+  const auto line = [](LineKind kind, double length, double area, double screw, int region) {
+    Line l;
+    l.kind = kind;
+    l.length = length;
+    l.area = area;
+    l.screw_fraction = screw;
+    l.edge_fraction = 1.0 - screw;
+    l.slipped_region = region;
+    l.x_min = -area / 20.0;
+    l.x_max = area / 20.0;
+    l.y_min = -area / 40.0;
+    l.y_max = area / 40.0;
+    l.centroid = {area / 100.0, -1.0};
+    return l;
+  };
+  f.lines = {line(LineKind::loop, 60.0, 200.0, 0.5, 0), line(LineKind::loop, 30.0, 50.0, 0.8, 0),
+             line(LineKind::open, 10.0, 0.0, 1.0, 1), line(LineKind::wrapping, 5.0, 0.0, 0.0, -1)};
+  const LineCensus c = census(f);
+  EXPECT_EQ(c.lines, 4);
+  EXPECT_EQ(c.loops, 2);
+  EXPECT_EQ(c.open_lines, 1);
+  EXPECT_EQ(c.wrapping_lines, 1);
+  EXPECT_EQ(c.contact_sites, 1000u);
+  EXPECT_DOUBLE_EQ(c.loop_area, 250.0);
+  EXPECT_DOUBLE_EQ(c.loop_length, 90.0);
+  EXPECT_DOUBLE_EQ(c.open_length, 15.0);
+  EXPECT_DOUBLE_EQ(c.loop_screw_fraction, (0.5 * 60.0 + 0.8 * 30.0) / 90.0);
+  EXPECT_DOUBLE_EQ(c.largest_loop_area, 200.0);
+  EXPECT_DOUBLE_EQ(c.largest_loop_x_extent, 20.0);
+  EXPECT_DOUBLE_EQ(c.largest_loop_y_extent, 10.0);
+  EXPECT_DOUBLE_EQ(c.largest_loop_screw_fraction, 0.5);
+  EXPECT_DOUBLE_EQ(c.largest_loop_cx, 2.0);
+  EXPECT_DOUBLE_EQ(c.largest_loop_cy, -1.0);
+  EXPECT_DOUBLE_EQ(c.slipped_area, (300 + 40) * 0.25);  // the ring once, times d^2
 }
 
 TEST(Profile, RowAndColumnThroughTheTipCentre) {
