@@ -340,21 +340,21 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   }
   std::vector<CsvTable::Cell> row = {
       slip, after.Dx, before.Fx, after.Fx, after.Fz, static_cast<long long>(after.slipped_sites)};
+  std::vector<std::pair<std::string, nlohmann::json>> fields;
   try {
-    for (const auto& [name, value] :
-         census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))))) {
-      if (value.is_number_integer()) {
-        row.emplace_back(value.get<long long>());
-      } else {
-        row.emplace_back(value.get<double>());
-      }
-    }
+    fields = census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "largest_slip: no census of %s (%s): its row in slips.csv is empty\n",
                  after.label.c_str(), e.what());
-    row.resize(6);
-    row.resize(census_columns().size(), CsvTable::Cell(std::string()));
   }
+  for (const auto& [name, value] : fields) {
+    if (value.is_number_integer()) {
+      row.emplace_back(value.get<long long>());
+    } else {
+      row.emplace_back(value.get<double>());
+    }
+  }
+  row.resize(census_.columns().size(), CsvTable::Cell(std::string()));  // empty without a census
   census_.add_row(std::move(row));
   census_.write(census_file());
 }
