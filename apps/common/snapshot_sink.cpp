@@ -216,11 +216,14 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
   format_.validate();
 }
 
-// The slip's place in the slide, then the census (lines_json.hpp, one description with Python).
+// The slip's place in the slide, then the census (lines_json.hpp, one description with Python),
+// then the slide's cost so far. New columns go at the end: a table of an earlier build is then a
+// prefix of this one and a resumed run keeps its rows (start()).
 std::vector<std::string> LargestSlipSink::census_columns() {
   std::vector<std::string> columns = {"slip", "Dx", "Fx_before", "Fx_after", "Fz", "slipped_sites"};
   for (const auto& [name, value] : census_fields({}))
     columns.push_back(name);
+  columns.insert(columns.end(), {"gf_applications", "wall_s"});
   return columns;
 }
 
@@ -284,7 +287,10 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
   if (fs::exists(census_file())) {
     try {
       const CsvTable old = CsvTable::read(census_file());
-      if (old.columns() != census_columns()) {
+      const std::vector<std::string> columns = census_columns();
+      // Columns an earlier build did not write are left empty in its rows.
+      if (old.columns().size() > columns.size() ||
+          !std::equal(old.columns().begin(), old.columns().end(), columns.begin())) {
         set_census_aside(warning, "has other columns (an earlier build)");
       } else {
         bool mismatch = false;
@@ -298,6 +304,7 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
             std::vector<CsvTable::Cell> row;
             for (std::size_t c = 0; c < old.columns().size(); ++c)
               row.push_back(old.cell(i, c));
+            row.resize(columns.size(), CsvTable::Cell(std::string()));
             census_.add_row(std::move(row));
             ++kept;
           }
@@ -354,7 +361,10 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
       row.emplace_back(value.get<double>());
     }
   }
-  row.resize(census_.columns().size(), CsvTable::Cell(std::string()));  // empty without a census
+  // Empty census fields without a census.
+  row.resize(census_.columns().size() - 2, CsvTable::Cell(std::string()));
+  row.emplace_back(static_cast<long long>(after.gf_applications));
+  row.emplace_back(after.wall_s);
   census_.add_row(std::move(row));
   census_.write(census_file());
 }

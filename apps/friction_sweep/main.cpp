@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
                  "point can be looked at while it runs) and the peak state, as NetCDF in "
                  "points/<point>/largest_slip/ (for track_loops): two pairs of frames however "
                  "many slips; and slips.csv there, a row per slip with the loops its state "
-                 "holds (number, area, screw fraction, slipped area)")
+                 "holds (number, area, screw fraction, slipped area) and the slide's cost so far "
+                 "(GF applications, wall time)")
         ->excludes(figures_opt);
     cli.add_flag("--adopt", o.adopt,
                  "Continue checkpoints and keep finished rows of another build, or of other "

@@ -9,6 +9,7 @@
 // and tests.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -47,6 +48,12 @@ struct Snapshot {
   // Of a slip's "before" and "after" states: the sites whose registry index changed in the slip
   // (TraceRow::slipped_sites); 0 for every other frame. Not stored in the NetCDF frames.
   int slipped_sites = 0;
+  // Of a slip's "after" state: what the slide had cost when it accepted it, earlier sessions of a
+  // resumed slide included (SlideProgressInfo's counts); the difference between two slips is the
+  // cost of the steps, bracketing and flow between them. 0 for every other frame. Not stored in
+  // the NetCDF frames.
+  std::size_t gf_applications = 0;
+  double wall_s = 0.0;  // (s)
 };
 
 // Receives the frames of a slide as they are made (SlideControl::frames). Called from the

@@ -615,6 +615,10 @@ class ProtocolRun {
          {std::pair<const State*, const char*>{&state_, "_before"}, {&next, "_after"}}) {
       Snapshot frame = model_.snapshot(*fields, label + suffix);
       frame.slipped_sites = sites;
+      if (fields == &next) {
+        frame.gf_applications = gf_total(model_.gf_applications());
+        frame.wall_s = wall_before_ + elapsed();
+      }
       sink_->state(frame);
     }
     for (PathFrame& frame : frames) {

@@ -95,7 +95,9 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
   std::size_t k = 0;
   long long largest = 0;
   std::size_t largest_k = 0;
+  long long trace_gf = 0;  // the trace rows' GF applications through row i
   for (std::size_t i = 0; i < trace.rows(); ++i) {
+    trace_gf += trace.integer(i, "gf_applications");
     if (trace.integer(i, "slip") == 0) continue;
     ASSERT_LT(k, slips.rows()) << "fewer rows than slips";
     EXPECT_EQ(slips.integer(k, "slip"), static_cast<long long>(k + 1));
@@ -103,6 +105,16 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
     EXPECT_DOUBLE_EQ(slips.number(k, "Fx_after"), trace.number(i, "Fx"));
     EXPECT_DOUBLE_EQ(slips.number(k, "Fx_before"), trace.number(i - 1, "Fx"));
     EXPECT_EQ(slips.integer(k, "slipped_sites"), trace.integer(i, "slipped_sites"));
+    // The slide's cost when it accepted the slip: at least what the trace's rows count (a row
+    // counts its own relaxation, not the bisection's trials that were undone before it), and
+    // growing from slip to slip.
+    EXPECT_GE(slips.integer(k, "gf_applications"), trace_gf) << "slip " << k + 1;
+    if (k > 0) {
+      EXPECT_GT(slips.integer(k, "gf_applications"), slips.integer(k - 1, "gf_applications"));
+      EXPECT_GT(slips.number(k, "wall_s"), slips.number(k - 1, "wall_s"));
+    } else {
+      EXPECT_GT(slips.number(k, "wall_s"), 0.0);
+    }
     if (trace.integer(i, "slipped_sites") > largest) {
       largest = trace.integer(i, "slipped_sites");
       largest_k = k;
@@ -111,6 +123,9 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
   }
   EXPECT_EQ(k, slips.rows());
   ASSERT_GE(k, 3u);
+  // The last slip's cost is within the point's (the slide may go on after it).
+  EXPECT_LE(slips.integer(k - 1, "gf_applications"),
+            CsvTable::read(kDir / "sweep.csv").integer(0, "gf_applications"));
 
   const auto census_of = [](const fs::path& nc) {
     const auto frames = asperity::app::read_snapshots(nc);

@@ -691,16 +691,25 @@ TEST_F(SnapshotIo, SinkWritesResumesAndReplays) {
 
 TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   const fs::path dir = dir_ / "largest_slip";
-  const auto slip = [](int k, std::string label, double Dx, int sites) {
+  // The slide's cost when it accepted a slip (on its "after" state; made up here: 100 GF and
+  // 0.5 s per unit of Dx).
+  const auto cost = [](Snapshot& f) {
+    if (f.label.ends_with("_after")) {
+      f.gf_applications = static_cast<std::size_t>(100 * f.Dx);
+      f.wall_s = 0.5 * f.Dx;
+    }
+  };
+  const auto slip = [&](int k, std::string label, double Dx, int sites) {
     Snapshot f = frame(k, std::move(label), -1, 0, 0);
     f.Dx = Dx;
     f.slipped_sites = sites;
+    cost(f);
     return f;
   };
   const auto label_of = [](const fs::path& nc) { return read_snapshots(nc).at(0).label; };
   // A state with one dislocation loop (tracking's synthetic field: a slipped disk of radius 5 d
   // on a 24 x 24 block in contact everywhere), so that its census has something to count.
-  const auto loop_state = [](std::string label, double Dx, int sites) {
+  const auto loop_state = [&](std::string label, double Dx, int sites) {
     tracking::SyntheticOptions o;
     o.block = LatticeBlock{.shape = {24, 24}, .origin0 = -12, .origin1 = -12};
     const tracking::SyntheticField field = tracking::synthetic_field(o, {{0.0, 0.0, 5.0, 5.0}});
@@ -717,6 +726,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     f.tau_max = field.tau_max;
     f.in_contact = field.in_contact;
     f.slipped_sites = sites;
+    cost(f);
     return f;
   };
   {
@@ -768,7 +778,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_TRUE(cx == c.largest_loop_cx || (std::isnan(cx) && std::isnan(c.largest_loop_cx)))
           << cx;
       EXPECT_EQ(rows.number(i, "slipped_area"), c.slipped_area);
+      EXPECT_EQ(rows.integer(i, "gf_applications"), static_cast<long long>(100 * (i + 1)));
+      EXPECT_EQ(rows.number(i, "wall_s"), 0.5 * static_cast<double>(i + 1));
     }
+    // The cost columns come last, after the census.
+    const std::vector<std::string>& columns = rows.columns();
+    EXPECT_EQ(std::vector<std::string>(columns.end() - 2, columns.end()),
+              (std::vector<std::string>{"gf_applications", "wall_s"}));
     // The loop's row: one loop of about pi 5^2 d^2 (5 %, as tracking's analytic tests allow).
     EXPECT_EQ(rows.integer(1, "loops"), 1);
     EXPECT_NEAR(rows.number(1, "loop_area"), 25.0 * std::numbers::pi, 1.25 * std::numbers::pi);
@@ -827,6 +843,44 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 0u);
     fs::remove(dir / "slips.old.csv");
     fs::remove(dir / "slips.old.1.csv");
+  }
+  {
+    // A table of an earlier build, whose columns are the first of today's (before the cost
+    // columns): its rows are kept with the new columns empty, and the next slip's row is full.
+    // A table with a column today's do not have in its place is set aside.
+    std::vector<std::string> columns = LargestSlipSink::census_columns();
+    columns.resize(columns.size() - 2);
+    CsvTable earlier(columns);
+    for (int k = 1; k <= 2; ++k) {
+      std::vector<CsvTable::Cell> row = {static_cast<long long>(k),
+                                         static_cast<double>(k),
+                                         0.5,
+                                         0.25,
+                                         1.0,
+                                         static_cast<long long>(k == 1 ? 5 : 40)};
+      row.resize(columns.size(), CsvTable::Cell(std::string()));
+      earlier.add_row(std::move(row));
+    }
+    earlier.write(dir / "slips.csv");
+    LargestSlipSink sink(dir, {}, {});
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5}, {2.0, 40}}}), "");
+    sink.state(slip(1, "slip_003_before", 3.0, 40));
+    sink.state(slip(2, "slip_003_after", 3.0, 40));
+    const CsvTable rows = CsvTable::read(sink.census_file());
+    EXPECT_EQ(rows.columns(), LargestSlipSink::census_columns());
+    ASSERT_EQ(rows.rows(), 3u);
+    EXPECT_EQ(rows.integer(1, "slipped_sites"), 40);
+    EXPECT_EQ(rows.text(1, "gf_applications"), "");
+    EXPECT_EQ(rows.text(1, "wall_s"), "");
+    EXPECT_EQ(rows.integer(2, "gf_applications"), 300);
+    EXPECT_EQ(rows.number(2, "wall_s"), 1.5);
+    columns.emplace_back("not_ours");
+    CsvTable other(columns);
+    other.write(dir / "slips.csv");
+    const std::string warning = sink.start(LargestSlipSink::Resume{{{1.0, 5}}});
+    EXPECT_NE(warning.find("has other columns"), std::string::npos) << warning;
+    EXPECT_EQ(CsvTable::read(dir / "slips.old.csv").columns(), columns);
+    fs::remove(dir / "slips.old.csv");
   }
   {
     // A checkpoint of a run that did not keep its largest slip, nor the rows of its slips: said
