@@ -126,6 +126,46 @@ CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const 
   return out;
 }
 
+Forecast forecast(double a, double R, double alpha, double nu, const Model& model,
+                  double c0_error) {
+  if (!(a > 0.0) || !(R > 0.0) || !(alpha > 0.0) || !std::isfinite(a) || !std::isfinite(R) ||
+      !std::isfinite(alpha))
+    throw std::invalid_argument(
+        "forecast: a, R and alpha must be positive and finite (a = " + std::to_string(a) +
+        ", R = " + std::to_string(R) + ", alpha = " + std::to_string(alpha) + ")");
+  if (!(nu >= 0.0 && nu <= 0.5))
+    throw std::invalid_argument("forecast: nu must lie in [0, 0.5] (nu = " + std::to_string(nu) +
+                                ")");
+  Forecast out{.a = a, .R = R};
+  const auto at = [&](double a_, const Model& m) {
+    return predict(control_parameter(a_, R, alpha, nu), bcore0(a_, R, alpha, nu), m);
+  };
+  out.a_over_bcore0 = control_parameter(a, R, alpha, nu);
+  out.beta = bcore0(a, R, alpha, nu);
+  out.prediction = at(a, model);
+  out.law_extrapolated = law_extrapolated(out.beta, model.law);
+  out.undetermined = regime_undetermined(out.a_over_bcore0, out.beta, model, c0_error);
+  constexpr double h = 1e-3;
+  out.log_slope = (std::log(at(a * (1.0 + h), model).mu_over_alpha) -
+                   std::log(at(a * (1.0 - h), model).mu_over_alpha)) /
+                  (std::log1p(h) - std::log1p(-h));
+  double var = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    double shift = 0.0;
+    for (double sign : {1.0, -1.0}) {
+      const std::optional<Model> m = moved_model(model, c0_error, k, sign);
+      if (!m) {
+        out.error_complete = false;
+        continue;
+      }
+      shift = std::max(shift, std::abs(at(a, *m).mu_over_alpha - out.prediction.mu_over_alpha));
+    }
+    var += shift * shift;
+  }
+  out.mu_over_alpha_error = std::sqrt(var);
+  return out;
+}
+
 std::vector<Upturn> regime_three_upturns(std::span<const ScalingPoint> points,
                                          std::span<const PointComparison> comparisons) {
   require_same_length("regime_three_upturns: comparisons", comparisons.size(), points.size());

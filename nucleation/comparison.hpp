@@ -88,6 +88,31 @@ struct CrossoverEstimate {
 CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const Model& model,
                                        double c0_error);
 
+// The prediction at a contact that has no data yet (fit_scaling --forecast-R, --forecast-a): what
+// a sweep still to be run should find, and where its upturn lies.
+// - mu_over_alpha_error: the prediction moved by one reported error of c0 and of the (k1, k2)
+//   pair along each independent direction (moved_model), the larger shift of the two ways, the
+//   three in quadrature (as crossover_with_error does for a). Not included: the law's
+//   extrapolation below its fit window (law_extrapolated), a systematic error.
+// - log_slope: d ln(mu/alpha) / d ln a of the prediction at fixed R, by a central difference over
+//   a (1 +- 1e-3). The nucleation condition falls with a (about -4/3: a/b_core^0 grows as a^2)
+//   and the integrated Regime III law rises (b_core^0 = R / (c alpha a) narrows), so the slope
+//   changes sign at the II -> III crossover: an upturn is predicted where it is positive. At the
+//   crossover itself, the kink of max(II, III), it is the mean of the two sides.
+struct Forecast {
+  double a = 0.0, R = 0.0;     // contact and sphere radius (d)
+  double a_over_bcore0 = 0.0;  // control_parameter(a, R, alpha, nu)
+  double beta = 0.0;           // b_core^0 / d
+  Prediction prediction;
+  double mu_over_alpha_error = 0.0;
+  bool error_complete = true;  // false: a moved model was not valid, the error is a lower bound
+  double log_slope = 0.0;
+  bool law_extrapolated = false;  // law_extrapolated(beta)
+  bool undetermined = false;      // regime_undetermined() within 2 reported errors
+};
+// Throws std::invalid_argument for a, R or alpha not positive, or nu outside [0, 0.5].
+Forecast forecast(double a, double R, double alpha, double nu, const Model& model, double c0_error);
+
 // The Regime III upturn of one branch (series and R) of the data: the branch's lowest point
 // before its first rising one, then every point the simulation puts in Regime III, by a.
 struct Upturn {

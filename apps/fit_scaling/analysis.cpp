@@ -102,6 +102,14 @@ Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const 
     return std::tie(name_u, u.R) < std::tie(name_v, v.R);
   });
   an.fit_three = nuc::fit_regime_three_to_upturns(an.points, an.comparisons, an.upturns, o.f_P);
+
+  // The forecast for contacts without data, in the map's alpha and nu (as the crossovers).
+  for (double R : o.forecast_R) {
+    an.forecast_crossovers.push_back(
+        nuc::crossover_with_error(R, an.alpha, an.nu, an.model, an.fit.c0_error));
+    for (double a : o.forecast_a)
+      an.forecasts.push_back(nuc::forecast(a, R, an.alpha, an.nu, an.model, an.fit.c0_error));
+  }
   return an;
 }
 

@@ -33,6 +33,14 @@ void Options::validate() const {
     throw std::invalid_argument("--window: two values 0 < lo <= hi (a/b_core^0) expected");
   if (correlation && !(k1 && k2))
     throw std::invalid_argument("--k1-k2-correlation: only with both --k1 and --k2");
+  if (forecast_R.empty() != forecast_a.empty())
+    throw std::invalid_argument("--forecast-R and --forecast-a: give both or neither");
+  for (const auto& [name, r] :
+       {std::pair{"--forecast-R", forecast_R}, std::pair{"--forecast-a", forecast_a}}) {
+    for (double v : r)
+      if (!(v > 0.0 && std::isfinite(v)))
+        throw std::invalid_argument(std::string(name) + ": finite values > 0 (d) expected");
+  }
   for (const auto& [name, r] : {std::pair{"--map-a", map_a}, std::pair{"--map-R", map_R}}) {
     if (r.empty()) continue;
     if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > r[0]))

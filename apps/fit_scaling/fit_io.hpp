@@ -49,6 +49,9 @@ struct Options {
   // c0 of the Hertz and adhesive laws for the mixed rows, when no table of that envelope is given
   // (one that is given is fitted and used instead).
   std::optional<double> c0_hertz, c0_adhesive;
+  // Forecast (d): the prediction at every a of forecast_a at every R of forecast_R, for sweeps
+  // still to be run (forecast.csv); both empty: none.
+  std::vector<double> forecast_R, forecast_a;
   std::string out = "results/fit_scaling";
 
   // Throws std::invalid_argument naming the option and the constraint.
@@ -137,6 +140,10 @@ struct Analysis {
   std::vector<nucleation::CrossoverEstimate> crossovers;  // II -> III, per R in Rs
   std::vector<nucleation::Upturn> upturns;                // by model name, then R
   nucleation::RegimeThreeFrictionFit fit_three;
+  // Options::forecast_R and forecast_a: the II -> III crossover at each R, and the forecast at
+  // each (R, a), R by R in the order given.
+  std::vector<nucleation::CrossoverEstimate> forecast_crossovers;
+  std::vector<nucleation::Forecast> forecasts;
 };
 
 // Throws std::invalid_argument when the data allow no Regime II fit or no common alpha.
@@ -180,6 +187,9 @@ struct MixedAnalysis {
 };
 MixedAnalysis analyse_mixed(const std::vector<DataPoint>& pts, const LimitC0& hertz,
                             const LimitC0& adhesive);
+
+// forecast.csv: per forecast contact (Analysis::forecasts) the prediction, its error and slope.
+void write_forecast(const std::filesystem::path& csv, const Analysis& an);
 
 // predictions.csv: per data point, mu/alpha measured and every prediction, both regimes.
 void write_predictions(const std::filesystem::path& csv, const std::vector<DataPoint>& pts,

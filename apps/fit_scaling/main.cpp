@@ -5,6 +5,8 @@
 //   crossovers, the Regime III comparison per R, the regime-map agreement, a Regime III fit of
 //   k1, k2 to the friction data where they rise; times and provenance under "run";
 // - predictions.csv: per data point, mu/alpha measured and every prediction, both regimes;
+// - forecast.csv (--forecast-R, --forecast-a): the prediction at contacts without data, with its
+//   error and its slope in a, and the II -> III crossover at those R in summary.json;
 // - collapse.png: mu/alpha vs a/b_core^0 (log-log), data by model and R, the Regime I line, the
 //   fitted Regime II law and the nucleation condition, the Regime III predictions per R;
 // - regime_map.png: predicted mu/alpha over (a/d, R/d) with the regime boundaries and the data
@@ -72,6 +74,13 @@ int main(int argc, char** argv) {
     cli.add_option("--c0-adhesive", o.c0_adhesive,
                    "c0 of the adhesive law for mixed tables, when no adhesive table is given")
         ->check(app::positive());
+    cli.add_option("--forecast-R", o.forecast_R,
+                   "Forecast: sphere radii R (d) without data, with --forecast-a (forecast.csv)")
+        ->delimiter(',');
+    cli.add_option("--forecast-a", o.forecast_a,
+                   "Forecast: contact radii a (d) at each --forecast-R: predicted mu/alpha, its "
+                   "error and its slope in a (an upturn where it is positive)")
+        ->delimiter(',');
     cli.add_option("--out", o.out, "Output directory")->capture_default_str();
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     if (k1_error) o.k1_error = *k1_error;
@@ -81,6 +90,9 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const Loaded data = load_sweeps(o.sweeps);
     const ByEnvelope by = split_envelopes(data.points);
+    if (!o.forecast_R.empty() && by.hertz.empty())
+      throw std::invalid_argument(
+          "--forecast-R, --forecast-a: the forecast is of the Hertz law, and no table is Hertz");
     if (!by.hertz.empty() && !o.has_law())
       throw std::invalid_argument(
           "--peierls or both --k1 and --k2 are required (Regime III law of the Hertz tables)");
@@ -112,6 +124,7 @@ int main(int argc, char** argv) {
     std::vector<fs::path> figures;
     if (hertz) {
       write_predictions(dir / "predictions.csv", by.hertz, *hertz);
+      if (!hertz->forecasts.empty()) write_forecast(dir / "forecast.csv", *hertz);
       figures = write_figures(dir, by.hertz, *law, *hertz, o);
     }
     if (adhesive) {

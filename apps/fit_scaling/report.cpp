@@ -70,6 +70,22 @@ void write_predictions(const fs::path& csv, const std::vector<DataPoint>& pts, c
   table.write(csv);
 }
 
+void write_forecast(const fs::path& csv, const Analysis& an) {
+  app::CsvTable table({"a", "R", "a_over_bcore0", "bcore0", "nucleation", "regime_three_integrated",
+                       "regime_three_log_error", "predicted", "predicted_error",
+                       "predicted_error_complete", "log_slope", "predicted_regime",
+                       "law_extrapolated", "regime_undetermined"});
+  for (const nuc::Forecast& f : an.forecasts) {
+    const nuc::Prediction& pr = f.prediction;
+    table.add_row({f.a, f.R, f.a_over_bcore0, f.beta, pr.nucleation, pr.integrated,
+                   pr.integrated_log_error, pr.mu_over_alpha, f.mu_over_alpha_error,
+                   static_cast<long long>(f.error_complete), f.log_slope, nuc::to_string(pr.regime),
+                   static_cast<long long>(f.law_extrapolated),
+                   static_cast<long long>(f.undetermined)});
+  }
+  table.write(csv);
+}
+
 void write_adhesive_predictions(const fs::path& csv, const std::vector<DataPoint>& pts,
                                 const AdhesiveAnalysis& an) {
   app::CsvTable table({"source", "a", "R", "tau0", "a_over_bcore0", "bcore", "tau_fric_over_tau0",
@@ -233,6 +249,24 @@ nlohmann::json crossovers_json(const Analysis& an) {
   return out;
 }
 
+// The forecast: the crossover at each of its R, then its table's name (the rows are in it).
+nlohmann::json forecast_json(const Analysis& an) {
+  if (an.forecasts.empty()) return nullptr;
+  nlohmann::json crossovers = nlohmann::json::array();
+  for (const nuc::CrossoverEstimate& e : an.forecast_crossovers) {
+    nlohmann::json j = {{"R", e.R}, {"found", e.crossover.found}};
+    if (e.crossover.found)
+      j.update({{"a", e.crossover.a},
+                {"a_error", e.a_error},
+                {"a_error_complete", e.a_error_complete},
+                {"mu_over_alpha", e.crossover.mu_over_alpha}});
+    crossovers.push_back(j);
+  }
+  return {{"crossovers_two_three", crossovers},
+          {"points", an.forecasts.size()},
+          {"table", "forecast.csv"}};
+}
+
 // The Regime III upturns against the prediction, point by point.
 nlohmann::json upturns_json(const std::vector<DataPoint>& pts, const Analysis& an) {
   nlohmann::json out = nlohmann::json::array();
@@ -361,6 +395,7 @@ void write_summary(const fs::path& json, const Loaded& data, const Results& res,
                 {"regime_three_fit_to_friction", fit_three_json(an.fit_three)},
                 {"regime_map", regime_map_json(pts, an)},
                 {"predictions", "predictions.csv"}});
+    if (!an.forecasts.empty()) out["forecast"] = forecast_json(an);
   } else {
     out["inputs"] = {{"sweeps", data.sources}};
   }
@@ -409,6 +444,26 @@ void print_hertz(const LawSource& law, const Analysis& an, const Options& o) {
           e.R, cr.a, e.a_error, cr.a_over_bcore0, bcore0,
           nuc::law_extrapolated(bcore0, an.model.law) ? ", below the Peierls fit window" : "",
           cr.mu_over_alpha);
+    }
+  }
+  // The forecast, R by R: where the upturn is predicted, then each contact.
+  std::size_t next = 0;
+  for (const nuc::CrossoverEstimate& e : an.forecast_crossovers) {
+    if (e.crossover.found) {
+      std::printf(
+          "forecast at R = %g d: II -> III crossover at a = %.4g +- %.2g d, mu/alpha = %.4g\n", e.R,
+          e.crossover.a, e.a_error, e.crossover.mu_over_alpha);
+    } else {
+      std::printf("forecast at R = %g d: no II -> III crossover\n", e.R);
+    }
+    for (; next < an.forecasts.size() && an.forecasts[next].R == e.R; ++next) {
+      const nuc::Forecast& f = an.forecasts[next];
+      std::printf("  a = %g d: mu/alpha = %.4g +- %.2g%s, dln(mu)/dln(a) = %+.3f, Regime %s%s%s\n",
+                  f.a, f.prediction.mu_over_alpha, f.mu_over_alpha_error,
+                  f.error_complete ? "" : " (error a lower bound)", f.log_slope,
+                  nuc::to_string(f.prediction.regime).c_str(),
+                  f.undetermined ? " (undetermined)" : "",
+                  f.law_extrapolated ? ", law extrapolated" : "");
     }
   }
   for (const nuc::Upturn& u : an.upturns) {

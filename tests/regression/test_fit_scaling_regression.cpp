@@ -396,6 +396,69 @@ TEST(FitScalingRegression, PredictionFollowsTheLargeContacts) {
   EXPECT_LT(predicted / data, 2.0);
 }
 
+// The forecast (--forecast-R 800,1700 over a grid of a) is the same model as the data's
+// predictions: where the grid meets a committed point (R = 800 d: a = 200, 250; R = 1700 d: 250,
+// 275, 300, 360, 430, 510) its prediction is that point's (to the round-off of a/b_core^0, which
+// the table gives to 17 digits). Its slope in a is negative before the II -> III crossover and
+// positive after it, so the lowest forecast of each R sits on a grid point beside the crossover
+// (the summary's, the same as the data's crossover at that R), and the forecast rises at every
+// grid point past it: the upturn predicted at R = 800 d from a = 319 d.
+TEST(FitScalingRegression, ForecastIsTheDataPredictionAndTurnsUpAtTheCrossover) {
+  const CsvTable f = CsvTable::read(FIT_FORECAST_DIR "/forecast.csv");
+  const CsvTable p = CsvTable::read(FIT_FORECAST_DIR "/predictions.csv");
+  const nlohmann::json s = summary(FIT_FORECAST_DIR);
+  std::size_t matched = 0;
+  for (std::size_t i = 0; i < f.rows(); ++i) {
+    for (std::size_t j = 0; j < p.rows(); ++j) {
+      if (p.number(j, "R") != f.number(i, "R") || p.number(j, "a") != f.number(i, "a")) continue;
+      ++matched;
+      EXPECT_NEAR(f.number(i, "predicted"), p.number(j, "predicted"),
+                  1e-9 * p.number(j, "predicted"))
+          << "a = " << f.number(i, "a") << ", R = " << f.number(i, "R");
+      EXPECT_EQ(f.text(i, "predicted_regime"), p.text(j, "predicted_regime"));
+    }
+  }
+  EXPECT_EQ(matched, 8u);
+  for (const double R : {800.0, 1700.0}) {
+    double crossover = 0.0;
+    for (const auto& c : s["forecast"]["crossovers_two_three"])
+      if (c["R"].get<double>() == R) crossover = c["a"].get<double>();
+    ASSERT_GT(crossover, 0.0) << "R = " << R;
+    for (const auto& c : s["crossovers_two_three"]) {
+      if (c["R"].get<double>() == R) {
+        EXPECT_EQ(c["a"].get<double>(), crossover);
+      }
+    }
+    std::vector<double> a, mu;
+    for (std::size_t i = 0; i < f.rows(); ++i) {
+      if (f.number(i, "R") != R) continue;
+      a.push_back(f.number(i, "a"));
+      mu.push_back(f.number(i, "predicted"));
+      const double slope = f.number(i, "log_slope");
+      if (a.back() < crossover) {
+        EXPECT_LT(slope, -1.0) << "a = " << a.back() << ", R = " << R;  // about -4/3
+        EXPECT_EQ(f.text(i, "predicted_regime"), "II");
+      } else {
+        EXPECT_GT(slope, 0.0) << "a = " << a.back() << ", R = " << R;
+        EXPECT_EQ(f.text(i, "predicted_regime"), "III");
+      }
+      EXPECT_GT(f.number(i, "predicted_error"), 0.0);
+    }
+    const std::size_t lowest =
+        static_cast<std::size_t>(std::min_element(mu.begin(), mu.end()) - mu.begin());
+    const bool beside =
+        (a[lowest] <= crossover && (lowest + 1 == a.size() || a[lowest + 1] > crossover)) ||
+        (a[lowest] >= crossover && (lowest == 0 || a[lowest - 1] < crossover));
+    EXPECT_TRUE(beside) << "R = " << R << ": lowest at a = " << a[lowest] << ", crossover "
+                        << crossover;
+    for (std::size_t k = lowest + 1; k < a.size(); ++k) {
+      if (a[k - 1] > crossover) {
+        EXPECT_GT(mu[k], mu[k - 1]) << "a = " << a[k] << ", R = " << R;
+      }
+    }
+  }
+}
+
 // The per-point error of the integrated Regime III law is a reported error like c0's: the
 // scan's plain standard errors of k1, k2 (with their correlation) propagated, times the t factor
 // of the scan's degrees of freedom (5 points: 3, t factor 1.66; statistics.hpp).

@@ -505,6 +505,70 @@ TEST(Comparison, CrossoverErrorFromTheMovedModels) {
   EXPECT_FALSE(crossover_with_error(1700, 0.7, 0.5, exact, 0.3).a_error_complete);
 }
 
+// The forecast at a contact without data. Analytic answer for its slope in Regime II: with
+// q = c0 / X, X = a/b_core^0 proportional to a^2, the condition (1 - x) sqrt(1 - x^2) = q and
+// mu/alpha = 3 (1 - x^2) give d ln mu / d ln X = -2x / (1 + 2x) (implicit differentiation; -2/3
+// as q -> 0), so d ln mu / d ln a = -4x / (1 + 2x). The forecast's central difference over
+// a (1 +- 1e-3) is second order: its relative error is about h^2 times the ratio of the third to
+// the first log-derivative, far below the 1e-5 allowed.
+TEST(Comparison, ForecastAtAContactWithoutData) {
+  const Model model{
+      .c0 = 0.2, .law = {.k1 = 2.3, .k1_error = 0.1, .k2 = 1.8, .k2_error = 0.02}, .f_P = 0.5};
+  const double R = 1700, alpha = 0.7, nu = 0.5;
+  const Crossover cross = regime_two_three_crossover(R, alpha, nu, model);
+  ASSERT_TRUE(cross.found);
+  // The prediction is predict()'s at the contact's a/b_core^0 and b_core^0.
+  const Forecast f = forecast(200, R, alpha, nu, model, 0.01);
+  EXPECT_EQ(f.a_over_bcore0, control_parameter(200, R, alpha, nu));
+  EXPECT_EQ(f.beta, bcore0(200, R, alpha, nu));
+  EXPECT_EQ(f.prediction.mu_over_alpha, predict(f.a_over_bcore0, f.beta, model).mu_over_alpha);
+  EXPECT_EQ(f.prediction.regime, Regime::two);
+  // Regime II: the analytic slope.
+  const double q = model.c0 / f.a_over_bcore0;
+  double lo = 0.0, hi = 1.0;
+  while (hi - lo > 1e-15) {
+    const double x = 0.5 * (lo + hi);
+    ((1.0 - x) * std::sqrt(1.0 - x * x) > q ? lo : hi) = x;
+  }
+  const double x = 0.5 * (lo + hi);
+  EXPECT_NEAR(f.log_slope, -4.0 * x / (1.0 + 2.0 * x), 1e-5 * 4.0 / 3.0);
+  // Across the crossover the slope changes sign: the upturn.
+  EXPECT_LT(forecast(0.9 * cross.a, R, alpha, nu, model, 0.01).log_slope, 0.0);
+  const Forecast past = forecast(1.1 * cross.a, R, alpha, nu, model, 0.01);
+  EXPECT_GT(past.log_slope, 0.0);
+  EXPECT_EQ(past.prediction.regime, Regime::three);
+  EXPECT_EQ(past.prediction.mu_over_alpha, past.prediction.integrated);
+  // Regime III: the integrated law's slope in b_core^0 (proportional to 1/a), taken here with
+  // another step; the two differences agree to their truncation errors.
+  const double b = past.beta, hb = 1e-4;
+  const double slope_b = (std::log(regime_three_integrated(b * (1 + hb), model.law, 0.5)) -
+                          std::log(regime_three_integrated(b * (1 - hb), model.law, 0.5))) /
+                         (std::log1p(hb) - std::log1p(-hb));
+  EXPECT_NEAR(past.log_slope, -slope_b, 1e-5 * std::abs(slope_b));
+  // The error: none without errors; with c0's alone, in Regime II, the larger shift of the
+  // prediction when c0 moves by its error either way.
+  const Model exact{.c0 = 0.2, .law = {.k1 = 2.3, .k2 = 1.8}, .f_P = 0.5};
+  EXPECT_EQ(forecast(200, R, alpha, nu, exact, 0.0).mu_over_alpha_error, 0.0);
+  const double mu0 = forecast(200, R, alpha, nu, exact, 0.0).prediction.mu_over_alpha;
+  double shift = 0.0;
+  for (double c0 : {0.2 + 0.01, 0.2 - 0.01})
+    shift = std::max(shift, std::abs(forecast(200, R, alpha, nu, {.c0 = c0, .law = exact.law}, 0.0)
+                                         .prediction.mu_over_alpha -
+                                     mu0));
+  const Forecast with_c0 = forecast(200, R, alpha, nu, exact, 0.01);
+  EXPECT_GT(shift, 0.0);
+  EXPECT_NEAR(with_c0.mu_over_alpha_error, shift, 1e-12 * shift);
+  EXPECT_TRUE(with_c0.error_complete);
+  // The law's errors reach the Regime III side, and an error c0 cannot take is said.
+  EXPECT_GT(past.mu_over_alpha_error, 0.0);
+  EXPECT_FALSE(forecast(200, R, alpha, nu, exact, 0.3).error_complete);
+  // Bad input.
+  EXPECT_NE(message_of([&] { forecast(0, R, alpha, nu, model, 0.0); }).find("forecast: a, R"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { forecast(200, R, alpha, 0.6, model, 0.0); }).find("nu"),
+            std::string::npos);
+}
+
 // Upturns: per series and R, the lowest point before the first rising one, then the rising
 // ones; slopes and the worst factor against the integrated law; the fit of k1, k2 to the rising
 // points recovers the law they were made from.
