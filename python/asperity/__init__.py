@@ -17,7 +17,7 @@ range. slide() releases the GIL while it runs and stops on Ctrl-C (KeyboardInter
 
 Also here: the elastic half-space (FreeSurfaceGF, PeriodicSurfaceGF: u = G * f on NumPy arrays,
 without copies), the scaling laws (regime_two_law, nucleation_condition, control_parameter,
-predict, fit_regime_two), and asperity.tools, which runs the whole-run tools (peierls_scan,
+predict, forecast, fit_regime_two), and asperity.tools, which runs the whole-run tools (peierls_scan,
 fit_scaling, track_loops, friction_sweep) and returns what they write.
 """
 
@@ -28,11 +28,11 @@ import numpy as np
 
 from . import _asperity
 from ._asperity import (FreeSurfaceGF, PeriodicSurfaceGF, control_parameter, fit_regime_two,
-                        nucleation_condition, predict, regime_two_law)
+                        forecast, nucleation_condition, predict, regime_two_law)
 
 __all__ = ["Scene", "SlideResult", "slide", "version", "find_lines", "snapshot_dataset",
            "FreeSurfaceGF", "PeriodicSurfaceGF", "regime_two_law", "nucleation_condition",
-           "control_parameter", "predict", "fit_regime_two", "tools"]
+           "control_parameter", "predict", "forecast", "fit_regime_two", "tools"]
 
 
 def version():

@@ -119,7 +119,8 @@ def peierls_scan(scene=None, out=None, **options):
 def fit_scaling(sweeps, out=None, **options):
     """c0, the regime map and the Regime III comparison (MODEL.md 8) from friction_sweep tables:
     summary.json, tables["predictions"]. options: peierls (a peierls_scan folder or summary),
-    k1, k2, f_P, window, bootstrap, seed, map_a, map_R."""
+    k1, k2, f_P, window, bootstrap, seed, map_a, map_R; forecast_R and forecast_a (lists, d)
+    add tables["forecast"], the prediction at contacts without data."""
     return run("fit_scaling", *[str(s) for s in sweeps], out=out, **options)
 
 

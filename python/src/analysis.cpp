@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "asperity/apps/common/lines_json.hpp"
+#include "asperity/nucleation/comparison.hpp"
 #include "asperity/nucleation/regime_map.hpp"
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
@@ -204,6 +205,33 @@ void bind_analysis(py::module_& m) {
       py::arg("correlation") = 0.0,
       "mu/alpha predicted across Regimes I-III at a/b_core^0 and beta = b_core^0/d, and the "
       "regime (MODEL.md 8; fit_scaling's regime map)");
+  m.def(
+      "forecast",
+      [](double a, double R, double c0, double k1, double k2, double alpha, double nu, double f_P,
+         double c0_error, double k1_error, double k2_error, double correlation) {
+        const nucleation::Model model = model_of(c0, k1, k2, f_P, k1_error, k2_error, correlation);
+        const nucleation::Forecast f =
+            value_errors([&] { return nucleation::forecast(a, R, alpha, nu, model, c0_error); });
+        const nucleation::Prediction& p = f.prediction;
+        return py::dict(py::arg("a") = f.a, py::arg("R") = f.R,
+                        py::arg("a_over_bcore0") = f.a_over_bcore0, py::arg("beta") = f.beta,
+                        py::arg("nucleation") = p.nucleation, py::arg("integrated") = p.integrated,
+                        py::arg("integrated_log_error") = p.integrated_log_error,
+                        py::arg("mu_over_alpha") = p.mu_over_alpha,
+                        py::arg("mu_over_alpha_error") = f.mu_over_alpha_error,
+                        py::arg("error_complete") = f.error_complete,
+                        py::arg("log_slope") = f.log_slope,
+                        py::arg("regime") = nucleation::to_string(p.regime),
+                        py::arg("law_extrapolated") = f.law_extrapolated,
+                        py::arg("undetermined") = f.undetermined);
+      },
+      py::arg("a"), py::arg("R"), py::arg("c0"), py::arg("k1"), py::arg("k2"),
+      py::arg("alpha") = 0.7, py::arg("nu") = 0.5, py::arg("f_P") = 0.5, py::arg("c0_error") = 0.0,
+      py::arg("k1_error") = 0.0, py::arg("k2_error") = 0.0, py::arg("correlation") = 0.0,
+      "The prediction at a contact of radius a on a sphere of radius R (d) without data, as "
+      "fit_scaling --forecast-R/--forecast-a gives it: mu/alpha, its error from c0's and the "
+      "law's (one reported error each, in quadrature), and d ln mu/d ln a (positive: the "
+      "predicted Regime III upturn)");
   m.def("fit_regime_two", &fit_regime_two, py::arg("a_over_bcore0"), py::arg("mu_over_alpha"),
         py::arg("a") = py::none(), py::arg("R") = py::none(), py::arg("window") = py::none(),
         py::arg("bootstrap") = 4000, py::arg("seed") = 20240909LL,

@@ -101,6 +101,30 @@ def test_fit_regime_two_in_process_equals_fit_scaling(fit):
     assert ours["c0_error"] == fit.summary["regime_two"]["c0_error"]
 
 
+def test_forecast_in_process_equals_fit_scalings(tmp_path):
+    # fit_scaling's forecast.csv and asperity.forecast with the same c0, law and errors: the same
+    # numbers, bit for bit (given k1, k2 errors are used as they are; alpha and nu are the table's).
+    run = tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=tmp_path / "f", k1=3.0,
+                            k2=1.2, k1_error=0.1, k2_error=0.02, forecast_R=[800, 1700],
+                            forecast_a=[150, 300, 450])
+    table = run.tables["forecast"]
+    assert len(table) == 6
+    c0 = run.summary["regime_two"]["c0"]
+    c0_error = run.summary["regime_two"]["c0_error"]
+    for row in table:
+        ours = asperity.forecast(row["a"], row["R"], c0=c0, k1=3.0, k2=1.2, c0_error=c0_error,
+                                 k1_error=0.1, k2_error=0.02)
+        assert ours["mu_over_alpha"] == row["predicted"]
+        assert ours["mu_over_alpha_error"] == row["predicted_error"]
+        assert ours["log_slope"] == row["log_slope"]
+        assert ours["regime"] == row["predicted_regime"]
+    # Regime II falls with a (slope about -4/3), whatever the law says after the crossover.
+    first = asperity.forecast(150, 1700, c0=c0, k1=3.0, k2=1.2)
+    assert first["regime"] == "II" and -1.4 < first["log_slope"] < -1.3
+    with pytest.raises(ValueError):
+        asperity.forecast(-1, 800, c0=c0, k1=3.0, k2=1.2)
+
+
 def test_tool_errors_raise_with_the_tools_message(tmp_path):
     with pytest.raises(RuntimeError, match="fit_scaling failed"):
         tools.fit_scaling([tmp_path / "missing.csv"], out=tmp_path / "o")
