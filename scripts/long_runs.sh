@@ -5,7 +5,8 @@
 #
 #   scripts/long_runs.sh start [name...]   start or continue (default: the runs marked auto
 #                                          below: this machine has 2 cores, so two at a time)
-#   scripts/long_runs.sh status            where each run is: its last progress line
+#   scripts/long_runs.sh status            where each run is: its last progress line, and each
+#                                          point's latest slip (slips.csv, --largest-slip)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
 #                                          this checkout's build, which it keeps from then on:
@@ -118,6 +119,23 @@ status() {
   local last="(no log)"
   [ -f "$runs/$out.log" ] && last=$(grep -v '^ *$' "$runs/$out.log" | tail -1 | cut -c1-240)
   echo "$name [$state, $(cat "$runs/$out.binary" 2>/dev/null || echo 'no binary')]: $last"
+  # Each point's latest slip from its slips.csv (--largest-slip): what the slide has found so far
+  # (the loops it holds), read by column name.
+  local table
+  for table in "$runs/$out"/points/*/largest_slip/slips.csv; do
+    [ -f "$table" ] || continue
+    awk -F, -v point="$(basename "$(dirname "$(dirname "$table")")")" '
+      NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+      { last = $0; n = NR - 1 }
+      END {
+        if (n == 0) { printf "  %s: no slip yet\n", point; exit }
+        split(last, f, ",")
+        printf "  %s: %d slips; last: slip %s at Dx = %.5g d, Fx %.6g -> %.6g, %s sites, %s loops (area %.6g d^2), slipped area %.6g d^2", point, n, f[col["slip"]], f[col["Dx"]], f[col["Fx_before"]], f[col["Fx_after"]], f[col["slipped_sites"]], f[col["loops"]], f[col["loop_area"]], f[col["slipped_area"]]
+        if ("gf_applications" in col && f[col["gf_applications"]] != "")
+          printf ", at %s GF, %.2f h", f[col["gf_applications"]], f[col["wall_s"]] / 3600
+        printf "\n"
+      }' "$table"
+  done
 }
 
 stop() {
