@@ -97,8 +97,9 @@ CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const 
 // - log_slope: d ln(mu/alpha) / d ln a of the prediction at fixed R, by a central difference over
 //   a (1 +- 1e-3). The nucleation condition falls with a (about -4/3: a/b_core^0 grows as a^2)
 //   and the integrated Regime III law rises (b_core^0 = R / (c alpha a) narrows), so the slope
-//   changes sign at the II -> III crossover: an upturn is predicted where it is positive. At the
-//   crossover itself, the kink of max(II, III), it is the mean of the two sides.
+//   changes sign at the II -> III crossover: an upturn is predicted where it is positive. In
+//   Regime I (mu/alpha capped at 1) it is 0. Within a factor 1 +- 1e-3 of the crossover the
+//   difference straddles the kink of max(II, III) and gives a mix of the two sides.
 struct Forecast {
   double a = 0.0, R = 0.0;     // contact and sphere radius (d)
   double a_over_bcore0 = 0.0;  // control_parameter(a, R, alpha, nu)

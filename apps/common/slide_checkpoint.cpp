@@ -190,7 +190,10 @@ json snapshot_json(const slide::Snapshot& s) {
           {"tau_max", bytes_of(s.tau_max)},
           {"pressure", bytes_of(s.pressure)},
           {"in_contact", json::binary(s.in_contact)},
-          {"tip", {s.tip.angle, s.tip.mismatch}}};
+          {"tip", {s.tip.angle, s.tip.mismatch}},
+          {"slipped_sites", s.slipped_sites},
+          {"gf_applications", s.gf_applications},
+          {"wall_s", s.wall_s}};
 }
 
 json result_json(const slide::SlideResult& r) {
@@ -436,6 +439,15 @@ slide::Snapshot snapshot_from(const json& j) {
     const json& t = array(j, "tip", 2);
     s.tip = {.angle = number(t[0]), .mismatch = number(t[1])};
   }
+  // A slip's frame: its sites and the slide's cost when it was accepted (checkpoints written
+  // before these were kept: 0, as for every other frame).
+  if (j.contains("slipped_sites"))
+    s.slipped_sites =
+        static_cast<int>(integer(j, "slipped_sites", 0, std::numeric_limits<int>::max()));
+  if (j.contains("gf_applications"))
+    s.gf_applications = static_cast<std::size_t>(
+        integer(j, "gf_applications", 0, std::numeric_limits<long long>::max()));
+  if (j.contains("wall_s")) s.wall_s = number(j, "wall_s");
   return s;
 }
 

@@ -115,8 +115,10 @@ class LargestSlipSink final : public slide::FrameSink {
   // A fresh run removes the files of an earlier one. A resumed run continues from a checkpoint
   // whose trace has slips of up to largest_slipped_sites(): only a larger slip replaces the
   // pair. slips.csv keeps its rows of the checkpoint's slips, each matched by its number, Dx and
-  // slipped sites (later ones are made again); a table that is not this slide's, or cannot be
-  // read, is set aside as slips.old.csv (or .old.1.csv, ...) and started again. Returns a
+  // slipped sites (later ones are made again); a table of an earlier build whose columns are the
+  // first of today's keeps its rows, the newer columns (the cost) empty; a table that is not this
+  // slide's, or cannot be read, is set aside as slips.old.csv (or .old.1.csv, ...) and started
+  // again. Returns a
   // warning when the checkpoint's slips include one whose states or row are not on disk (the
   // checkpoint was made by a run that did not keep them), else an empty string.
   std::string start(std::optional<Resume> resume);

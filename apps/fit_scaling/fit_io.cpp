@@ -40,6 +40,8 @@ void Options::validate() const {
     for (double v : r)
       if (!(v > 0.0 && std::isfinite(v)))
         throw std::invalid_argument(std::string(name) + ": finite values > 0 (d) expected");
+    if (std::set<double>(r.begin(), r.end()).size() != r.size())
+      throw std::invalid_argument(std::string(name) + ": a value is given twice");
   }
   for (const auto& [name, r] : {std::pair{"--map-a", map_a}, std::pair{"--map-R", map_R}}) {
     if (r.empty()) continue;

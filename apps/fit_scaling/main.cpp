@@ -124,7 +124,12 @@ int main(int argc, char** argv) {
     std::vector<fs::path> figures;
     if (hertz) {
       write_predictions(dir / "predictions.csv", by.hertz, *hertz);
-      if (!hertz->forecasts.empty()) write_forecast(dir / "forecast.csv", *hertz);
+      // A forecast.csv left in the folder by an earlier run is not this run's.
+      if (hertz->forecasts.empty()) {
+        fs::remove(dir / "forecast.csv");
+      } else {
+        write_forecast(dir / "forecast.csv", *hertz);
+      }
       figures = write_figures(dir, by.hertz, *law, *hertz, o);
     }
     if (adhesive) {

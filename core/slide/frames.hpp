@@ -51,7 +51,9 @@ struct Snapshot {
   // Of a slip's "after" state: what the slide had cost when it accepted it, earlier sessions of a
   // resumed slide included (SlideProgressInfo's counts); the difference between two slips is the
   // cost of the steps, bracketing and flow between them. 0 for every other frame. Not stored in
-  // the NetCDF frames.
+  // the NetCDF frames. The GF count is an uninterrupted slide's (work a resumed slide repeats is
+  // counted once); the wall time also holds each session's set-up and, for a killed run, the
+  // work lost after its last checkpoint.
   std::size_t gf_applications = 0;
   double wall_s = 0.0;  // (s)
 };

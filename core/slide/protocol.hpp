@@ -544,9 +544,15 @@ class ProtocolRun {
   }
 
   // The state at the top of the stepping loop (or after it), for checkpoints. Its cost is the
-  // model's so far, or `model_gf` (the count before an abandoned relaxation, whose work the
-  // resumed slide repeats: counted once, a resumed slide reports an uninterrupted one's counts).
-  SlideState capture(bool stepping_done, std::optional<std::size_t> model_gf = {}) const {
+  // model's so far, or `at_top` (the counts before an abandoned relaxation, whose work the
+  // resumed slide repeats: counted once, a resumed slide reports an uninterrupted one's GF
+  // counts; its wall time differs by each session's set-up and by work lost after the last
+  // checkpoint of a killed run).
+  struct Cost {
+    std::size_t model_gf = 0;
+    double elapsed = 0.0;  // of this session (s)
+  };
+  SlideState capture(bool stepping_done, std::optional<Cost> at_top = {}) const {
     SlideState st{.current = state_,
                   .previous = previous_,
                   .earlier = earlier_,
@@ -564,8 +570,9 @@ class ProtocolRun {
                   // A paused slip not yet continued (a resumed slide stopped or checkpointed
                   // before its first step) is handed on: its work is in `res` already.
                   .pending = pending_};
-    st.partial.gf_applications = gf_total(model_gf.value_or(model_.gf_applications()));
-    st.partial.wall_s = wall_before_ + elapsed();
+    st.partial.gf_applications =
+        gf_total(at_top ? at_top->model_gf : model_.gf_applications());
+    st.partial.wall_s = wall_before_ + (at_top ? at_top->elapsed : elapsed());
     return st;
   }
 
@@ -890,7 +897,7 @@ class ProtocolRun {
                                         std::optional<PendingSlip>& resuming,
                                         minimize::MinimizeResult& r,
                                         const minimize::MinimizerOptions*& solver) {
-    const std::size_t gf_at_top = model_.gf_applications();
+    const Cost at_top{.model_gf = model_.gf_applications(), .elapsed = elapsed()};
     // With a slip minimiser, a step that the fast solver sees slip for certain (a site moved by
     // 3/4 d in the LFM, d/2 in the explicit model, as in the bisection) is handed to the slip
     // minimiser at once: relaxing the slip further would only be thrown away. (Before, it ran to
@@ -910,7 +917,7 @@ class ProtocolRun {
         // plan() took the due probe of the cycle for this relaxation: the resumed slide is to
         // make it again (without, it would never probe, and its path would leave the
         // uninterrupted one's).
-        SlideState st = capture(false, gf_at_top);
+        SlideState st = capture(false, at_top);
         if (p.cycle_of) st.cycle_check_due = true;
         return interrupt(st, p.Dx);
       }
@@ -928,7 +935,7 @@ class ProtocolRun {
       report(SlidePhase::slip, p.Dx);
       if (auto out = relax_slip(trial, p.Dx, want_frames, frames, resuming, fast, r)) return out;
       // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
-      if (abandoned_) return interrupt(capture(false, gf_at_top), p.Dx);
+      if (abandoned_) return interrupt(capture(false, at_top), p.Dx);
       count(fast);
       solver = &*options_.slip_minimizer;
       ++res_.slip_relaxations;

@@ -61,7 +61,8 @@ def predict(a_over_bcore0: float, beta: float, c0: float, k1: float, k2: float,
             correlation: float = 0.0) -> dict: ...
 def forecast(a: float, R: float, c0: float, k1: float, k2: float, alpha: float = 0.7,
              nu: float = 0.5, f_P: float = 0.5, c0_error: float = 0.0, k1_error: float = 0.0,
-             k2_error: float = 0.0, correlation: float = 0.0) -> dict: ...
+             k2_error: float = 0.0, correlation: float = 0.0, b_min: float = 0.0,
+             b_max: float = 0.0) -> dict: ...
 def fit_regime_two(a_over_bcore0: npt.ArrayLike, mu_over_alpha: npt.ArrayLike,
                    a: Optional[npt.ArrayLike] = None, R: Optional[npt.ArrayLike] = None,
                    window: Optional[tuple[float, float]] = None, bootstrap: int = 4000,

@@ -37,7 +37,10 @@ def bin_dir():
 
 
 def read_table(path):
-    """A CSV table the tools write, as a NumPy record array (numeric columns as float64)."""
+    """A CSV table the tools write, as a NumPy record array: numeric columns as float64, their
+    empty cells NaN (a value the tool did not have: slips.csv's census of a rejected state, the
+    cost columns of rows an earlier build wrote); a column with text, or only empty cells, as
+    str."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     if not rows:
@@ -47,7 +50,9 @@ def read_table(path):
     for k in range(len(names)):
         values = [r[k] if k < len(r) else "" for r in body]
         try:
-            columns.append(np.array([float(v) for v in values], dtype=float))
+            if values and all(v == "" for v in values):
+                raise ValueError("no value")
+            columns.append(np.array([float(v) if v != "" else np.nan for v in values], dtype=float))
         except ValueError:
             columns.append(np.array(values, dtype=str))
     return np.rec.fromarrays(columns, names=names)

@@ -208,8 +208,11 @@ void bind_analysis(py::module_& m) {
   m.def(
       "forecast",
       [](double a, double R, double c0, double k1, double k2, double alpha, double nu, double f_P,
-         double c0_error, double k1_error, double k2_error, double correlation) {
-        const nucleation::Model model = model_of(c0, k1, k2, f_P, k1_error, k2_error, correlation);
+         double c0_error, double k1_error, double k2_error, double correlation, double b_min,
+         double b_max) {
+        nucleation::Model model = model_of(c0, k1, k2, f_P, k1_error, k2_error, correlation);
+        model.law.b_min = b_min;
+        model.law.b_max = b_max;
         const nucleation::Forecast f =
             value_errors([&] { return nucleation::forecast(a, R, alpha, nu, model, c0_error); });
         const nucleation::Prediction& p = f.prediction;
@@ -228,10 +231,12 @@ void bind_analysis(py::module_& m) {
       py::arg("a"), py::arg("R"), py::arg("c0"), py::arg("k1"), py::arg("k2"),
       py::arg("alpha") = 0.7, py::arg("nu") = 0.5, py::arg("f_P") = 0.5, py::arg("c0_error") = 0.0,
       py::arg("k1_error") = 0.0, py::arg("k2_error") = 0.0, py::arg("correlation") = 0.0,
+      py::arg("b_min") = 0.0, py::arg("b_max") = 0.0,
       "The prediction at a contact of radius a on a sphere of radius R (d) without data, as "
       "fit_scaling --forecast-R/--forecast-a gives it: mu/alpha, its error from c0's and the "
       "law's (one reported error each, in quadrature), and d ln mu/d ln a (positive: the "
-      "predicted Regime III upturn)");
+      "predicted Regime III upturn); b_min, b_max: the core widths (d) the law was fitted on, for "
+      "law_extrapolated (0: unknown)");
   m.def("fit_regime_two", &fit_regime_two, py::arg("a_over_bcore0"), py::arg("mu_over_alpha"),
         py::arg("a") = py::none(), py::arg("R") = py::none(), py::arg("window") = py::none(),
         py::arg("bootstrap") = 4000, py::arg("seed") = 20240909LL,

@@ -118,11 +118,44 @@ def test_forecast_in_process_equals_fit_scalings(tmp_path):
         assert ours["mu_over_alpha_error"] == row["predicted_error"]
         assert ours["log_slope"] == row["log_slope"]
         assert ours["regime"] == row["predicted_regime"]
+    # With the project's own Peierls scan (--peierls): its plain k1, k2 errors times the
+    # summary's reported_error_factor, its correlation and its window, as docs/python.md says.
+    scan = tools.peierls_scan(out=tmp_path / "ps")
+    run = tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=tmp_path / "g",
+                            peierls=scan.out, forecast_R=[800], forecast_a=[150, 300, 450])
+    law = run.summary["peierls"]
+    factor = law["reported_error_factor"]
+    assert factor > 1.0
+    b_min, b_max = law["window_b_core"]
+    for row in run.tables["forecast"]:
+        ours = asperity.forecast(row["a"], row["R"], c0=run.summary["regime_two"]["c0"],
+                                 k1=law["k1"], k2=law["k2"],
+                                 c0_error=run.summary["regime_two"]["c0_error"],
+                                 k1_error=law["k1_error"] * factor,
+                                 k2_error=law["k2_error"] * factor,
+                                 correlation=law["k1_k2_correlation"], b_min=b_min, b_max=b_max)
+        assert ours["mu_over_alpha"] == row["predicted"]
+        assert ours["mu_over_alpha_error"] == row["predicted_error"]
+        assert ours["law_extrapolated"] == bool(row["law_extrapolated"])
+        assert ours["undetermined"] == bool(row["regime_undetermined"])
     # Regime II falls with a (slope about -4/3), whatever the law says after the crossover.
     first = asperity.forecast(150, 1700, c0=c0, k1=3.0, k2=1.2)
     assert first["regime"] == "II" and -1.4 < first["log_slope"] < -1.3
     with pytest.raises(ValueError):
         asperity.forecast(-1, 800, c0=c0, k1=3.0, k2=1.2)
+
+
+def test_read_table_empty_cells(tmp_path):
+    # A numeric column with empty cells (slips.csv's cost columns in rows an earlier build wrote)
+    # stays numeric, NaN where empty; text, and a column with no value at all, stay str.
+    path = tmp_path / "t.csv"
+    path.write_text("slip,gf_applications,stop_reason,note\n1,,distance cap,\n2,140428,,\n")
+    t = tools.read_table(path)
+    assert t["slip"].dtype == float and list(t["slip"]) == [1.0, 2.0]
+    assert t["gf_applications"].dtype == float
+    assert np.isnan(t["gf_applications"][0]) and t["gf_applications"][1] == 140428.0
+    assert t["stop_reason"].dtype.kind == "U" and list(t["stop_reason"]) == ["distance cap", ""]
+    assert t["note"].dtype.kind == "U"
 
 
 def test_tool_errors_raise_with_the_tools_message(tmp_path):

@@ -418,17 +418,21 @@ TEST(FitScalingRegression, ForecastIsTheDataPredictionAndTurnsUpAtTheCrossover) 
       EXPECT_EQ(f.text(i, "predicted_regime"), p.text(j, "predicted_regime"));
     }
   }
-  EXPECT_EQ(matched, 8u);
+  // 8 data points lie on the grid today; more as issue 23's points are committed.
+  EXPECT_GE(matched, 8u);
   for (const double R : {800.0, 1700.0}) {
     double crossover = 0.0;
     for (const auto& c : s["forecast"]["crossovers_two_three"])
       if (c["R"].get<double>() == R) crossover = c["a"].get<double>();
     ASSERT_GT(crossover, 0.0) << "R = " << R;
+    bool data_crossover = false;
     for (const auto& c : s["crossovers_two_three"]) {
       if (c["R"].get<double>() == R) {
+        data_crossover = true;
         EXPECT_EQ(c["a"].get<double>(), crossover);
       }
     }
+    EXPECT_TRUE(data_crossover) << "no crossover of the data at R = " << R;
     std::vector<double> a, mu;
     for (std::size_t i = 0; i < f.rows(); ++i) {
       if (f.number(i, "R") != R) continue;

@@ -109,6 +109,12 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
     EXPECT_EQ(a.snapshots[k].label, b.snapshots[k].label) << where;
     EXPECT_EQ(a.snapshots[k].ux, b.snapshots[k].ux) << where << ": snapshot " << k;
     EXPECT_EQ(a.snapshots[k].tau_x, b.snapshots[k].tau_x) << where << ": snapshot " << k;
+    // A slip's "after" state carries the slide's GF applications so far (slips.csv's cost): a
+    // resumed slide counts its earlier sessions once and not the work it repeats.
+    EXPECT_EQ(a.snapshots[k].gf_applications, b.snapshots[k].gf_applications)
+        << where << ": snapshot " << k << " " << a.snapshots[k].label;
+    EXPECT_EQ(a.snapshots[k].slipped_sites, b.snapshots[k].slipped_sites)
+        << where << ": snapshot " << k << " " << a.snapshots[k].label;
   }
 }
 
