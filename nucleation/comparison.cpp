@@ -24,6 +24,29 @@ double log_slope(const std::vector<double>& x, const std::vector<double>& y) {
   return fit_line(lx, ly).slope;
 }
 
+// The error of a quantity from the moved models (moved_model, one reported error): per
+// independent direction the larger shift of the two ways, the three in quadrature. `shift(m)` is
+// the quantity's shift under model m, nullopt where it has none; `complete` turns false for each
+// move without a model or a value (the error is then a lower bound).
+template <class Shift>
+double moved_model_error(const Model& model, double c0_error, Shift shift, bool& complete) {
+  double var = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    double largest = 0.0;
+    for (double sign : {1.0, -1.0}) {
+      const std::optional<Model> m = moved_model(model, c0_error, k, sign);
+      const std::optional<double> s = m ? shift(*m) : std::nullopt;
+      if (!s) {
+        complete = false;
+        continue;
+      }
+      largest = std::max(largest, *s);
+    }
+    var += largest * largest;
+  }
+  return std::sqrt(var);
+}
+
 void require_same_length(const char* what, std::size_t n, std::size_t points) {
   if (n != points)
     throw std::invalid_argument(std::string(what) + ": " + std::to_string(n) + " for " +
@@ -104,25 +127,14 @@ CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const 
   CrossoverEstimate out{.R = R};
   out.crossover = regime_two_three_crossover(R, alpha, nu, model);
   if (!out.crossover.found) return out;
-  double var = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    double shift = 0.0;
-    for (double sign : {1.0, -1.0}) {
-      const std::optional<Model> m = moved_model(model, c0_error, k, sign);
-      if (!m) {
-        out.a_error_complete = false;
-        continue;
-      }
-      const Crossover moved = regime_two_three_crossover(R, alpha, nu, *m);
-      if (moved.found) {
-        shift = std::max(shift, std::abs(moved.a - out.crossover.a));
-      } else {
-        out.a_error_complete = false;
-      }
-    }
-    var += shift * shift;
-  }
-  out.a_error = std::sqrt(var);
+  out.a_error = moved_model_error(
+      model, c0_error,
+      [&](const Model& m) -> std::optional<double> {
+        const Crossover moved = regime_two_three_crossover(R, alpha, nu, m);
+        if (!moved.found) return std::nullopt;
+        return std::abs(moved.a - out.crossover.a);
+      },
+      out.a_error_complete);
   return out;
 }
 
@@ -149,20 +161,12 @@ Forecast forecast(double a, double R, double alpha, double nu, const Model& mode
   out.log_slope = (std::log(at(a * (1.0 + h), model).mu_over_alpha) -
                    std::log(at(a * (1.0 - h), model).mu_over_alpha)) /
                   (std::log1p(h) - std::log1p(-h));
-  double var = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    double shift = 0.0;
-    for (double sign : {1.0, -1.0}) {
-      const std::optional<Model> m = moved_model(model, c0_error, k, sign);
-      if (!m) {
-        out.error_complete = false;
-        continue;
-      }
-      shift = std::max(shift, std::abs(at(a, *m).mu_over_alpha - out.prediction.mu_over_alpha));
-    }
-    var += shift * shift;
-  }
-  out.mu_over_alpha_error = std::sqrt(var);
+  out.mu_over_alpha_error = moved_model_error(
+      model, c0_error,
+      [&](const Model& m) -> std::optional<double> {
+        return std::abs(at(a, m).mu_over_alpha - out.prediction.mu_over_alpha);
+      },
+      out.error_complete);
   return out;
 }
 
