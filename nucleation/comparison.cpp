@@ -149,22 +149,24 @@ Forecast forecast(double a, double R, double alpha, double nu, const Model& mode
     throw std::invalid_argument("forecast: nu must lie in [0, 0.5] (nu = " + std::to_string(nu) +
                                 ")");
   Forecast out{.a = a, .R = R};
-  const auto at = [&](double a_, const Model& m) {
-    return predict(control_parameter(a_, R, alpha, nu), bcore0(a_, R, alpha, nu), m);
+  // The prediction at a contact radius a_ of the same sphere (for the slope).
+  const auto at = [&](double a_) {
+    return predict(control_parameter(a_, R, alpha, nu), bcore0(a_, R, alpha, nu), model)
+        .mu_over_alpha;
   };
   out.a_over_bcore0 = control_parameter(a, R, alpha, nu);
   out.beta = bcore0(a, R, alpha, nu);
-  out.prediction = at(a, model);
+  out.prediction = predict(out.a_over_bcore0, out.beta, model);
   out.law_extrapolated = law_extrapolated(out.beta, model.law);
   out.undetermined = regime_undetermined(out.a_over_bcore0, out.beta, model, c0_error);
   constexpr double h = 1e-3;
-  out.log_slope = (std::log(at(a * (1.0 + h), model).mu_over_alpha) -
-                   std::log(at(a * (1.0 - h), model).mu_over_alpha)) /
+  out.log_slope = (std::log(at(a * (1.0 + h))) - std::log(at(a * (1.0 - h)))) /
                   (std::log1p(h) - std::log1p(-h));
   out.mu_over_alpha_error = moved_model_error(
       model, c0_error,
       [&](const Model& m) -> std::optional<double> {
-        return std::abs(at(a, m).mu_over_alpha - out.prediction.mu_over_alpha);
+        return std::abs(predict(out.a_over_bcore0, out.beta, m).mu_over_alpha -
+                        out.prediction.mu_over_alpha);
       },
       out.error_complete);
   return out;

@@ -1,6 +1,7 @@
 #include "asperity/apps/common/snapshot_sink.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <stdexcept>
@@ -216,6 +217,11 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
   format_.validate();
 }
 
+namespace {
+// slips.csv's last columns: the slide's cost when it accepted the slip (Snapshot).
+constexpr std::array<const char*, 2> kCostColumns = {"gf_applications", "wall_s"};
+}  // namespace
+
 // The slip's place in the slide, then the census (lines_json.hpp, one description with Python),
 // then the slide's cost so far. New columns go at the end: a table of an earlier build is then a
 // prefix of this one and a resumed run keeps its rows (start()).
@@ -223,7 +229,7 @@ std::vector<std::string> LargestSlipSink::census_columns() {
   std::vector<std::string> columns = {"slip", "Dx", "Fx_before", "Fx_after", "Fz", "slipped_sites"};
   for (const auto& [name, value] : census_fields({}))
     columns.push_back(name);
-  columns.insert(columns.end(), {"gf_applications", "wall_s"});
+  columns.insert(columns.end(), kCostColumns.begin(), kCostColumns.end());
   return columns;
 }
 
@@ -362,7 +368,7 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
     }
   }
   // Empty census fields without a census.
-  row.resize(census_.columns().size() - 2, CsvTable::Cell(std::string()));
+  row.resize(census_.columns().size() - kCostColumns.size(), CsvTable::Cell(std::string()));
   row.emplace_back(static_cast<long long>(after.gf_applications));
   row.emplace_back(after.wall_s);
   census_.add_row(std::move(row));

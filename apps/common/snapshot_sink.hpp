@@ -118,9 +118,8 @@ class LargestSlipSink final : public slide::FrameSink {
   // slipped sites (later ones are made again); a table of an earlier build whose columns are the
   // first of today's keeps its rows, the newer columns (the cost) empty; a table that is not this
   // slide's, or cannot be read, is set aside as slips.old.csv (or .old.1.csv, ...) and started
-  // again. Returns a
-  // warning when the checkpoint's slips include one whose states or row are not on disk (the
-  // checkpoint was made by a run that did not keep them), else an empty string.
+  // again. Returns a warning when the checkpoint's slips include one whose states or row are not
+  // on disk (the checkpoint was made by a run that did not keep them), else an empty string.
   std::string start(std::optional<Resume> resume);
 
   void state(const slide::Snapshot& frame) override;

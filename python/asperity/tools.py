@@ -49,12 +49,13 @@ def read_table(path):
     columns = []
     for k in range(len(names)):
         values = [r[k] if k < len(r) else "" for r in body]
-        try:
-            if values and all(v == "" for v in values):
-                raise ValueError("no value")
-            columns.append(np.array([float(v) if v != "" else np.nan for v in values], dtype=float))
-        except ValueError:
-            columns.append(np.array(values, dtype=str))
+        column = np.array(values, dtype=str)
+        if not values or any(v != "" for v in values):  # no rows: numeric, as before
+            try:
+                column = np.array([float(v) if v != "" else np.nan for v in values], dtype=float)
+            except ValueError:
+                pass  # text
+        columns.append(column)
     return np.rec.fromarrays(columns, names=names)
 
 
