@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "asperity/core/common/line_fit.hpp"
+#include "asperity/core/common/validate.hpp"
 
 namespace asperity::nucleation {
 
@@ -140,14 +141,8 @@ CrossoverEstimate crossover_with_error(double R, double alpha, double nu, const 
 
 Forecast forecast(double a, double R, double alpha, double nu, const Model& model,
                   double c0_error) {
-  if (!(a > 0.0) || !(R > 0.0) || !(alpha > 0.0) || !std::isfinite(a) || !std::isfinite(R) ||
-      !std::isfinite(alpha))
-    throw std::invalid_argument(
-        "forecast: a, R and alpha must be positive and finite (a = " + std::to_string(a) +
-        ", R = " + std::to_string(R) + ", alpha = " + std::to_string(alpha) + ")");
-  if (!(nu >= 0.0 && nu <= 0.5))
-    throw std::invalid_argument("forecast: nu must lie in [0, 0.5] (nu = " + std::to_string(nu) +
-                                ")");
+  require_positive("forecast.a", a);
+  check_contact("forecast", R, alpha, nu);
   Forecast out{.a = a, .R = R};
   // The prediction at a contact radius a_ of the same sphere (for the slope).
   const auto at = [&](double a_) {

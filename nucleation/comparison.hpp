@@ -111,7 +111,7 @@ struct Forecast {
   bool law_extrapolated = false;  // law_extrapolated(beta)
   bool undetermined = false;      // regime_undetermined() within 2 reported errors
 };
-// Throws std::invalid_argument for a, R or alpha not positive, or nu outside [0, 0.5].
+// Throws std::invalid_argument for a not positive and finite, or a contact check_contact refuses.
 Forecast forecast(double a, double R, double alpha, double nu, const Model& model, double c0_error);
 
 // The Regime III upturn of one branch (series and R) of the data: the branch's lowest point

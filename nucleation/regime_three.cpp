@@ -3,10 +3,12 @@
 #include "asperity/nucleation/regime_three.hpp"
 
 #include "asperity/core/contact/hertz.hpp"
+#include "asperity/core/elastic/material.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -81,25 +83,26 @@ std::string to_string(RegimeThreeForm form) {
   return form == RegimeThreeForm::central ? "central" : "integrated";
 }
 
+void check_contact(const std::string& where, double R, double alpha, double nu) {
+  require_positive(where + ".R", R);
+  require_positive(where + ".alpha", alpha);
+  // nu against the material's own description (elastic::Material::settings()), so that the
+  // range is stated once: a ratio the scenes refuse is refused here too.
+  const auto* row = settings::find(elastic::Material::settings(), "nu");
+  assert(row != nullptr);
+  try {
+    row->check(settings::Value(nu));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(where + ": " + e.what());
+  }
+}
+
 double bcore0(double a, double R, double alpha, double nu) {
   require_positive("bcore0.a", a);
-  require_positive("bcore0.R", R);
-  require_positive("bcore0.alpha", alpha);
-  if (!(nu >= 0.0 && nu < 1.0)) reject("bcore0.nu", std::to_string(nu), "[0, 1)");
+  check_contact("bcore0", R, alpha, nu);
   const double c = contact::bcore_factor(nu);
   return R / (c * alpha * a);
 }
-
-namespace {
-
-// What bcore0 requires of the contact, for its relatives below.
-void check_contact(const char* where, double R, double alpha, double nu) {
-  require_positive(std::string(where) + ".R", R);
-  require_positive(std::string(where) + ".alpha", alpha);
-  if (!(nu >= 0.0 && nu < 1.0)) reject(std::string(where) + ".nu", std::to_string(nu), "[0, 1)");
-}
-
-}  // namespace
 
 double control_parameter(double a, double R, double alpha, double nu) {
   require_positive("control_parameter.a", a);

@@ -46,6 +46,10 @@ struct PeierlsLaw {
 enum class RegimeThreeForm { central, integrated };
 std::string to_string(RegimeThreeForm form);
 
+// Throws std::invalid_argument naming `where` ("bcore0", "forecast") if R or alpha is not positive
+// and finite, or nu lies outside the range the material allows (elastic::Material: [0, 0.5]).
+void check_contact(const std::string& where, double R, double alpha, double nu);
+
 // b_core^0 / d of a Hertz contact: R / (c alpha a), c = 4 / (pi (1 - nu)) (MODEL.md 3). The
 // expression is its own inverse in a: bcore0(beta, R, alpha, nu) is the a where b_core^0 = beta.
 double bcore0(double a, double R, double alpha, double nu);

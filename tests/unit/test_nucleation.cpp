@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -215,6 +216,30 @@ TEST(RegimeThree, ControlParameterAndContactRadius) {
   EXPECT_NEAR(bcore0(bcore0(1.5, 1700, 0.7, 0.5), 1700, 0.7, 0.5), 1.5, 1e-12);
   EXPECT_THROW(contact_radius(0.0, 1700, 0.7, 0.5), std::invalid_argument);
   EXPECT_THROW(control_parameter(250, 1700, 0.7, 1.0), std::invalid_argument);
+}
+
+// The contact's nu is checked against the material's range ([0, 0.5], elastic::Material), the
+// one a scene is held to: a ratio between 0.5 and 1, accepted here before 2026-11-28, is refused
+// by every relative of bcore0 and by forecast, with the function's name in the message.
+TEST(RegimeThree, PoissonRatioIsTheMaterialsRange) {
+  const Model model{.c0 = 0.2, .law = {.k1 = 2.3, .k2 = 1.8}};
+  EXPECT_NO_THROW(bcore0(250, 1700, 0.7, 0.0));
+  EXPECT_NO_THROW(forecast(250, 1700, 0.7, 0.5, model, 0.0));
+  for (double nu : {0.7, -0.1, std::nan("")}) {
+    EXPECT_THROW(bcore0(250, 1700, 0.7, nu), std::invalid_argument);
+    EXPECT_THROW(contact_radius(20, 1700, 0.7, nu), std::invalid_argument);
+    EXPECT_THROW(forecast(250, 1700, 0.7, nu, model, 0.0), std::invalid_argument);
+  }
+  try {
+    (void)forecast(250, 1700, 0.7, 0.7, model, 0.0);
+    ADD_FAILURE() << "nu = 0.7 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("forecast: nu = 0.7: allowed: [0, 0.5]"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(forecast(250, std::numeric_limits<double>::infinity(), 0.7, 0.5, model, 0.0),
+               std::invalid_argument);
 }
 
 TEST(RegimeThree, FormsAndBcore0) {
@@ -563,7 +588,7 @@ TEST(Comparison, ForecastAtAContactWithoutData) {
   EXPECT_GT(past.mu_over_alpha_error, 0.0);
   EXPECT_FALSE(forecast(200, R, alpha, nu, exact, 0.3).error_complete);
   // Bad input.
-  EXPECT_NE(message_of([&] { forecast(0, R, alpha, nu, model, 0.0); }).find("forecast: a, R"),
+  EXPECT_NE(message_of([&] { forecast(0, R, alpha, nu, model, 0.0); }).find("forecast.a: got 0"),
             std::string::npos);
   EXPECT_NE(message_of([&] { forecast(200, R, alpha, 0.6, model, 0.0); }).find("nu"),
             std::string::npos);
