@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Starts, continues, shows and stops the long runs of the open issues, outside the repository.
-# A session on the machine of the last one continues them from their checkpoints; on a new
-# machine they start again. Either way the command is the same:
+# A session's end kills them (seen 2026-11-28: r800 died at 22:32:55 UTC, its checkpoint of
+# 22:30 intact); a session on the machine of the last one continues them from their checkpoints
+# (every 5 minutes, also inside a slip's flow); on a new machine they start again. Either way
+# the command is the same:
 #
 #   scripts/long_runs.sh start [name...]   start or continue (default: the runs marked auto
 #                                          below: this machine has 2 cores, so two at a time)
-#   scripts/long_runs.sh status            where each run is: its last progress line, and each
-#                                          point's latest slip (slips.csv, --largest-slip)
+#   scripts/long_runs.sh status            where each run is: running, or stopped since when
+#                                          (its log's last write), its last progress line, and
+#                                          each point's latest slip (slips.csv, --largest-slip)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
 #                                          this checkout's build, which it keeps from then on:
@@ -67,6 +70,10 @@ launch() {
   # The scene beside the run, as the run first read it (the repository's copy may move on).
   local copy="$runs/$out.scene.toml"
   [ -f "$copy" ] || cp "data/scenes/$scene" "$copy"
+  # The log's progress lines carry no time of day: this line dates each start, so that the log
+  # shows when every session took the run up (a session's end kills it; the log's modification
+  # time is then when it stopped, which status prints).
+  echo "--- $(date -u +%FT%TZ) started $(basename "$bin")${flags:+ with$flags}" >>"$runs/$out.log"
   # shellcheck disable=SC2086
   nohup nice -n 10 "$bin" "$copy" --out "$runs/$out" $flags >>"$runs/$out.log" 2>&1 &
   echo "started $(basename "$bin") (pid $!); log $runs/$out.log"
@@ -108,16 +115,17 @@ adopt() {
   bin=$(current_binary) || return 1
   basename "$bin" >"$runs/$out.binary"
   date -u +%FT%TZ >"$runs/$out.adopt"
-  echo "--- $(date -u +%FT%TZ) continued with --adopt under $(basename "$bin")" >>"$runs/$out.log"
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags --adopt")"
 }
 
 status() {
   local name=$1 out=$3
   local state="stopped"
+  # A stopped run's log was last written when it stopped (or was killed, as at a session's end).
+  [ -f "$runs/$out.log" ] && state="stopped since $(date -u -r "$runs/$out.log" +%FT%TZ)"
   [ -n "$(pids_of "$out")" ] && state="running"
   local last="(no log)"
-  [ -f "$runs/$out.log" ] && last=$(grep -v '^ *$' "$runs/$out.log" | tail -1 | cut -c1-240)
+  [ -f "$runs/$out.log" ] && last=$(grep -v '^ *$' "$runs/$out.log" | grep -v '^--- ' | tail -1 | cut -c1-240)
   echo "$name [$state, $(cat "$runs/$out.binary" 2>/dev/null || echo 'no binary')]: $last"
   # Each point's latest slip from its slips.csv (--largest-slip): what the slide has found so far
   # (the loops it holds), read by column name.
