@@ -149,7 +149,8 @@ json pending_json(const std::optional<slide::PendingSlip>& p) {
   for (const slide::PathFrame& fr : p->frames)
     frames.push_back({{"iteration", fr.iteration}, {"fields", fields_json(fr.fields)}});
   return {{"Dx", p->Dx},
-          {"fast", minimize_json(p->fast)},
+          // null: the step went to the flow first (SlideOptions::flow_first_after).
+          {"fast", p->fast ? minimize_json(*p->fast) : json(nullptr)},
           {"flow",
            {{"iteration", fl.iteration},
             {"u", bytes_of(fl.u)},
@@ -227,6 +228,8 @@ json result_json(const slide::SlideResult& r) {
           {"cycle_mismatch", r.cycle_mismatch},
           {"minimizations", r.minimizations},
           {"slip_relaxations", r.slip_relaxations},
+          {"flow_first_steps", r.flow_first_steps},
+          {"flow_first_stable", r.flow_first_stable},
           {"gf_applications", r.gf_applications},
           {"gradient_evaluations", r.gradient_evaluations},
           {"filter_applications", r.filter_applications},
@@ -378,7 +381,7 @@ std::optional<slide::PendingSlip> pending_from(const json& s) {
   const json& j = s["pending"];
   slide::PendingSlip p;
   p.Dx = number(j, "Dx");
-  p.fast = minimize_from(at(j, "fast"));
+  if (!at(j, "fast").is_null()) p.fast = minimize_from(at(j, "fast"));
   const json& fl = at(j, "flow");
   p.flow.iteration = int_count(fl, "iteration");
   p.flow.u = doubles(fl, "u");
@@ -492,6 +495,9 @@ slide::SlideResult result_from(const json& j) {
   r.minimizations = int_value(j, "minimizations");
   // Absent in checkpoints written before the slip minimiser existed.
   if (j.contains("slip_relaxations")) r.slip_relaxations = int_value(j, "slip_relaxations");
+  // Absent before flow_first_after (2026-11-29): none were made.
+  if (j.contains("flow_first_steps")) r.flow_first_steps = int_value(j, "flow_first_steps");
+  if (j.contains("flow_first_stable")) r.flow_first_stable = int_value(j, "flow_first_stable");
   r.gf_applications = count_value(j, "gf_applications");
   r.gradient_evaluations = count_value(j, "gradient_evaluations");
   // Absent in checkpoints written before the interface filter existed.

@@ -208,6 +208,8 @@ nlohmann::json slide_summary(const SlideScene& scene, const slide::SlideResult& 
       {"slip_solver", o.slip_minimizer ? nlohmann::json(slide::solver_label(*o.slip_minimizer))
                                        : nlohmann::json("same")},
       {"slip_relaxations", r.slip_relaxations},
+      {"flow_first_steps", r.flow_first_steps},
+      {"flow_first_stable", r.flow_first_stable},
       {"preconditioner", minimize::to_string(o.minimizer.preconditioner)},
       {"interface_filter_used", r.filtered},
       {"stability_check", minimize::to_string(o.minimizer.stability)},

@@ -179,11 +179,11 @@ void check_start(const SlideState& st, const Model& model) {
     }
     // Counts that later sums must not overflow.
     constexpr int kMaxCount = std::numeric_limits<int>::max() / 4;
-    if (st.pending->fast.iterations < 0 || st.pending->fast.iterations > kMaxCount ||
+    const int fast_iterations = st.pending->fast ? st.pending->fast->iterations : 0;
+    if (fast_iterations < 0 || fast_iterations > kMaxCount ||
         st.pending->flow.iteration > kMaxCount) {
       reject("SlideState.pending iterations",
-             std::to_string(st.pending->fast.iterations) + " and " +
-                 std::to_string(st.pending->flow.iteration),
+             std::to_string(fast_iterations) + " and " + std::to_string(st.pending->flow.iteration),
              "0 ... " + std::to_string(kMaxCount));
     }
     if (st.pending->frame_interval < 0)
@@ -198,7 +198,8 @@ void check_start(const SlideState& st, const Model& model) {
 //     relaxed; plan() holds the bisection of a bracketed instability (MODEL.md 5: the slip is
 //     taken from the bracket's stable end, min_step wide) and the cycle probe;
 //   - relax_step() and relax_slip(): the fast relaxation, and the slip minimiser's relaxation of
-//     a slip the fast one would accept (pausable for checkpoints and stops);
+//     a slip the fast one would accept (pausable for checkpoints and stops); in creep the slip
+//     minimiser first (flow_first(), take_fast_after_flow());
 //   - accept(): the trace, the slip events' frames, the peak so far and the stop rule;
 //   - the cycle replay (take_cycle(), replay()): a state equal to one a period d back repeats
 //     the cycle, whose rows are carried on instead of being computed;
@@ -570,8 +571,7 @@ class ProtocolRun {
                   // A paused slip not yet continued (a resumed slide stopped or checkpointed
                   // before its first step) is handed on: its work is in `res` already.
                   .pending = pending_};
-    st.partial.gf_applications =
-        gf_total(at_top ? at_top->model_gf : model_.gf_applications());
+    st.partial.gf_applications = gf_total(at_top ? at_top->model_gf : model_.gf_applications());
     st.partial.wall_s = wall_before_ + (at_top ? at_top->elapsed : elapsed());
     return st;
   }
@@ -856,16 +856,41 @@ class ProtocolRun {
     // the relaxation that called the step a slip is not repeated.
     std::optional<PendingSlip> resuming = std::exchange(pending_, std::nullopt);
     if (resuming) check_resuming(*resuming, p, want_frames);
-    report(p.cycle_of                       ? SlidePhase::probe
-           : !std::isfinite(slip_at_)       ? SlidePhase::step
-           : p.may_undo || p.closes_bracket ? SlidePhase::bisection
-                                            : SlidePhase::slip,
-           p.Dx);
+    // A step that goes to the flow first is reported as the slip relaxation it starts with.
+    if (!flow_first(p, resuming)) report(step_phase(p), p.Dx);
     minimize::MinimizeResult r;
     const minimize::MinimizerOptions* solver = &options_.minimizer;  // the one whose result is r
     if (auto out = relax_step(trial, p, want_frames, frames, resuming, r, solver)) return out;
     stopped_ = take_step(std::move(trial), p, r, solver, std::move(frames));
     return std::nullopt;
+  }
+
+  SlidePhase step_phase(const Plan& p) const {
+    return p.cycle_of                       ? SlidePhase::probe
+           : !std::isfinite(slip_at_)       ? SlidePhase::step
+           : p.may_undo || p.closes_bracket ? SlidePhase::bisection
+                                            : SlidePhase::slip;
+  }
+
+  // Creep (SlideOptions::flow_first_after): the last flow_first_after accepted steps were all
+  // computed slips, as when Regime III's arrested loops move on at every push (R = 800 d,
+  // a = 300 d: a slip at every 0.01 d step after the first, 18 in a row so far). The next step
+  // then most likely slips too. After a slip there is no warm start (warm_start()), so the fast
+  // minimiser and the flow would both start from the state moved to Dx.
+  bool creeping() const {
+    const auto& t = res_.trace;
+    const auto n = static_cast<std::size_t>(options_.flow_first_after);
+    if (n == 0 || t.size() < n || t.back().replayed) return false;
+    return std::all_of(t.end() - static_cast<std::ptrdiff_t>(n), t.end(),
+                       [](const TraceRow& row) { return row.slip; });
+  }
+
+  // Whether the step goes to the slip minimiser before the fast one: a step that would be handed
+  // to it if it slipped (a closing trial, min_step wide at most) in creep; a resumed one if its
+  // pause came from such a step (it holds no fast relaxation).
+  bool flow_first(const Plan& p, const std::optional<PendingSlip>& resuming) const {
+    if (resuming) return !resuming->fast.has_value();
+    return options_.slip_minimizer && p.closes_bracket && !p.cycle_of && creeping();
   }
 
   void check_resuming(const PendingSlip& resuming, const Plan& p, bool want_frames) const {
@@ -905,9 +930,14 @@ class ProtocolRun {
     // d.) A relaxation that would have moved a site that far and then come back (an overshoot)
     // is thereby also the flow's to decide, which is the reference's verdict (MODEL.md 5).
     const bool slip_goes_to_flow = options_.slip_minimizer && !p.cycle_of && !p.may_undo;
+    const bool first = flow_first(p, resuming);
+    // The step as the fast minimiser starts it (the warm start), for a flow-first step the flow
+    // finds stable.
+    std::optional<State> fast_start;
+    if (first) fast_start = trial;
     if (resuming) {
-      r = resuming->fast;
-    } else {
+      if (resuming->fast) r = *resuming->fast;
+    } else if (!first) {
       // Its path frames would be thrown away: a slip is the flow's (and its path with it), and
       // a step that does not slip shows none. Recording them cost a copy of the block's
       // displacement every path_frame_every iterations.
@@ -922,28 +952,89 @@ class ProtocolRun {
         return interrupt(st, p.Dx);
       }
     }
-    const bool stopped_at_slip = r.termination == Termination::interrupted;
-    if (resuming ||
-        (slip_goes_to_flow && (stopped_at_slip || (failure(r, trial, p.Dx, state_.Dx).empty() &&
-                                                   model_.slipped_sites(state_, trial) > 0)))) {
-      const auto fast = r;
+    if (first || resuming || (slip_goes_to_flow && fast_slips(r, trial, p.Dx))) {
+      std::optional<minimize::MinimizeResult> fast;
+      if (!first) fast.emplace(r);
       trial = state_;
       frames.clear();
       // The bracket the slipped trial closes, as a trial undone at its slip would have left it
       // (a checkpoint of the paused flow carries it, and a stable verdict of the flow clears it).
-      if (p.closes_bracket) slip_at_ = p.Dx;
+      // A flow-first step has no trial yet: its bracket stays as it was until one slips.
+      if (p.closes_bracket && !first) slip_at_ = p.Dx;
       report(SlidePhase::slip, p.Dx);
       if (auto out = relax_slip(trial, p.Dx, want_frames, frames, resuming, fast, r)) return out;
       // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
       if (abandoned_) return interrupt(capture(false, at_top), p.Dx);
-      count(fast);
+      if (first) {
+        if (!(failure(r, trial, p.Dx, state_.Dx, &*options_.slip_minimizer).empty() &&
+              model_.slipped_sites(state_, trial) > 0)) {
+          return take_fast_after_flow(std::move(*fast_start), p, at_top, trial, frames, r, solver);
+        }
+        ++res_.flow_first_steps;
+      }
+      if (fast) count(*fast);
       solver = &*options_.slip_minimizer;
       ++res_.slip_relaxations;
       // The step's row carries the cost of both relaxations.
-      r.iterations += fast.iterations;
-      r.gf_applications += fast.gf_applications;
+      if (fast) {
+        r.iterations += fast->iterations;
+        r.gf_applications += fast->gf_applications;
+      }
     }
     count(r);
+    return std::nullopt;
+  }
+
+  // Whether the fast minimiser's relaxation r of a step to `trial` calls it a slip: stopped at
+  // a site moved by 3/4 d, or converged with a site's registry changed.
+  bool fast_slips(const minimize::MinimizeResult& r, const State& trial, double Dx) const {
+    return r.termination == Termination::interrupted ||
+           (failure(r, trial, Dx, state_.Dx).empty() && model_.slipped_sites(state_, trial) > 0);
+  }
+
+  // A flow-first step the flow found stable (or could not relax): the step is relaxed by the
+  // fast minimiser from its warm start, as it would have been without flow_first_after, and
+  // the verdict is the one that step would have had: the fast minimiser's end state if it does
+  // not slip; the flow's (already made, from the same state as it would have been) if it does.
+  // `flow` and `flow_r` hold the flow's end state and result; on return `trial`, `r` and
+  // `solver` are the step's.
+  std::optional<SlideResult> take_fast_after_flow(State&& fast_start, const Plan& p,
+                                                  const Cost& at_top, State& trial,
+                                                  std::vector<PathFrame>& frames,
+                                                  minimize::MinimizeResult& r,
+                                                  const minimize::MinimizerOptions*& solver) {
+    State flow = std::move(trial);
+    const minimize::MinimizeResult flow_r = r;
+    trial = std::move(fast_start);
+    report(step_phase(p), p.Dx);
+    const minimize::MinimizeResult fast = relax_abandonable(trial, p.Dx, nullptr, true);
+    // Counted only now, as in relax_step(): the resumed slide repeats both relaxations.
+    if (abandoned_) return interrupt(capture(false, at_top), p.Dx);
+    ++res_.flow_first_steps;
+    ++res_.flow_first_stable;
+    count(fast);
+    if (fast_slips(fast, trial, p.Dx)) {
+      // What the step without flow_first_after does: the slipped trial closes the bracket and
+      // the slip goes to the flow, whose verdict (this one: stable, or its failure) and end
+      // state stand.
+      if (p.closes_bracket) slip_at_ = p.Dx;
+      trial = std::move(flow);
+      r = flow_r;
+      solver = &*options_.slip_minimizer;
+      ++res_.slip_relaxations;
+      r.iterations += fast.iterations;
+      r.gf_applications += fast.gf_applications;
+      count(flow_r);
+      return std::nullopt;
+    }
+    // The fast minimiser's stable state, as without flow_first_after: no path frames; the row
+    // carries the flow's cost too.
+    frames.clear();
+    count(flow_r);
+    r = fast;
+    solver = &options_.minimizer;
+    r.iterations += flow_r.iterations;
+    r.gf_applications += flow_r.gf_applications;
     return std::nullopt;
   }
 
@@ -954,7 +1045,7 @@ class ProtocolRun {
   std::optional<SlideResult> relax_slip(State& trial, double Dx, bool want_frames,
                                         std::vector<PathFrame>& frames,
                                         std::optional<PendingSlip>& resuming,
-                                        const minimize::MinimizeResult& fast,
+                                        const std::optional<minimize::MinimizeResult>& fast,
                                         minimize::MinimizeResult& r) {
     if constexpr (pausable) {
       if (options_.slip_minimizer->method == minimize::Method::flow) {

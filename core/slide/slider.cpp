@@ -627,6 +627,11 @@ const settings::Table<SlideOptions>& SlideOptions::settings() {
         settings::boolean<O>(
             "slide.extrapolate", [](auto& o) -> auto& { return o.extrapolate; },
             "warm start each step by linear extrapolation along the branch"),
+        settings::integer<O>(
+            "slide.flow_first_after", [](auto& o) -> auto& { return o.flow_first_after; },
+            R::closed(0, 1000000), "",
+            "after this many slip steps in a row, a min_step step goes to the slip minimiser first "
+            "and to the fast one only if stable: the same path, less cost (0: never)"),
         settings::boolean<O>(
             "slide.replay_cycle", [](auto& o) -> auto& { return o.replay_cycle; },
             "replay the stick-slip cycle once it repeats exactly (adaptive protocol)"),

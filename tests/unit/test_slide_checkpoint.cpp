@@ -96,6 +96,8 @@ void expect_same(const SlideResult& a, const SlideResult& b, const std::string& 
   EXPECT_TRUE(same_bits(a.cycle_mismatch, b.cycle_mismatch)) << where;
   EXPECT_EQ(a.minimizations, b.minimizations) << where;
   EXPECT_EQ(a.slip_relaxations, b.slip_relaxations) << where;
+  EXPECT_EQ(a.flow_first_steps, b.flow_first_steps) << where;
+  EXPECT_EQ(a.flow_first_stable, b.flow_first_stable) << where;
   EXPECT_EQ(a.filter_applications, b.filter_applications) << where;
   EXPECT_EQ(a.filtered, b.filtered) << where;
   EXPECT_EQ(a.gf_applications, b.gf_applications) << where;
@@ -399,6 +401,89 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
   wrong.pending->frames.back().fields.Dx += 1.0;
   EXPECT_THROW(slide::slide(s.contact, s.options, SlideControl{.start = &wrong}),
                std::invalid_argument);
+}
+
+// In creep (SlideOptions::flow_first_after) a step goes to the flow before the fast minimiser,
+// so a checkpoint inside that flow holds no fast relaxation (PendingSlip::fast empty; null in
+// the file). Resumed through a checkpoint file, such a pause continues as a step the flow took
+// first: where the flow slips, the slip is accepted; where it finds the step stable, the fast
+// minimiser relaxes it then, as the uninterrupted slide did. Both end as that slide, bit for
+// bit. A Regime III slide (R = 20 d, a = 15 d) with step growth; flow_first_after = 2 so that
+// both outcomes occur.
+TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
+  auto s = scene(15.0, 0.0);
+  s.contact.R = 20.0;
+  s.options.fft.threads = 1;
+  s.options.step_growth = 2.0;
+  s.options.flow_first_after = 2;
+  s.options.slip_minimizer = slide::slip_minimizer_from(s.options.minimizer, minimize::Method::flow,
+                                                        minimize::Preconditioner::interface);
+  // The relaxations each step starts (phase and target, from the reports at iteration 0).
+  struct Start {
+    slide::SlidePhase phase;
+    double target;
+  };
+  std::vector<std::vector<Start>> steps(1);
+  const SlideResult reference =
+      slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
+        if (p.phase == slide::SlidePhase::accepted) {
+          steps.emplace_back();
+        } else if (p.iteration == 0) {
+          steps.back().push_back({p.phase, p.target_Dx});
+        }
+      });
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  ASSERT_GT(reference.flow_first_steps, reference.flow_first_stable);
+  ASSERT_GT(reference.flow_first_stable, 0);
+  // A flow-first step starts with the flow (a slip report). If the flow slips, it is the step's
+  // only relaxation, and its row a slip (a step the fast minimiser starts with a slip report
+  // and calls a slip has the flow's after it). If the flow finds it stable, the fast
+  // minimiser's relaxation of the same target follows as a step or bisection trial.
+  double slipping = -1.0, stable = -1.0;
+  for (const auto& st : steps) {
+    if (st.empty() || st.front().phase != slide::SlidePhase::slip) continue;
+    const double t = st.front().target;
+    const auto row = std::find_if(reference.trace.begin(), reference.trace.end(),
+                                  [&](const auto& r) { return r.Dx == t; });
+    if (st.size() == 1 && row != reference.trace.end() && row->slip && slipping < 0) slipping = t;
+    if (st.size() == 2 && st[1].phase != slide::SlidePhase::slip && st[1].target == t && stable < 0)
+      stable = t;
+  }
+  ASSERT_GT(slipping, 0.0) << "no flow-first step that slips";
+  ASSERT_GT(stable, 0.0) << "no flow-first step found stable";
+  // Stopped inside each one's flow (the stop request is seen every 16 iterations; the flow
+  // pauses at its next accepted step).
+  for (const double target : {slipping, stable}) {
+    std::optional<SlideState> saved;
+    bool in_flow = false;
+    int iteration = 0;
+    const SlideResult stopped = slide::slide(
+        s.contact, s.options,
+        SlideControl{.progress =
+                         [&](const slide::SlideProgressInfo& p) {
+                           iteration = p.iteration;
+                           if (p.iteration == 0)
+                             in_flow = p.phase == slide::SlidePhase::slip && p.target_Dx == target;
+                           if (p.phase == slide::SlidePhase::accepted) in_flow = false;
+                         },
+                     .checkpoint = [&](const SlideState& st) { saved = st; },
+                     .checkpoint_every_s = 1e9,
+                     .stop_requested = [&] { return in_flow && iteration >= 16; }});
+    const std::string where =
+        "stopped inside the flow-first step to Dx = " + std::to_string(target) +
+        (target == stable ? " (stable)" : "");
+    ASSERT_TRUE(stopped.interrupted) << where;
+    ASSERT_TRUE(saved && saved->pending) << where << ": " << stopped.stop_reason;
+    EXPECT_FALSE(saved->pending->fast.has_value()) << where;
+    EXPECT_GT(saved->pending->flow.iteration, 0) << where;
+    const auto bytes =
+        app::encode_checkpoint({.settings = app::slide_fingerprint(s), .state = *saved});
+    const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
+    ASSERT_TRUE(back.state.pending.has_value()) << where;
+    EXPECT_FALSE(back.state.pending->fast.has_value()) << where << " (read back)";
+    expect_same(reference, slide::slide(s.contact, s.options, SlideControl{.start = &back.state}),
+                where);
+  }
 }
 
 // A checkpoint that falls due inside a slip's flow holds the paused flow, which belongs to its

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -295,4 +296,94 @@ TEST(SlideProgress, AResumedSlideReportsItsStartStatesFrictionAndLargest) {
         << "report " << k << " after the resume";
   }
   EXPECT_EQ(rest.mu, full.mu);
+}
+
+// Creep (SlideOptions::flow_first_after): after that many slip steps in a row, a step at most
+// min_step wide goes to the slip minimiser first, and to the fast one only if the flow finds it
+// stable. A Regime III slide (R = 20 d, a = 15 d: loops arrested, many small slips) with step
+// growth and the flow as slip minimiser, taken with flow_first_after = 2 (so that both outcomes
+// occur: the flow slips, and the flow finds the step stable) against 0 (never):
+// - the path is the same bit for bit: every trace row (tip position, forces, energy, slip,
+//   slipped sites), mu and the slip events. Where the fast minimiser would call the step a
+//   slip, the flow starts from the same state either way; where the flow finds it stable, the
+//   fast minimiser's relaxation follows and the step is the one it would have been;
+// - the relaxations: a step the flow slips through saves the fast trial (one relaxation fewer),
+//   one it finds stable adds the flow's (one more, or none where the fast minimiser would have
+//   called it a slip and the flow would have been made anyway);
+// - each step the flow takes first is reported as the slip relaxation it starts with, and every
+//   relaxation has its start report.
+TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePath) {
+  interface::ContactScene scene {
+    .R = 20.0
+  };
+  scene.a = 15.0;
+  slide::SlideOptions never;
+  never.fft.threads = 1;
+  never.step_growth = 2.0;
+  never.slip_minimizer = slide::slip_minimizer_from(never.minimizer, minimize::Method::flow,
+                                                    minimize::Preconditioner::interface);
+  never.flow_first_after = 0;
+  slide::SlideOptions first = never;
+  first.flow_first_after = 2;
+  std::vector<SlideProgressInfo> reports0, reports;
+  const slide::SlideResult r0 =
+      slide::slide(scene, never, [&](const SlideProgressInfo& p) { reports0.push_back(p); });
+  const slide::SlideResult r1 =
+      slide::slide(scene, first, [&](const SlideProgressInfo& p) { reports.push_back(p); });
+  ASSERT_FALSE(r0.failed) << r0.stop_reason;
+  ASSERT_FALSE(r1.failed) << r1.stop_reason;
+  ASSERT_GT(r0.slip_events, 10) << "not the Regime III slide this test is about";
+  EXPECT_EQ(r0.flow_first_steps, 0);
+
+  ASSERT_EQ(r1.trace.size(), r0.trace.size());
+  for (std::size_t k = 0; k < r0.trace.size(); ++k) {
+    const auto &a = r0.trace[k], &b = r1.trace[k];
+    EXPECT_EQ(b.Dx, a.Dx) << "row " << k;
+    EXPECT_EQ(b.Fx, a.Fx) << "row " << k;
+    EXPECT_EQ(b.Fz, a.Fz) << "row " << k;
+    EXPECT_EQ(b.energy, a.energy) << "row " << k;
+    EXPECT_EQ(b.slip, a.slip) << "row " << k;
+    EXPECT_EQ(b.slipped_sites, a.slipped_sites) << "row " << k;
+  }
+  EXPECT_EQ(r1.mu, r0.mu);
+  EXPECT_EQ(r1.slip_events, r0.slip_events);
+
+  const int slipped = r1.flow_first_steps - r1.flow_first_stable;
+  EXPECT_GT(slipped, 0) << "no step taken by the flow first slipped";
+  EXPECT_GT(r1.flow_first_stable, 0) << "the flow found no step it took first stable";
+  const int more = r1.minimizations - r0.minimizations;
+  EXPECT_LE(more, r1.flow_first_stable - slipped);
+  EXPECT_GE(more, -slipped);
+  std::printf(
+      "R = 20 d, a = 15 d: %d slip events; flow first at %d steps (%d stable); relaxations %d "
+      "-> %d, GF applications %zu -> %zu\n",
+      r1.slip_events, r1.flow_first_steps, r1.flow_first_stable, r0.minimizations, r1.minimizations,
+      r0.gf_applications, r1.gf_applications);
+
+  // Reports: a start report per relaxation (the peak refinement's too); a step the flow takes
+  // first starts with a slip report right after the accepted step before it, where the slide
+  // without it starts the same step with the fast minimiser's (a step whose plan is the slip
+  // itself, the end of a bisected bracket, starts with a slip report in both).
+  struct Starts {
+    int relaxations = 0, slip_after_accepted = 0;
+  };
+  const auto count_starts = [](const std::vector<SlideProgressInfo>& reps) {
+    Starts c;
+    bool after_accepted = false;
+    for (const SlideProgressInfo& p : reps) {
+      if (p.phase == SlidePhase::accepted) {
+        after_accepted = true;
+        continue;
+      }
+      if (p.iteration != 0) continue;
+      ++c.relaxations;
+      if (after_accepted && p.phase == SlidePhase::slip) ++c.slip_after_accepted;
+      after_accepted = false;
+    }
+    return c;
+  };
+  const Starts s0 = count_starts(reports0), s1 = count_starts(reports);
+  EXPECT_EQ(s0.relaxations, r0.minimizations);
+  EXPECT_EQ(s1.relaxations, r1.minimizations);
+  EXPECT_EQ(s1.slip_after_accepted - s0.slip_after_accepted, r1.flow_first_steps);
 }
