@@ -73,7 +73,7 @@ launch() {
   # The log's progress lines carry no time of day: this line dates each start, so that the log
   # shows when every session took the run up (a session's end kills it; the log's modification
   # time is then when it stopped, which status prints).
-  echo "--- $(date -u +%FT%TZ) started $(basename "$bin")${flags:+ with$flags}" >>"$runs/$out.log"
+  echo "--- $(date -u +%FT%TZ) started $(basename "$bin")${flags:+ with $flags}" >>"$runs/$out.log"
   # shellcheck disable=SC2086
   nohup nice -n 10 "$bin" "$copy" --out "$runs/$out" $flags >>"$runs/$out.log" 2>&1 &
   echo "started $(basename "$bin") (pid $!); log $runs/$out.log"
