@@ -874,9 +874,10 @@ class ProtocolRun {
 
   // Creep (SlideOptions::flow_first_after): the last flow_first_after accepted steps were all
   // computed slips, as when Regime III's arrested loops move on at every push (R = 800 d,
-  // a = 300 d: a slip at every 0.01 d step after the first, 18 in a row so far). The next step
-  // then most likely slips too. After a slip there is no warm start (warm_start()), so the fast
-  // minimiser and the flow would both start from the state moved to Dx.
+  // a = 300 d: 18 slips in a row at 0.01 d steps after the first, then one stable step, then
+  // slips again). The next step then most likely slips too. After a slip there is no warm
+  // start (warm_start()), so the fast minimiser and the flow would both start from the state
+  // moved to Dx.
   bool creeping() const {
     const auto& t = res_.trace;
     const auto n = static_cast<std::size_t>(options_.flow_first_after);
