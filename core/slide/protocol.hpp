@@ -874,7 +874,7 @@ class ProtocolRun {
 
   // Creep (SlideOptions::flow_first_after): the last flow_first_after accepted steps were all
   // computed slips, as when Regime III's arrested loops move on at every push (R = 800 d,
-  // a = 300 d: 18 slips in a row at 0.01 d steps after the first, then one stable step, then
+  // a = 300 d: 19 slips in a row at 0.01 d steps after the first, then one stable step, then
   // slips again). The next step then most likely slips too. After a slip there is no warm
   // start (warm_start()), so the fast minimiser and the flow would both start from the state
   // moved to Dx.
