@@ -932,10 +932,6 @@ class ProtocolRun {
     // is thereby also the flow's to decide, which is the reference's verdict (MODEL.md 5).
     const bool slip_goes_to_flow = options_.slip_minimizer && !p.cycle_of && !p.may_undo;
     const bool first = flow_first(p, resuming);
-    // The step as the fast minimiser starts it (the warm start), for a flow-first step the flow
-    // finds stable.
-    std::optional<State> fast_start;
-    if (first) fast_start = trial;
     if (resuming) {
       if (resuming->fast) r = *resuming->fast;
     } else if (!first) {
@@ -967,10 +963,8 @@ class ProtocolRun {
       // Counted only now: an abandoned step is repeated, both relaxations, by a resumed slide.
       if (abandoned_) return interrupt(capture(false, at_top), p.Dx);
       if (first) {
-        if (!(failure(r, trial, p.Dx, state_.Dx, &*options_.slip_minimizer).empty() &&
-              model_.slipped_sites(state_, trial) > 0)) {
-          return take_fast_after_flow(std::move(*fast_start), p, at_top, trial, frames, r, solver);
-        }
+        if (!converged_slip(r, trial, p.Dx, &*options_.slip_minimizer))
+          return take_fast_after_flow(p, at_top, trial, frames, r, solver);
         ++res_.flow_first_steps;
       }
       if (fast) count(*fast);
@@ -989,24 +983,32 @@ class ProtocolRun {
   // Whether the fast minimiser's relaxation r of a step to `trial` calls it a slip: stopped at
   // a site moved by 3/4 d, or converged with a site's registry changed.
   bool fast_slips(const minimize::MinimizeResult& r, const State& trial, double Dx) const {
-    return r.termination == Termination::interrupted ||
-           (failure(r, trial, Dx, state_.Dx).empty() && model_.slipped_sites(state_, trial) > 0);
+    return r.termination == Termination::interrupted || converged_slip(r, trial, Dx);
+  }
+  // Whether a relaxation r (by `solver`, the fast minimiser if none) to `trial` converged to a
+  // state with a site's registry changed.
+  bool converged_slip(const minimize::MinimizeResult& r, const State& trial, double Dx,
+                      const minimize::MinimizerOptions* solver = nullptr) const {
+    return failure(r, trial, Dx, state_.Dx, solver).empty() &&
+           model_.slipped_sites(state_, trial) > 0;
   }
 
   // A flow-first step the flow found stable (or could not relax): the step is relaxed by the
-  // fast minimiser from its warm start, as it would have been without flow_first_after, and
-  // the verdict is the one that step would have had: the fast minimiser's end state if it does
-  // not slip; the flow's (already made, from the same state as it would have been) if it does.
+  // fast minimiser from its warm start (made again as step() makes it: state_ and the branch
+  // are unchanged since, and after a slip there is none), as it would have been without
+  // flow_first_after, and the verdict is the one that step would have had: the fast
+  // minimiser's end state if it does not slip; the flow's (already made, from the same state as
+  // it would have been) if it does.
   // `flow` and `flow_r` hold the flow's end state and result; on return `trial`, `r` and
   // `solver` are the step's.
-  std::optional<SlideResult> take_fast_after_flow(State&& fast_start, const Plan& p,
-                                                  const Cost& at_top, State& trial,
+  std::optional<SlideResult> take_fast_after_flow(const Plan& p, const Cost& at_top, State& trial,
                                                   std::vector<PathFrame>& frames,
                                                   minimize::MinimizeResult& r,
                                                   const minimize::MinimizerOptions*& solver) {
     State flow = std::move(trial);
     const minimize::MinimizeResult flow_r = r;
-    trial = std::move(fast_start);
+    trial = state_;
+    warm_start(trial, p.Dx);
     report(step_phase(p), p.Dx);
     const minimize::MinimizeResult fast = relax_abandonable(trial, p.Dx, nullptr, true);
     // Counted only now, as in relax_step(): the resumed slide repeats both relaxations.
