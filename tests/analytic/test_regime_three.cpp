@@ -27,14 +27,12 @@
 #include "asperity/core/slide/slider.hpp"
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
+#include "common/scenes.hpp"
 
 using namespace asperity;
 
 TEST(RegimeThree, FrictionHardensThroughArrestedLoopsAndTheSlideFollowsIt) {
-  interface::ContactScene scene {
-    .R = 20.0
-  };
-  scene.a = 15.0;
+  const interface::ContactScene scene = test::regime_three_small();
   slide::SlideOptions options;
   options.fft.threads = 1;
   const slide::SlideResult r = slide::slide(scene, options);

@@ -30,6 +30,7 @@
 
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "common/scenes.hpp"
 #include "scratch.hpp"
 
 namespace asperity {
@@ -412,12 +413,9 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
 // both outcomes occur.
 TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
   auto s = scene(15.0, 0.0);
-  s.contact.R = 20.0;
-  s.options.fft.threads = 1;
-  s.options.step_growth = 2.0;
+  s.contact = test::regime_three_small();
+  test::use_creep_settings(s.options);
   s.options.flow_first_after = 2;
-  s.options.slip_minimizer = slide::slip_minimizer_from(s.options.minimizer, minimize::Method::flow,
-                                                        minimize::Preconditioner::interface);
   // The relaxations each step starts (phase and target, from the reports at iteration 0).
   struct Start {
     slide::SlidePhase phase;

@@ -14,6 +14,7 @@
 
 #include "asperity/apps/common/slide_io.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "common/scenes.hpp"
 
 using namespace asperity;
 using slide::SlidePhase;
@@ -313,15 +314,9 @@ TEST(SlideProgress, AResumedSlideReportsItsStartStatesFrictionAndLargest) {
 // - each step the flow takes first is reported as the slip relaxation it starts with, and every
 //   relaxation has its start report.
 TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePath) {
-  interface::ContactScene scene {
-    .R = 20.0
-  };
-  scene.a = 15.0;
+  const interface::ContactScene scene = test::regime_three_small();
   slide::SlideOptions never;
-  never.fft.threads = 1;
-  never.step_growth = 2.0;
-  never.slip_minimizer = slide::slip_minimizer_from(never.minimizer, minimize::Method::flow,
-                                                    minimize::Preconditioner::interface);
+  test::use_creep_settings(never);
   never.flow_first_after = 0;
   slide::SlideOptions first = never;
   first.flow_first_after = 2;

@@ -20,6 +20,7 @@
 #include <cstdio>
 
 #include "asperity/core/slide/slider.hpp"
+#include "common/scenes.hpp"
 
 using namespace asperity;
 
@@ -115,10 +116,7 @@ TEST(SlideStepGrowth, RegimeTwoKeepsThePeakStepsFromMinStepAndStillReplays) {
 }
 
 TEST(SlideStepGrowth, RegimeThreeCostsLessForTheSameMuWithinTheBracket) {
-  interface::ContactScene scene {
-    .R = 20.0
-  };
-  scene.a = 15.0;
+  const interface::ContactScene scene = test::regime_three_small();
   const BothSlides both = slide_both(scene);
   const auto& full = both.full;
   const slide::SlideResult &r0 = both.r0, &rg = both.rg;
