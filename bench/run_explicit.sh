@@ -8,13 +8,13 @@
 # Usage: bench/run_explicit.sh [build dir]   (default: build). About 15 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target contact_slide -j 2 >/dev/null
 tool="$build/bin/contact_slide"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core apps/contact_slide apps/common || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+bench_workdir
+commit=$(bench_commit core apps/contact_slide apps/common)
+cpu=$(bench_cpu)
 common=(--model explicit --slide --a 43 --R 535 --distance 2)
 
 # The reference: adaptive, force tolerance 3e-7 (3x tighter; below ~2e-7 L-BFGS stalls at

@@ -10,10 +10,10 @@
 # Usage: bench/run_flow_first.sh [build dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target contact_slide -j 2 >/dev/null
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+bench_workdir
 base=data/scenes/regime3_R40.toml
 # slide A K: contact_slide on the scene at a = A with step growth 2 and flow_first_after = K.
 slide() {
@@ -65,8 +65,8 @@ for a in 24 28; do
     rows+=$(row "$a" "$k")$'\n'
   done
 done
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core apps || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core apps)
+cpu=$(bench_cpu)
 load=$(cut -d' ' -f1-3 /proc/loadavg)
 section=$(cat <<EOT
 ## The flow first in creep (bench/run_flow_first.sh)

@@ -4,12 +4,13 @@
 # 6 GB at 4096^2. Usage: bench/run_iteration.sh [build dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target bench_iteration -j 2 >/dev/null
 json=$(mktemp)
 "$build/bin/bench_iteration" --benchmark_format=json >"$json" 2>/dev/null
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 # A counter of one benchmark run, from Google Benchmark's JSON.
 counter() {
   grep -A30 "\"name\": \"$1\"" "$json" | grep "\"$2\"" | head -1 | sed 's/.*: *\([0-9.e+-]*\).*/\1/'

@@ -7,10 +7,10 @@
 # Needs /usr/bin/time (Debian package `time`). Usage: bench/run_memory.sh [build dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target contact_slide -j 2 >/dev/null
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+bench_workdir
 # run NAME FLAGS...: peak resident memory (MB), snapshot output (MB), slip events, wall time (s).
 run() {
   local name=$1
@@ -38,8 +38,8 @@ done
 wait "$pid"
 ckpt=$(awk -v b="$largest" 'BEGIN{printf "%.1f", b / 1e6}')
 read -r rss2 out2 slips2 wall2 < <(run twice --distance 8.3)
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core apps || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core apps)
+cpu=$(bench_cpu)
 section=$(cat <<EOT
 ## Memory and output of a slide (bench/run_memory.sh)
 

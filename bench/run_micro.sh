@@ -3,14 +3,15 @@
 # with provenance. Usage: bench/run_micro.sh [build dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target bench_gf -j 2 >/dev/null
 json=$(mktemp)
 "$build/bin/bench_gf" --benchmark_filter='BM_(Periodic|FreeGF|BareFFT|Lfm|Lbfgs)' \
   --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$json" 2>/dev/null
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 # Median times (ms) per benchmark name, from Google Benchmark's JSON.
 median() {
   grep -A12 "\"name\": \"$1/real_time_median\"" "$json" | grep '"real_time"' | head -1 |

@@ -5,14 +5,15 @@
 # returns even sizes only. Usage: bench/run_padded_sizes.sh [build dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target bench_gf -j 2 >/dev/null
 json=$(mktemp)
 # The minimum of the repetitions: on a shared machine the fastest run is the least disturbed.
 "$build/bin/bench_gf" --benchmark_filter='BM_ConvolvePadded' --benchmark_repetitions=5 \
   --benchmark_format=json >"$json" 2>/dev/null
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 load=$(cut -d' ' -f1-3 /proc/loadavg)
 rows=$(python3 - "$json" <<'PY'
 import json, sys

@@ -5,14 +5,14 @@
 # Usage: bench/run_peierls.sh [build dir] [jobs]   (defaults: build, 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 jobs=${2:-2}
 cmake --build "$build" --target peierls_scan -j 2 >/dev/null
 tool="$build/bin/peierls_scan"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core peierls apps/peierls_scan || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+bench_workdir
+commit=$(bench_commit core peierls apps/peierls_scan)
+cpu=$(bench_cpu)
 
 # 1. The scan of the issue, twice each (spread of the wall time): at fixed L = 256 and with the
 #    default cell-size convergence (L doubled from 256 until tau_P changes by < 1%).

@@ -7,13 +7,13 @@
 # Usage: bench/run_scaling.sh [build dir] [largest a]   (defaults: build, 512)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 amax=${2:-512}
 cmake --build "$build" --target bench_scaling -j 2 >/dev/null
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+bench_workdir
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 run() {  # run a R threads -> appends "csv line,peak_MiB" to $work/rows
   /usr/bin/time -f "%M" -o "$work/mem" "$build/bin/bench_scaling" "$1" "$2" "$3" >"$work/line"
   echo "$(cat "$work/line"),$(($(cat "$work/mem") / 1024))" >>"$work/rows"

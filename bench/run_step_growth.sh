@@ -10,10 +10,10 @@
 # provenance. About 10 minutes on 2 cores. Usage: bench/run_step_growth.sh [build dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target friction_sweep -j 2 >/dev/null
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+bench_workdir
 base=data/scenes/regime3_R40.toml
 # variant NAME A SED...: the scene restricted to a = A with the sed edits, run; prints the row.
 variant() {
@@ -44,8 +44,8 @@ for a in 24 28; do
     rows+=$(variant "reference protocol (0.01 d)" "$a" -e 's/^protocol = "adaptive"/protocol = "reference"/')$'\n'
   fi
 done
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core apps || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core apps)
+cpu=$(bench_cpu)
 load=$(cut -d' ' -f1-3 /proc/loadavg)
 section=$(cat <<EOT
 ## Step growth in Regime III (bench/run_step_growth.sh)

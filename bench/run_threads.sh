@@ -6,6 +6,7 @@
 # section "Threads on a busy machine". Usage: bench/run_threads.sh [build dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target bench_gf -j 2 >/dev/null
 quiet=$(mktemp)
@@ -26,8 +27,8 @@ sleep 1
 run "$busy"
 kill "${spinners[@]}"
 trap - EXIT
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 rows=$(python3 - "$quiet" "$busy" <<'PY'
 import json, sys
 def medians(path):

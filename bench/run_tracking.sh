@@ -4,10 +4,11 @@
 # Usage: bench/run_tracking.sh [build dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 cmake --build "$build" --target bench_tracking -j 2 >/dev/null
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- tracking bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit tracking bench)
+cpu=$(bench_cpu)
 table=$("$build/bin/bench_tracking" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_format=csv 2>/dev/null | python3 -c "
 import csv, sys

@@ -7,13 +7,14 @@
 # REUSE_SIZES="138" redraws that scene from its CSV in docs/figures instead of re-running it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 build=${1:-build}
 threads=${2:-2}
 sizes=${3:-16 43 138}
 cmake --build "$build" --target bench_work_precision -j 2 >/dev/null
 mkdir -p docs/figures
-commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core bench || echo "+changes")
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+commit=$(bench_commit core bench)
+cpu=$(bench_cpu)
 body=""
 for a in $sizes; do
   mode=""
