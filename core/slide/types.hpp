@@ -174,7 +174,8 @@ struct SlideResult {
   int minimizations = 0;            // including undone trial steps
   int slip_relaxations = 0;         // steps relaxed again by SlideOptions::slip_minimizer
   int flow_first_steps = 0;         // steps the slip minimiser relaxed first (flow_first_after)
-  int flow_first_stable = 0;  // ... of which it found stable (the fast minimiser then relaxed)
+  int flow_first_stable = 0;        // ... of which it found stable or could not relax (the fast
+                                    // minimiser then relaxed them)
   std::size_t gf_applications = 0;
   std::size_t gradient_evaluations = 0;  // interface force evaluations (line searches included)
   std::size_t filter_applications = 0;   // interface filter passes (an FFT pair each, like a GF
@@ -303,6 +304,9 @@ struct SlideState {
 // top of the next step, due or not: a state between steps, which a slide with other limits can
 // continue too (a paused flow belongs to its step; friction_sweep keeps the one between steps for
 // a point stopped at a limit). With checkpoint_every_s = 0 there are no checkpoints inside flows.
+// A second exception: the fast relaxation after a flow that went first and found its step stable
+// (SlideOptions::flow_first_after) is not abandoned, since the flow would be lost with it; the
+// stop is seen at the next step.
 // The processes one slide is spread over (issue 26; the lateral force model): each holds the
 // rows of the block that its slab of the Green's function's padded grid covers, with their
 // contact sites. engine: the GF's FFT backend (fft::mpi_engine_factory(comm) over MPI); comm: the

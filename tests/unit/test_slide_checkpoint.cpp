@@ -484,6 +484,101 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
   }
 }
 
+// A stop request during the fast relaxation that follows a flow-first flow that found its step
+// stable is not taken there (the flow would be thrown away with the relaxation, and a flow
+// resumed from a pause has its earlier part already in the slide's counts, which the handed-over
+// state would then count twice): the step is finished and the stop taken at the next one. Both
+// from the start and from a pause inside that flow, the slide stops past the step, and resumed
+// it ends as the uninterrupted slide, bit for bit and with the same GF count. The step is the
+// stable flow-first step whose fast relaxation is longest, so that the request is polled inside
+// it (every 16 iterations).
+TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
+  auto s = scene(15.0, 0.0);
+  s.contact = test::regime_three_small();
+  test::use_creep_settings(s.options);
+  s.options.flow_first_after = 2;
+  // Per relaxation (in order): its phase, target and the largest iteration reported.
+  struct Relaxation {
+    slide::SlidePhase phase;
+    double target;
+    int iterations = 0;
+  };
+  std::vector<Relaxation> relaxations;
+  const SlideResult reference =
+      slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
+        if (p.phase == slide::SlidePhase::accepted) return;
+        if (p.iteration == 0) relaxations.push_back({p.phase, p.target_Dx});
+        if (!relaxations.empty())
+          relaxations.back().iterations = std::max(relaxations.back().iterations, p.iteration);
+      });
+  ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  ASSERT_GT(reference.flow_first_stable, 0);
+  // A flow (phase slip) followed by a step or bisection trial to the same target: the fast
+  // relaxation after a flow-first flow that found the step stable.
+  double target = -1.0;
+  int longest = 0;
+  for (std::size_t i = 1; i < relaxations.size(); ++i) {
+    const auto &flow = relaxations[i - 1], &fast = relaxations[i];
+    if (flow.phase == slide::SlidePhase::slip && fast.phase != slide::SlidePhase::slip &&
+        fast.target == flow.target && fast.iterations > longest) {
+      longest = fast.iterations;
+      target = fast.target;
+    }
+  }
+  // A report at iteration 16 or later is a heartbeat that polled the stop request.
+  ASSERT_GE(longest, 16) << "no fast relaxation after a stable flow long enough to see a stop";
+  std::printf("the fast relaxation after the stable flow to Dx = %.5f d: %d iterations\n", target,
+              longest);
+  // Stops requested from the fast relaxation's first report on; the state handed over.
+  const auto stopped_after = [&](const SlideState* start, std::optional<SlideState>& saved) {
+    bool requested = false;
+    bool in_flow = false;
+    return slide::slide(s.contact, s.options,
+                        SlideControl{.progress =
+                                         [&](const slide::SlideProgressInfo& p) {
+                                           if (p.iteration != 0 || p.target_Dx != target) return;
+                                           if (p.phase == slide::SlidePhase::slip)
+                                             in_flow = true;
+                                           else if (in_flow)
+                                             requested = true;
+                                         },
+                                     .checkpoint = [&](const SlideState& st) { saved = st; },
+                                     .checkpoint_every_s = 1e9,
+                                     .stop_requested = [&] { return requested; },
+                                     .start = start});
+  };
+  // From the start.
+  std::optional<SlideState> saved;
+  SlideResult stopped = stopped_after(nullptr, saved);
+  ASSERT_TRUE(stopped.interrupted && saved) << stopped.stop_reason;
+  EXPECT_FALSE(saved->pending.has_value());
+  EXPECT_EQ(saved->current.Dx, target) << "the step was not finished before the stop";
+  expect_same(reference, resume_through_file(s, *saved), "stopped after the stable flow");
+  // From a pause inside the flow (16 iterations in).
+  std::optional<SlideState> paused;
+  bool in_flow = false;
+  int iteration = 0;
+  stopped = slide::slide(
+      s.contact, s.options,
+      SlideControl{.progress =
+                       [&](const slide::SlideProgressInfo& p) {
+                         iteration = p.iteration;
+                         if (p.iteration == 0)
+                           in_flow = p.phase == slide::SlidePhase::slip && p.target_Dx == target;
+                       },
+                   .checkpoint = [&](const SlideState& st) { paused = st; },
+                   .checkpoint_every_s = 1e9,
+                   .stop_requested = [&] { return in_flow && iteration >= 16; }});
+  ASSERT_TRUE(stopped.interrupted && paused && paused->pending) << stopped.stop_reason;
+  saved.reset();
+  stopped = stopped_after(&*paused, saved);
+  ASSERT_TRUE(stopped.interrupted && saved) << stopped.stop_reason;
+  EXPECT_FALSE(saved->pending.has_value());
+  EXPECT_EQ(saved->current.Dx, target) << "the resumed step was not finished before the stop";
+  expect_same(reference, resume_through_file(s, *saved),
+              "paused inside the stable flow, then stopped after it");
+}
+
 // A checkpoint that falls due inside a slip's flow holds the paused flow, which belongs to its
 // step: a slide with a longer limit cannot continue it (friction_sweep keeps a capped point's
 // last checkpoint between steps). So the slide checkpoints again at the top of the next step,
