@@ -845,16 +845,16 @@ class ProtocolRun {
     // before the step that was cut to land on the cap, so that a longer cap continuing it takes
     // the steps a slide with that cap takes from the start (friction_sweep keeps it).
     checkpoint_if_due();
-    const Plan p = plan();
+    // The slip relaxation paused in the slide this one continues: it belongs to this step, and
+    // the relaxation that called the step a slip is not repeated.
+    std::optional<PendingSlip> resuming = std::exchange(pending_, std::nullopt);
+    const Plan p = resuming ? resumed_plan(*resuming) : plan();
     State trial = state_;
     warm_start(trial, p.Dx);
     std::vector<PathFrame> frames;
     // Only a relaxation that will not be undone can become a slip event with a path (the next
     // one, if it slips).
     const bool want_frames = !p.may_undo && paths_of(res_.slip_events + 1);
-    // The slip relaxation paused in the slide this one continues: it belongs to this step, and
-    // the relaxation that called the step a slip is not repeated.
-    std::optional<PendingSlip> resuming = std::exchange(pending_, std::nullopt);
     if (resuming) check_resuming(*resuming, p, want_frames);
     // A step that goes to the flow first is reported as the slip relaxation it starts with.
     if (!flow_first(p, resuming)) report(step_phase(p), p.Dx);
@@ -892,6 +892,25 @@ class ProtocolRun {
   bool flow_first(const Plan& p, const std::optional<PendingSlip>& resuming) const {
     if (resuming) return !resuming->fast.has_value();
     return options_.slip_minimizer && p.closes_bracket && !p.cycle_of && creeping();
+  }
+
+  // The step a paused slip relaxation belongs to. A pause of the flow after the fast minimiser
+  // saw the step slip carries the closed bracket (slip_at_ = its Dx), so plan() lands on it
+  // under any settings that keep it a closing step. A flow-first flow's pause (no fast result)
+  // closed none, so plan() finds its Dx again only under the settings it was made with. A slide
+  // adopted with others (a longer distance after a step cut to the old one, another
+  // step_growth or max_step; docs/reliability.md) continues that step as well, if it is a
+  // closing step under them (within min_step of the state, not past the limit); check_resuming()
+  // refuses the rest.
+  Plan resumed_plan(const PendingSlip& resuming) {
+    const bool due = cycle_check_due_;
+    const Plan p = plan();
+    const double gap = resuming.Dx - state_.Dx;
+    if (resuming.fast || p.Dx == resuming.Dx || !(gap > 0.0) || !options_.within_min_step(gap) ||
+        resuming.Dx > limit_)
+      return p;
+    cycle_check_due_ = due;  // plan() may have taken a due probe for its own step
+    return Plan{.Dx = resuming.Dx, .closes_bracket = true};
   }
 
   void check_resuming(const PendingSlip& resuming, const Plan& p, bool want_frames) const {

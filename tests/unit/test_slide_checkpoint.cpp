@@ -409,8 +409,9 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
 // the file). Resumed through a checkpoint file, such a pause continues as a step the flow took
 // first: where the flow slips, the slip is accepted; where it finds the step stable, the fast
 // minimiser relaxes it then, as the uninterrupted slide did. Both end as that slide, bit for
-// bit. A Regime III slide (R = 20 d, a = 15 d) with step growth; flow_first_after = 2 so that
-// both outcomes occur.
+// bit. Adopted under other step settings, such a pause is still continued as its step (below).
+// A Regime III slide (R = 20 d, a = 15 d) with step growth; flow_first_after = 2 so that both
+// outcomes occur.
 TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
   auto s = scene(15.0, 0.0);
   s.contact = test::regime_three_small();
@@ -481,6 +482,28 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
     EXPECT_FALSE(back.state.pending->fast.has_value()) << where << " (read back)";
     expect_same(reference, slide::slide(s.contact, s.options, SlideControl{.start = &back.state}),
                 where);
+    // Adopted with other step settings (friction_sweep --adopt, docs/reliability.md): the full
+    // step instead of step growth, and a distance 0.05 d past the paused step. The paused step
+    // is no longer where the plan would go (0.05 d on), and no bracket was closed to lead
+    // there; it is continued all the same, as the flow of a step the fast minimiser saw slip
+    // is: the rows up to it are the uninterrupted slide's.
+    slide::SlideOptions other = s.options;
+    other.step_growth = 0.0;
+    other.distance = target + 0.05;
+    const SlideResult adopted = slide::slide(s.contact, other, SlideControl{.start = &back.state});
+    ASSERT_FALSE(adopted.failed) << where << ": " << adopted.stop_reason;
+    const auto row = std::find_if(reference.trace.begin(), reference.trace.end(),
+                                  [&](const auto& r) { return r.Dx == target; });
+    ASSERT_NE(row, reference.trace.end());
+    const auto rows = static_cast<std::size_t>(row - reference.trace.begin()) + 1;
+    ASSERT_GT(adopted.trace.size(), rows) << where << " (adopted)";
+    for (std::size_t i = 0; i < rows; ++i) {
+      const auto &x = reference.trace[i], &y = adopted.trace[i];
+      EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.energy, y.energy) &&
+                  x.slip == y.slip && x.slipped_sites == y.slipped_sites &&
+                  x.gf_applications == y.gf_applications)
+          << where << " (adopted): trace row " << i;
+    }
   }
 }
 
