@@ -1056,11 +1056,13 @@ class ProtocolRun {
       return;
     }
     // The fast minimiser's stable state, as without flow_first_after: no path frames; the row
-    // carries the flow's cost too.
+    // carries the flow's cost too. If the fast minimiser failed, the slide stops with its
+    // failure, whose message names its iterations alone.
     frames.clear();
     count(flow_r);
     r = fast;
     solver = &options_.minimizer;
+    if (!failure(fast, trial, p.Dx, state_.Dx).empty()) return;
     r.iterations += flow_r.iterations;
     r.gf_applications += flow_r.gf_applications;
   }
