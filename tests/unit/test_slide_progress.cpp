@@ -301,22 +301,29 @@ TEST(SlideProgress, AResumedSlideReportsItsStartStatesFrictionAndLargest) {
 
 // Creep (SlideOptions::flow_first_after): after that many slip steps in a row, a step at most
 // min_step wide goes to the slip minimiser first, and to the fast one only if the flow finds it
-// stable. A Regime III slide (R = 20 d, a = 15 d: loops arrested, many small slips) with step
-// growth and the flow as slip minimiser, taken with flow_first_after = 2 (so that both outcomes
-// occur: the flow slips, and the flow finds the step stable) against 0 (never):
+// stable. A Regime III slide (R = 20 d, a = 15 d: loops arrested, many small slips) with the
+// flow as slip minimiser, taken with flow_first_after = 2 (so that both outcomes occur: the
+// flow slips, and the flow finds the step stable) against 0 (never), with step growth (every
+// closing step starts from an open bracket) and without (the full step after a slip is
+// bisected, and the closing trial has the bracket's far end):
 // - the path is the same bit for bit: every trace row (tip position, forces, energy, slip,
 //   slipped sites), mu and the slip events. Where the fast minimiser would call the step a
 //   slip, the flow starts from the same state either way; where the flow finds it stable, the
 //   fast minimiser's relaxation follows and the step is the one it would have been;
-// - the relaxations: a step the flow slips through saves the fast trial (one relaxation fewer),
-//   one it finds stable adds the flow's (one more, or none where the fast minimiser would have
-//   called it a slip and the flow would have been made anyway);
-// - each step the flow takes first is reported as the slip relaxation it starts with, and every
-//   relaxation has its start report.
-TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePath) {
+// - the relaxations, step by step (those started between accepted reports: the same steps in
+//   both slides, as the rows are). Without flow_first_after a step ended with the fast
+//   minimiser's relaxation to its Dx, followed by the flow's where it called the step a slip.
+//   With it, a step the flow took first and slipped through has the flow's alone (the fast
+//   trial saved); one it found stable has the flow's and then the fast minimiser's (one more
+//   where the fast minimiser finds it stable too; as many, swapped, where it calls it a slip
+//   and the flow's stable verdict stands either way). Anything else is a failure; every other
+//   step has the same relaxations. So the counts differ by exactly (stable by both) -
+//   (slipped), and every relaxation has its start report.
+void check_flow_first_on_the_same_path(double step_growth) {
   const interface::ContactScene scene = test::regime_three_small();
   slide::SlideOptions never;
   test::use_creep_settings(never);
+  never.step_growth = step_growth;
   never.flow_first_after = 0;
   slide::SlideOptions first = never;
   first.flow_first_after = 2;
@@ -342,82 +349,72 @@ TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePath) {
   }
   EXPECT_EQ(r1.mu, r0.mu);
   EXPECT_EQ(r1.slip_events, r0.slip_events);
-
   const int slipped = r1.flow_first_steps - r1.flow_first_stable;
   EXPECT_GT(slipped, 0) << "no step taken by the flow first slipped";
   EXPECT_GT(r1.flow_first_stable, 0) << "the flow found no step it took first stable";
-  const int more = r1.minimizations - r0.minimizations;
-  EXPECT_LE(more, r1.flow_first_stable - slipped);
-  EXPECT_GE(more, -slipped);
-  std::printf(
-      "R = 20 d, a = 15 d: %d slip events; flow first at %d steps (%d stable); relaxations %d "
-      "-> %d, GF applications %zu -> %zu\n",
-      r1.slip_events, r1.flow_first_steps, r1.flow_first_stable, r0.minimizations, r1.minimizations,
-      r0.gf_applications, r1.gf_applications);
 
-  // Reports: a start report per relaxation (the peak refinement's too); a step the flow takes
-  // first starts with a slip report right after the accepted step before it, where the slide
-  // without it starts the same step with the fast minimiser's (a step whose plan is the slip
-  // itself, the end of a bisected bracket, starts with a slip report in both).
-  struct Starts {
-    int relaxations = 0, slip_after_accepted = 0;
+  // The relaxations each step starts: phase and target, from the reports at iteration 0.
+  struct Start {
+    SlidePhase phase;
+    double target;
+    bool operator==(const Start&) const = default;
   };
-  const auto count_starts = [](const std::vector<SlideProgressInfo>& reps) {
-    Starts c;
-    bool after_accepted = false;
-    for (const SlideProgressInfo& p : reps) {
-      if (p.phase == SlidePhase::accepted) {
-        after_accepted = true;
-        continue;
-      }
-      if (p.iteration != 0) continue;
-      ++c.relaxations;
-      if (after_accepted && p.phase == SlidePhase::slip) ++c.slip_after_accepted;
-      after_accepted = false;
-    }
-    return c;
-  };
-  const Starts s0 = count_starts(reports0), s1 = count_starts(reports);
-  EXPECT_EQ(s0.relaxations, r0.minimizations);
-  EXPECT_EQ(s1.relaxations, r1.minimizations);
-  EXPECT_EQ(s1.slip_after_accepted - s0.slip_after_accepted, r1.flow_first_steps);
-
-  // Step by step (the relaxations started between accepted reports; the same steps in both
-  // slides, as the rows are): a step the flow took first and found stable starts with the flow
-  // and then the fast minimiser. Without flow_first_after the same step had the fast minimiser
-  // alone (it found the step stable too: one relaxation more now) or the fast minimiser and
-  // then the flow (it called the step a slip, and the flow's stable verdict stood: as many
-  // relaxations as now). A step the flow took first that slipped saves the fast one. So the
-  // relaxations differ by exactly (stable by both) - (slipped), which the bounds above only
-  // bracket.
   const auto per_step = [](const std::vector<SlideProgressInfo>& reps) {
-    std::vector<std::vector<SlidePhase>> steps(1);
+    std::vector<std::vector<Start>> steps(1);
     for (const SlideProgressInfo& p : reps) {
       if (p.phase == SlidePhase::accepted) {
         steps.emplace_back();
       } else if (p.iteration == 0) {
-        steps.back().push_back(p.phase);
+        steps.back().push_back({p.phase, p.target_Dx});
       }
     }
     return steps;
   };
   const auto steps0 = per_step(reports0), steps1 = per_step(reports);
   ASSERT_EQ(steps0.size(), steps1.size());
-  int stable_by_both = 0, fast_slipped = 0;
+  int relaxations0 = 0, relaxations1 = 0, took_slipped = 0, stable_by_both = 0, fast_slipped = 0;
   for (std::size_t k = 0; k < steps1.size(); ++k) {
     const auto &a = steps0[k], &b = steps1[k];
-    if (b.size() != 2 || b[0] != SlidePhase::slip || b[1] == SlidePhase::slip) continue;
-    if (a.size() == 1 && a[0] == b[1])
+    relaxations0 += static_cast<int>(a.size());
+    relaxations1 += static_cast<int>(b.size());
+    if (a == b) continue;
+    // The step's own relaxations: the fast one and the flow's after it (without), the flow's and
+    // the fast one after it (with); the undone trials before them are the same.
+    const auto same_before = [&](std::size_t na, std::size_t nb) {
+      return a.size() >= na && b.size() >= nb && a.size() - na == b.size() - nb &&
+             std::equal(a.begin(), a.end() - static_cast<std::ptrdiff_t>(na), b.begin());
+    };
+    const Start flow_b = b.back();
+    if (flow_b.phase == SlidePhase::slip && same_before(2, 1) && a.end()[-1] == flow_b &&
+        a.end()[-2].phase != SlidePhase::slip && a.end()[-2].target == flow_b.target) {
+      ++took_slipped;
+    } else if (same_before(1, 2) && b.end()[-2].phase == SlidePhase::slip &&
+               b.end()[-2].target == b.back().target && a.back() == b.back()) {
       ++stable_by_both;
-    else if (a.size() == 2 && a[0] == b[1] && a[1] == SlidePhase::slip)
+    } else if (same_before(2, 2) && a.end()[-1] == b.end()[-2] && a.end()[-2] == b.end()[-1] &&
+               b.end()[-2].phase == SlidePhase::slip && b.back().phase != SlidePhase::slip) {
       ++fast_slipped;
-    else
-      ADD_FAILURE() << "step " << k << ": a stable flow-first step that was neither before";
+    } else {
+      ADD_FAILURE() << "step " << k << ": relaxations neither as before nor a flow-first step's";
+    }
   }
+  EXPECT_EQ(relaxations0, r0.minimizations);
+  EXPECT_EQ(relaxations1, r1.minimizations);
+  EXPECT_EQ(took_slipped, slipped);
   EXPECT_EQ(stable_by_both + fast_slipped, r1.flow_first_stable);
-  EXPECT_EQ(more, stable_by_both - slipped);
+  EXPECT_EQ(r1.minimizations - r0.minimizations, stable_by_both - slipped);
   std::printf(
-      "stable flow-first steps: %d the fast minimiser also found stable, %d it called a "
-      "slip\n",
-      stable_by_both, fast_slipped);
+      "R = 20 d, a = 15 d, step growth %g: %d slip events; flow first at %d steps (%d stable: %d "
+      "also by the fast minimiser, %d it called a slip); relaxations %d -> %d, GF applications "
+      "%zu -> %zu\n",
+      step_growth, r1.slip_events, r1.flow_first_steps, r1.flow_first_stable, stable_by_both,
+      fast_slipped, r0.minimizations, r1.minimizations, r0.gf_applications, r1.gf_applications);
+}
+
+TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePath) {
+  check_flow_first_on_the_same_path(2.0);
+}
+
+TEST(SlideProgress, InCreepTheFlowGoesFirstOnTheSamePathAlsoInABisectedBracket) {
+  check_flow_first_on_the_same_path(0.0);
 }
