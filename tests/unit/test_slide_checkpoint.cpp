@@ -404,6 +404,38 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                std::invalid_argument);
 }
 
+// The scene of the flow-first tests: a Regime III slide (R = 20 d, a = 15 d) with step growth
+// and the flow for slips; flow_first_after = 2, so that the flow both slips and finds steps
+// stable.
+app::SlideScene creep_scene() {
+  auto s = scene(15.0, 0.0);
+  s.contact = test::regime_three_small();
+  test::use_creep_settings(s.options);
+  s.options.flow_first_after = 2;
+  return s;
+}
+
+// A relaxation a slide started (from the progress reports): its phase, target, the largest
+// iteration reported, and the step it belongs to (counted by accepted reports).
+struct Relaxation {
+  slide::SlidePhase phase;
+  double target;
+  int iterations = 0;
+  std::size_t step = 0;
+};
+// The uninterrupted slide of s, recording its relaxations.
+SlideResult slide_recording(const app::SlideScene& s, std::vector<Relaxation>& out) {
+  std::size_t step = 0;
+  return slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
+    if (p.phase == slide::SlidePhase::accepted) {
+      ++step;
+      return;
+    }
+    if (p.iteration == 0) out.push_back({p.phase, p.target_Dx, 0, step});
+    if (!out.empty()) out.back().iterations = std::max(out.back().iterations, p.iteration);
+  });
+}
+
 // In creep (SlideOptions::flow_first_after) a step goes to the flow before the fast minimiser,
 // so a checkpoint inside that flow holds no fast relaxation (PendingSlip::fast empty; null in
 // the file). Resumed through a checkpoint file, such a pause continues as a step the flow took
@@ -413,25 +445,14 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
 // A Regime III slide (R = 20 d, a = 15 d) with step growth; flow_first_after = 2 so that both
 // outcomes occur.
 TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
-  auto s = scene(15.0, 0.0);
-  s.contact = test::regime_three_small();
-  test::use_creep_settings(s.options);
-  s.options.flow_first_after = 2;
-  // The relaxations each step starts (phase and target, from the reports at iteration 0).
-  struct Start {
-    slide::SlidePhase phase;
-    double target;
-  };
-  std::vector<std::vector<Start>> steps(1);
-  const SlideResult reference =
-      slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
-        if (p.phase == slide::SlidePhase::accepted) {
-          steps.emplace_back();
-        } else if (p.iteration == 0) {
-          steps.back().push_back({p.phase, p.target_Dx});
-        }
-      });
+  const app::SlideScene s = creep_scene();
+  std::vector<Relaxation> relaxations;
+  const SlideResult reference = slide_recording(s, relaxations);
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  // The relaxations each step starts.
+  std::vector<std::vector<Relaxation>> steps(relaxations.empty() ? 0 : relaxations.back().step + 1);
+  for (const Relaxation& r : relaxations)
+    steps[r.step].push_back(r);
   ASSERT_GT(reference.flow_first_steps, reference.flow_first_stable);
   ASSERT_GT(reference.flow_first_stable, 0);
   // A flow-first step starts with the flow (a slip report). If the flow slips, it is the step's
@@ -516,24 +537,9 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
 // stable flow-first step whose fast relaxation is longest, so that the request is polled inside
 // it (every 16 iterations).
 TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
-  auto s = scene(15.0, 0.0);
-  s.contact = test::regime_three_small();
-  test::use_creep_settings(s.options);
-  s.options.flow_first_after = 2;
-  // Per relaxation (in order): its phase, target and the largest iteration reported.
-  struct Relaxation {
-    slide::SlidePhase phase;
-    double target;
-    int iterations = 0;
-  };
+  const app::SlideScene s = creep_scene();
   std::vector<Relaxation> relaxations;
-  const SlideResult reference =
-      slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
-        if (p.phase == slide::SlidePhase::accepted) return;
-        if (p.iteration == 0) relaxations.push_back({p.phase, p.target_Dx});
-        if (!relaxations.empty())
-          relaxations.back().iterations = std::max(relaxations.back().iterations, p.iteration);
-      });
+  const SlideResult reference = slide_recording(s, relaxations);
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
   ASSERT_GT(reference.flow_first_stable, 0);
   // A flow (phase slip) followed by a step or bisection trial to the same target: the fast
