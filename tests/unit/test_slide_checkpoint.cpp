@@ -436,6 +436,28 @@ SlideResult slide_recording(const app::SlideScene& s, std::vector<Relaxation>& o
   });
 }
 
+// The slide of s stopped 16 iterations into the slip-phase relaxation (a flow) to `target`
+// (the stop request is seen every 16 iterations; the flow pauses at its next accepted step);
+// `saved` receives the state handed over.
+SlideResult stop_inside_flow(const app::SlideScene& s, double target,
+                             std::optional<SlideState>& saved) {
+  bool in_flow = false;
+  int iteration = 0;
+  return slide::slide(s.contact, s.options,
+                      SlideControl{.progress =
+                                       [&](const slide::SlideProgressInfo& p) {
+                                         iteration = p.iteration;
+                                         if (p.iteration == 0)
+                                           in_flow = p.phase == slide::SlidePhase::slip &&
+                                                     p.target_Dx == target;
+                                         if (p.phase == slide::SlidePhase::accepted)
+                                           in_flow = false;
+                                       },
+                                   .checkpoint = [&](const SlideState& st) { saved = st; },
+                                   .checkpoint_every_s = 1e9,
+                                   .stop_requested = [&] { return in_flow && iteration >= 16; }});
+}
+
 // In creep (SlideOptions::flow_first_after) a step goes to the flow before the fast minimiser,
 // so a checkpoint inside that flow holds no fast relaxation (PendingSlip::fast empty; null in
 // the file). Resumed through a checkpoint file, such a pause continues as a step the flow took
@@ -471,24 +493,10 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
   }
   ASSERT_GT(slipping, 0.0) << "no flow-first step that slips";
   ASSERT_GT(stable, 0.0) << "no flow-first step found stable";
-  // Stopped inside each one's flow (the stop request is seen every 16 iterations; the flow
-  // pauses at its next accepted step).
+  // Stopped inside each one's flow.
   for (const double target : {slipping, stable}) {
     std::optional<SlideState> saved;
-    bool in_flow = false;
-    int iteration = 0;
-    const SlideResult stopped = slide::slide(
-        s.contact, s.options,
-        SlideControl{.progress =
-                         [&](const slide::SlideProgressInfo& p) {
-                           iteration = p.iteration;
-                           if (p.iteration == 0)
-                             in_flow = p.phase == slide::SlidePhase::slip && p.target_Dx == target;
-                           if (p.phase == slide::SlidePhase::accepted) in_flow = false;
-                         },
-                     .checkpoint = [&](const SlideState& st) { saved = st; },
-                     .checkpoint_every_s = 1e9,
-                     .stop_requested = [&] { return in_flow && iteration >= 16; }});
+    const SlideResult stopped = stop_inside_flow(s, target, saved);
     const std::string where =
         "stopped inside the flow-first step to Dx = " + std::to_string(target) +
         (target == stable ? " (stable)" : "");
@@ -585,19 +593,7 @@ TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
   expect_same(reference, resume_through_file(s, *saved), "stopped after the stable flow");
   // From a pause inside the flow (16 iterations in).
   std::optional<SlideState> paused;
-  bool in_flow = false;
-  int iteration = 0;
-  stopped = slide::slide(
-      s.contact, s.options,
-      SlideControl{.progress =
-                       [&](const slide::SlideProgressInfo& p) {
-                         iteration = p.iteration;
-                         if (p.iteration == 0)
-                           in_flow = p.phase == slide::SlidePhase::slip && p.target_Dx == target;
-                       },
-                   .checkpoint = [&](const SlideState& st) { paused = st; },
-                   .checkpoint_every_s = 1e9,
-                   .stop_requested = [&] { return in_flow && iteration >= 16; }});
+  stopped = stop_inside_flow(s, target, paused);
   ASSERT_TRUE(stopped.interrupted && paused && paused->pending) << stopped.stop_reason;
   saved.reset();
   stopped = stopped_after(&*paused, saved);
