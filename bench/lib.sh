@@ -14,3 +14,12 @@ bench_workdir() {
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
 }
+
+# bench_setup BUILD TARGET...: $build = BUILD, TARGET... built in it (quietly), and the scratch
+# folder (bench_workdir). The scripts that run tools on scenes start with it.
+bench_setup() {
+  build=$1
+  shift
+  cmake --build "$build" --target "$@" -j 2 >/dev/null
+  bench_workdir
+}

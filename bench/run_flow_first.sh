@@ -11,9 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/lib.sh
-build=${1:-build}
-cmake --build "$build" --target contact_slide -j 2 >/dev/null
-bench_workdir
+bench_setup "${1:-build}" contact_slide
 base=data/scenes/regime3_R40.toml
 # slide A K: contact_slide on the scene at a = A with step growth 2 and flow_first_after = K.
 slide() {

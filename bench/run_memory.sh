@@ -8,9 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/lib.sh
-build=${1:-build}
-cmake --build "$build" --target contact_slide -j 2 >/dev/null
-bench_workdir
+bench_setup "${1:-build}" contact_slide
 # run NAME FLAGS...: peak resident memory (MB), snapshot output (MB), slip events, wall time (s).
 run() {
   local name=$1

@@ -11,9 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/lib.sh
-build=${1:-build}
-cmake --build "$build" --target friction_sweep -j 2 >/dev/null
-bench_workdir
+bench_setup "${1:-build}" friction_sweep
 base=data/scenes/regime3_R40.toml
 # variant NAME A SED...: the scene restricted to a = A with the sed edits, run; prints the row.
 variant() {
