@@ -30,6 +30,7 @@
 
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/core/slide/slider.hpp"
+#include "common/relaxations.hpp"
 #include "common/scenes.hpp"
 #include "scratch.hpp"
 
@@ -415,25 +416,10 @@ app::SlideScene creep_scene() {
   return s;
 }
 
-// A relaxation a slide started (from the progress reports): its phase, target, the largest
-// iteration reported, and the step it belongs to (counted by accepted reports).
-struct Relaxation {
-  slide::SlidePhase phase;
-  double target;
-  int iterations = 0;
-  std::size_t step = 0;
-};
+using test::Relaxation;
 // The uninterrupted slide of s, recording its relaxations.
-SlideResult slide_recording(const app::SlideScene& s, std::vector<Relaxation>& out) {
-  std::size_t step = 0;
-  return slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) {
-    if (p.phase == slide::SlidePhase::accepted) {
-      ++step;
-      return;
-    }
-    if (p.iteration == 0) out.push_back({p.phase, p.target_Dx, 0, step});
-    if (!out.empty()) out.back().iterations = std::max(out.back().iterations, p.iteration);
-  });
+SlideResult slide_recording(const app::SlideScene& s, test::RelaxationLog& log) {
+  return slide::slide(s.contact, s.options, [&](const slide::SlideProgressInfo& p) { log(p); });
 }
 
 // The slide of s stopped 16 iterations into the slip-phase relaxation (a flow) to `target`
@@ -468,13 +454,10 @@ SlideResult stop_inside_flow(const app::SlideScene& s, double target,
 // outcomes occur.
 TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
   const app::SlideScene s = creep_scene();
-  std::vector<Relaxation> relaxations;
-  const SlideResult reference = slide_recording(s, relaxations);
+  test::RelaxationLog log;
+  const SlideResult reference = slide_recording(s, log);
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
-  // The relaxations each step starts.
-  std::vector<std::vector<Relaxation>> steps(relaxations.empty() ? 0 : relaxations.back().step + 1);
-  for (const Relaxation& r : relaxations)
-    steps[r.step].push_back(r);
+  const std::vector<std::vector<Relaxation>> steps = log.per_step();
   ASSERT_GT(reference.flow_first_steps, reference.flow_first_stable);
   ASSERT_GT(reference.flow_first_stable, 0);
   // A flow-first step starts with the flow (a slip report). If the flow slips, it is the step's
@@ -546,9 +529,10 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
 // it (every 16 iterations).
 TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
   const app::SlideScene s = creep_scene();
-  std::vector<Relaxation> relaxations;
-  const SlideResult reference = slide_recording(s, relaxations);
+  test::RelaxationLog log;
+  const SlideResult reference = slide_recording(s, log);
   ASSERT_FALSE(reference.failed) << reference.stop_reason;
+  const std::vector<Relaxation>& relaxations = log.all();
   ASSERT_GT(reference.flow_first_stable, 0);
   // A flow (phase slip) followed by a step or bisection trial to the same target: the fast
   // relaxation after a flow-first flow that found the step stable.
