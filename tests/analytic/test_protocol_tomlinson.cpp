@@ -63,6 +63,7 @@
 #include "asperity/core/minimize/minimizer.hpp"
 #include "asperity/core/minimize/problem.hpp"
 #include "asperity/core/slide/protocol.hpp"
+#include "common/results.hpp"
 
 using namespace asperity;
 
@@ -440,20 +441,6 @@ void expect_same_slide(const slide::SlideResult& a, const slide::SlideResult& b,
   }
 }
 
-// And at the same cost: a paused flow goes on where it stopped, and an abandoned relaxation's
-// part is not counted (the slide makes it again), so the counts of a resumed slide are the
-// uninterrupted one's.
-void expect_resumed_alike(const slide::SlideResult& a, const slide::SlideResult& b,
-                          const std::string& what) {
-  expect_same_slide(a, b, what);
-  EXPECT_EQ(a.gf_applications, b.gf_applications) << what;
-  EXPECT_EQ(a.iterations, b.iterations) << what;
-  EXPECT_EQ(a.minimizations, b.minimizations) << what;
-  EXPECT_EQ(a.slip_relaxations, b.slip_relaxations) << what;
-  EXPECT_EQ(a.flow_first_steps, b.flow_first_steps) << what;
-  EXPECT_EQ(a.flow_first_stable, b.flow_first_stable) << what;
-}
-
 // A slide of the pause-and-stop tests: the model, its settings and the fast minimiser's
 // overshoots.
 struct PauseCase {
@@ -472,6 +459,20 @@ struct PauseKinds {
   }
 };
 
+// How often the slide asks whether to stop (between steps, and through the heartbeat in its
+// relaxations), and that asking changes nothing (`plain`: the slide without the asking).
+int count_polls(const PauseCase& c, const slide::SlideResult& plain) {
+  int polls = 0;
+  slide::SlideControl counting;
+  counting.stop_requested = [&] {
+    ++polls;
+    return false;
+  };
+  test::expect_same_result(plain, slide_tomlinson(c.m, c.o, counting, c.overshoot).result,
+                           c.name + ", polled");
+  return polls;
+}
+
 // Checkpoints at every chance: between steps, and after every accepted step of each slip's flow
 // (which pauses for it and goes on). Taking them changes nothing, and the slide resumed from each
 // (every k-th, so that about 60 to 120 are) is the same slide.
@@ -482,8 +483,8 @@ PauseKinds check_resumed_from_checkpoints(const PauseCase& c) {
   slide::SlideControl control;
   control.checkpoint = [&](const slide::SlideState& st) { saved.push_back(st); };
   control.checkpoint_every_s = 1e-12;
-  expect_resumed_alike(plain.result, slide_tomlinson(c.m, c.o, control, c.overshoot).result,
-                       c.name + ", checkpointed");
+  test::expect_same_result(plain.result, slide_tomlinson(c.m, c.o, control, c.overshoot).result,
+                           c.name + ", checkpointed");
   PauseKinds taken, resumed;
   for (const auto& st : saved)
     taken.count(st);
@@ -496,9 +497,9 @@ PauseKinds check_resumed_from_checkpoints(const PauseCase& c) {
     slide::SlideControl r;
     r.start = &saved[k];
     resumed.count(saved[k]);
-    expect_resumed_alike(plain.result, slide_tomlinson(c.m, c.o, r, c.overshoot).result,
-                         c.name + ", resumed from checkpoint " + std::to_string(k) +
-                             (saved[k].pending ? " (paused in a flow)" : ""));
+    test::expect_same_result(plain.result, slide_tomlinson(c.m, c.o, r, c.overshoot).result,
+                             c.name + ", resumed from checkpoint " + std::to_string(k) +
+                                 (saved[k].pending ? " (paused in a flow)" : ""));
   }
   EXPECT_GT(resumed.elsewhere, 0) << c.name;
   return resumed;
@@ -511,14 +512,7 @@ PauseKinds check_resumed_from_checkpoints(const PauseCase& c) {
 // the stops paused.
 PauseKinds check_stopped_anywhere(const PauseCase& c, int max_stops) {
   const Slid plain = slide_tomlinson(c.m, c.o, {}, c.overshoot);
-  int polls = 0;
-  slide::SlideControl counting;
-  counting.stop_requested = [&] {
-    ++polls;
-    return false;
-  };
-  expect_resumed_alike(plain.result, slide_tomlinson(c.m, c.o, counting, c.overshoot).result,
-                       c.name + ", polled");
+  const int polls = count_polls(c, plain.result);
   EXPECT_GT(polls, 20) << c.name;
 
   PauseKinds stops;
@@ -540,9 +534,9 @@ PauseKinds check_stopped_anywhere(const PauseCase& c, int max_stops) {
     stops.count(*last);
     slide::SlideControl r;
     r.start = &*last;
-    expect_resumed_alike(plain.result, slide_tomlinson(c.m, c.o, r, c.overshoot).result,
-                         c.name + ", stopped at poll " + std::to_string(n) +
-                             (last->pending ? " (inside a slip's flow)" : ""));
+    test::expect_same_result(plain.result, slide_tomlinson(c.m, c.o, r, c.overshoot).result,
+                             c.name + ", stopped at poll " + std::to_string(n) +
+                                 (last->pending ? " (inside a slip's flow)" : ""));
   }
   std::printf(
       "%s: %d polls; stopped %d times inside a flow after the fast minimiser, %d inside "
@@ -565,13 +559,7 @@ struct Chain {
 };
 Chain check_stopped_in_a_chain(const PauseCase& c, int k) {
   const Slid plain = slide_tomlinson(c.m, c.o, {}, c.overshoot);
-  int polls = 0;
-  slide::SlideControl counting;
-  counting.stop_requested = [&] {
-    ++polls;
-    return false;
-  };
-  slide_tomlinson(c.m, c.o, counting, c.overshoot);
+  const int polls = count_polls(c, plain.result);
   const int max_sessions = 4 * (polls / k + 1);
   const std::string what = c.name + ", sessions of " + std::to_string(k) + " polls";
   Chain chain;
@@ -586,7 +574,7 @@ Chain check_stopped_in_a_chain(const PauseCase& c, int k) {
     if (from) control.start = &*from;
     const Slid s = slide_tomlinson(c.m, c.o, control, c.overshoot);
     if (!s.result.interrupted) {
-      expect_resumed_alike(plain.result, s.result, what);
+      test::expect_same_result(plain.result, s.result, what);
       return chain;
     }
     if (!last) {

@@ -31,6 +31,7 @@
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/core/slide/slider.hpp"
 #include "common/relaxations.hpp"
+#include "common/results.hpp"
 #include "common/scenes.hpp"
 #include "scratch.hpp"
 
@@ -69,59 +70,6 @@ struct FlowStarts {
   }
 };
 
-bool same_bits(double x, double y) {
-  return std::memcmp(&x, &y, sizeof x) == 0;
-}
-
-void expect_same(const SlideResult& a, const SlideResult& b, const std::string& where) {
-  ASSERT_EQ(a.trace.size(), b.trace.size()) << where;
-  for (std::size_t i = 0; i < a.trace.size(); ++i) {
-    const auto &x = a.trace[i], &y = b.trace[i];
-    EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.Fz, y.Fz) &&
-                same_bits(x.energy, y.energy) && same_bits(x.max_force, y.max_force) &&
-                x.iterations == y.iterations && x.gf_applications == y.gf_applications &&
-                x.slip == y.slip && x.slipped_sites == y.slipped_sites &&
-                x.replayed == y.replayed && same_bits(x.area, y.area))
-        << where << ": trace row " << i;
-  }
-  EXPECT_EQ(a.measure, b.measure) << where;
-  EXPECT_TRUE(same_bits(a.mu, b.mu)) << where;
-  EXPECT_TRUE(same_bits(a.tau_fric, b.tau_fric)) << where;
-  EXPECT_TRUE(same_bits(a.area, b.area)) << where;
-  EXPECT_TRUE(same_bits(a.peak_Dx, b.peak_Dx)) << where;
-  EXPECT_TRUE(same_bits(a.peak_precision, b.peak_precision)) << where;
-  EXPECT_TRUE(same_bits(a.kinetic, b.kinetic)) << where;
-  EXPECT_EQ(a.slip_events, b.slip_events) << where;
-  EXPECT_EQ(a.steps, b.steps) << where;
-  EXPECT_EQ(a.replayed_steps, b.replayed_steps) << where;
-  EXPECT_TRUE(same_bits(a.cycle_verified_at, b.cycle_verified_at)) << where;
-  EXPECT_TRUE(same_bits(a.cycle_mismatch, b.cycle_mismatch)) << where;
-  EXPECT_EQ(a.minimizations, b.minimizations) << where;
-  EXPECT_EQ(a.slip_relaxations, b.slip_relaxations) << where;
-  EXPECT_EQ(a.flow_first_steps, b.flow_first_steps) << where;
-  EXPECT_EQ(a.flow_first_stable, b.flow_first_stable) << where;
-  EXPECT_EQ(a.filter_applications, b.filter_applications) << where;
-  EXPECT_EQ(a.filtered, b.filtered) << where;
-  EXPECT_EQ(a.gf_applications, b.gf_applications) << where;
-  EXPECT_EQ(a.gradient_evaluations, b.gradient_evaluations) << where;
-  EXPECT_EQ(a.iterations, b.iterations) << where;
-  EXPECT_EQ(a.stop_reason, b.stop_reason) << where;
-  EXPECT_EQ(a.mu_is_lower_bound, b.mu_is_lower_bound) << where;
-  EXPECT_EQ(a.contact_sites, b.contact_sites) << where;
-  ASSERT_EQ(a.snapshots.size(), b.snapshots.size()) << where;
-  for (std::size_t k = 0; k < a.snapshots.size(); ++k) {
-    EXPECT_EQ(a.snapshots[k].label, b.snapshots[k].label) << where;
-    EXPECT_EQ(a.snapshots[k].ux, b.snapshots[k].ux) << where << ": snapshot " << k;
-    EXPECT_EQ(a.snapshots[k].tau_x, b.snapshots[k].tau_x) << where << ": snapshot " << k;
-    // A slip's "after" state carries the slide's GF applications so far (slips.csv's cost): a
-    // resumed slide counts its earlier sessions once and not the work it repeats.
-    EXPECT_EQ(a.snapshots[k].gf_applications, b.snapshots[k].gf_applications)
-        << where << ": snapshot " << k << " " << a.snapshots[k].label;
-    EXPECT_EQ(a.snapshots[k].slipped_sites, b.snapshots[k].slipped_sites)
-        << where << ": snapshot " << k << " " << a.snapshots[k].label;
-  }
-}
-
 // The slide resumed from `saved` through an encoded and decoded checkpoint file.
 SlideResult resume_through_file(const app::SlideScene& s, const SlideState& saved) {
   const auto bytes =
@@ -148,7 +96,7 @@ bool stop_and_resume(const app::SlideScene& s, int k, const SlideResult& referen
   if (first.stop_reason.find("within the relaxation to Dx = ") != std::string::npos) ++within;
   const SlideResult resumed = resume_through_file(s, *saved);
   EXPECT_FALSE(resumed.interrupted) << where;
-  expect_same(reference, resumed, where);
+  test::expect_same_result(reference, resumed, where);
   return true;
 }
 
@@ -247,7 +195,7 @@ TEST(SlideCheckpoint, StopInsideRelaxationsResumesBitForBit) {
     EXPECT_LT(stop.saved->partial.gf_applications, reference.gf_applications) << where;
     const SlideResult resumed = resume_through_file(s, *stop.saved);
     EXPECT_FALSE(resumed.interrupted) << where;
-    expect_same(reference, resumed, where);
+    test::expect_same_result(reference, resumed, where);
   }
 }
 
@@ -280,7 +228,7 @@ TEST(SlideCheckpoint, StopInsideAPeakRefinementResumesBitForBit) {
   EXPECT_TRUE(saved->stepping_done);
   const SlideResult resumed = resume_through_file(s, *saved);
   EXPECT_FALSE(resumed.interrupted);
-  expect_same(reference, resumed, "stopped inside a peak probe");
+  test::expect_same_result(reference, resumed, "stopped inside a peak probe");
 }
 
 TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
@@ -337,7 +285,7 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
     EXPECT_FALSE(saved->pending->frames.empty()) << where;  // path frames of every slip
     const SlideResult resumed = resume_through_file(s, *saved);
     EXPECT_FALSE(resumed.interrupted) << where;
-    expect_same(reference, resumed, where);
+    test::expect_same_result(reference, resumed, where);
     if (n != polls / 2) continue;
     // The resumed slide, stopped again before it continues the flow (the first poll, between
     // steps), hands the paused flow on; stopped inside it, it pauses it further on.
@@ -346,13 +294,14 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
     ASSERT_TRUE(at_once.interrupted && again && again->pending) << where;
     EXPECT_EQ(again->pending->flow.iteration, saved->pending->flow.iteration) << where;
     EXPECT_EQ(again->partial.gf_applications, saved->partial.gf_applications) << where;
-    expect_same(reference, resume_through_file(s, *again), where + ", stopped again at once");
+    test::expect_same_result(reference, resume_through_file(s, *again),
+                             where + ", stopped again at once");
     const SlideResult further = stop_at(2, later, &*saved).first;
     ASSERT_TRUE(further.interrupted && later && later->pending) << where;
     if (later->pending->Dx == saved->pending->Dx) {
       EXPECT_GT(later->pending->flow.iteration, saved->pending->flow.iteration) << where;
     }
-    expect_same(reference, resume_through_file(s, *later), where + ", paused twice");
+    test::expect_same_result(reference, resume_through_file(s, *later), where + ", paused twice");
   }
   // A resumed slide that checkpoints after every step hands the paused flow on too.
   {
@@ -366,10 +315,11 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                                .checkpoint_every_s = 0.0,
                                .start = &*saved};
     const SlideResult r = slide::slide(s.contact, s.options, control);
-    expect_same(reference, r, "resumed with a checkpoint after every step");
+    test::expect_same_result(reference, r, "resumed with a checkpoint after every step");
     ASSERT_TRUE(first.has_value());
     ASSERT_TRUE(first->pending.has_value()) << "the first checkpoint of the resumed slide";
-    expect_same(reference, resume_through_file(s, *first), "resumed from its first checkpoint");
+    test::expect_same_result(reference, resume_through_file(s, *first),
+                             "resumed from its first checkpoint");
   }
   // Checkpoints due inside the flow (every one: a due time of 1e-9 s) change nothing, and the
   // slide resumed from one taken inside a slip relaxation ends the same.
@@ -381,10 +331,10 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                                                           inside.push_back(st);
                                                       },
                                                   .checkpoint_every_s = 1e-9});
-  expect_same(reference, r, "checkpoints inside the slip relaxations");
+  test::expect_same_result(reference, r, "checkpoints inside the slip relaxations");
   ASSERT_GE(inside.size(), 2u);
-  expect_same(reference, resume_through_file(s, inside[inside.size() / 2]),
-              "resumed from a checkpoint inside a slip relaxation");
+  test::expect_same_result(reference, resume_through_file(s, inside[inside.size() / 2]),
+                           "resumed from a checkpoint inside a slip relaxation");
   // A paused relaxation that does not fit the step the state leads to is refused.
   SlideState wrong = inside.front();
   wrong.pending->Dx += 0.5;
@@ -492,8 +442,8 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
     const app::SlideCheckpoint back = app::decode_checkpoint(bytes, "test");
     ASSERT_TRUE(back.state.pending.has_value()) << where;
     EXPECT_FALSE(back.state.pending->fast.has_value()) << where << " (read back)";
-    expect_same(reference, slide::slide(s.contact, s.options, SlideControl{.start = &back.state}),
-                where);
+    test::expect_same_result(
+        reference, slide::slide(s.contact, s.options, SlideControl{.start = &back.state}), where);
     // Adopted with other step settings (friction_sweep --adopt, docs/reliability.md): the full
     // step instead of step growth, and a distance 0.05 d past the paused step. The paused step
     // is no longer where the plan would go (0.05 d on), and no bracket was closed to lead
@@ -511,9 +461,9 @@ TEST(SlideCheckpoint, AFlowFirstPauseHoldsNoFastRelaxationAndResumesBitForBit) {
     ASSERT_GT(adopted.trace.size(), rows) << where << " (adopted)";
     for (std::size_t i = 0; i < rows; ++i) {
       const auto &x = reference.trace[i], &y = adopted.trace[i];
-      EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.energy, y.energy) &&
-                  x.slip == y.slip && x.slipped_sites == y.slipped_sites &&
-                  x.gf_applications == y.gf_applications)
+      EXPECT_TRUE(test::same_bits(x.Dx, y.Dx) && test::same_bits(x.Fx, y.Fx) &&
+                  test::same_bits(x.energy, y.energy) && x.slip == y.slip &&
+                  x.slipped_sites == y.slipped_sites && x.gf_applications == y.gf_applications)
           << where << " (adopted): trace row " << i;
     }
   }
@@ -574,7 +524,8 @@ TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
   ASSERT_TRUE(stopped.interrupted && saved) << stopped.stop_reason;
   EXPECT_FALSE(saved->pending.has_value());
   EXPECT_EQ(saved->current.Dx, target) << "the step was not finished before the stop";
-  expect_same(reference, resume_through_file(s, *saved), "stopped after the stable flow");
+  test::expect_same_result(reference, resume_through_file(s, *saved),
+                           "stopped after the stable flow");
   // From a pause inside the flow (16 iterations in).
   std::optional<SlideState> paused;
   stopped = stop_inside_flow(s, target, paused);
@@ -584,8 +535,8 @@ TEST(SlideCheckpoint, AStopAfterAStableFlowFirstFlowFinishesTheStep) {
   ASSERT_TRUE(stopped.interrupted && saved) << stopped.stop_reason;
   EXPECT_FALSE(saved->pending.has_value());
   EXPECT_EQ(saved->current.Dx, target) << "the resumed step was not finished before the stop";
-  expect_same(reference, resume_through_file(s, *saved),
-              "paused inside the stable flow, then stopped after it");
+  test::expect_same_result(reference, resume_through_file(s, *saved),
+                           "paused inside the stable flow, then stopped after it");
 }
 
 // A checkpoint that falls due inside a slip's flow holds the paused flow, which belongs to its
@@ -622,7 +573,7 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
                        },
                    .checkpoint = [&](const SlideState& st) { saved.push_back(st); },
                    .checkpoint_every_s = 0.5});
-  expect_same(reference, r, "with a checkpoint inside a flow");
+  test::expect_same_result(reference, r, "with a checkpoint inside a flow");
   ASSERT_TRUE(slept) << "no flow reported its iterations";
   std::size_t paused = 0;
   for (std::size_t i = 0; i < saved.size(); ++i) {
@@ -637,8 +588,8 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
     EXPECT_FALSE(saved[j].pending.has_value())
         << "the checkpoint after a paused one is inside another flow";
     if (paused == 1) {
-      expect_same(reference, resume_through_file(s, saved[j]),
-                  "resumed from the checkpoint between steps after a paused one");
+      test::expect_same_result(reference, resume_through_file(s, saved[j]),
+                               "resumed from the checkpoint between steps after a paused one");
       // A slide resumed from the paused checkpoint itself writes one between steps after
       // continuing that flow, not the paused state again at its first step's top (with no
       // checkpoint ever due, that one is the only checkpoint it writes).
@@ -651,7 +602,7 @@ TEST(SlideCheckpoint, APausedCheckpointIsFollowedByOneBetweenSteps) {
           SlideControl{.checkpoint = [&](const SlideState& st) { again.push_back(st); },
                        .checkpoint_every_s = 1e9,
                        .start = &back.state});
-      expect_same(reference, resumed, "resumed from the paused checkpoint");
+      test::expect_same_result(reference, resumed, "resumed from the paused checkpoint");
       ASSERT_EQ(again.size(), 1u) << "checkpoints of the resumed slide";
       EXPECT_FALSE(again[0].pending.has_value());
       EXPECT_GE(again[0].current.Dx, saved[i].pending->Dx);  // after the flow's step
@@ -670,12 +621,13 @@ TEST(SlideCheckpoint, IntervalCheckpointsChangeNothing) {
       slide::slide(s.contact, s.options,
                    SlideControl{.checkpoint = [&](const SlideState& st) { ++calls, last = st; },
                                 .checkpoint_every_s = 0.0});
-  expect_same(reference, r, "checkpoint after every step");
+  test::expect_same_result(reference, r, "checkpoint after every step");
   EXPECT_GE(calls, reference.steps);
   // The last one resumes to the end too.
   ASSERT_TRUE(last.has_value());
-  expect_same(reference, slide::slide(s.contact, s.options, SlideControl{.start = &*last}),
-              "resumed from the last interval checkpoint");
+  test::expect_same_result(reference,
+                           slide::slide(s.contact, s.options, SlideControl{.start = &*last}),
+                           "resumed from the last interval checkpoint");
 }
 
 // A slide stopped by its distance cap hands over no checkpoint at the cap: its last one is from
@@ -697,9 +649,9 @@ TEST(SlideCheckpoint, TheLastCheckpointOfACappedSlideContinuesUnderALongerCap) {
   longer.options.max_distance = 2.0;
   const SlideResult reference = slide::slide(longer.contact, longer.options);
   EXPECT_GT(reference.trace.back().Dx, 0.45);
-  expect_same(reference,
-              slide::slide(longer.contact, longer.options, SlideControl{.start = &*last}),
-              "the capped slide's last checkpoint under a longer cap");
+  test::expect_same_result(
+      reference, slide::slide(longer.contact, longer.options, SlideControl{.start = &*last}),
+      "the capped slide's last checkpoint under a longer cap");
 }
 
 TEST(SlideCheckpoint, NonConvergenceStopsWithStepParametersAndLastGoodState) {
@@ -947,7 +899,7 @@ TEST(FrameSink, StreamsTheFramesAndHoldsNone) {
   EXPECT_TRUE(streamed.snapshots.empty());
   SlideResult without_frames = collected;
   without_frames.snapshots.clear();
-  expect_same(without_frames, streamed, "streamed");
+  test::expect_same_result(without_frames, streamed, "streamed");
   ASSERT_EQ(sink.frames.size(), collected.snapshots.size());
   // The collected peak comes first, the streamed one last.
   std::vector<RecordFrames::Frame> expected;
