@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
 
 #include "asperity/apps/common/lines_json.hpp"
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/plot.hpp"
 #include "asperity/apps/common/xyz_io.hpp"
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
@@ -271,7 +274,8 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
       fs::remove(f, ec);
       fs::remove(xyz_beside(f), ec);
     }
-    fs::remove(census_file(), ec);
+    for (const fs::path& f : {census_file(), friction_figure(), loops_figure()})
+      fs::remove(f, ec);
     largest_ = 0;
     return {};
   }
@@ -334,7 +338,7 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
                              std::to_string(wanted) +
                              " slips before the checkpoint; it goes on from the next");
   }
-  census_.write(census_file());
+  write_census();
   return warning;
 }
 
@@ -372,7 +376,99 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   row.emplace_back(static_cast<long long>(after.gf_applications));
   row.emplace_back(after.wall_s);
   census_.add_row(std::move(row));
+  write_census();
+}
+
+namespace {
+
+// A cell of slips.csv as a number; NaN where it is empty (a row without its census), which
+// leaves a gap in the figure.
+double number_or_nan(const CsvTable& t, std::size_t row, std::string_view column) {
+  try {
+    return t.number(row, column);
+  } catch (const std::invalid_argument&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+// "a = 300 d, R = 800 d" from the frames' attributes (the point), or "" if they do not say.
+std::string point_title(const nlohmann::json& attributes) {
+  if (!attributes.contains("a") || !attributes.contains("R") || !attributes["a"].is_number() ||
+      !attributes["R"].is_number())
+    return "";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "a = %g d, R = %g d: ", attributes["a"].get<double>(),
+                attributes["R"].get<double>());
+  return buf;
+}
+
+}  // namespace
+
+void LargestSlipSink::write_census() {
   census_.write(census_file());
+  if (census_.rows() == 0) return;
+  try {
+    // Friction as mu/alpha where the frames give alpha (the seed's Fig. 4 axis), else Fx/Fz.
+    const bool has_alpha = attributes_.contains("alpha") && attributes_["alpha"].is_number() &&
+                           attributes_["alpha"].get<double>() > 0.0;
+    const double alpha = has_alpha ? attributes_["alpha"].get<double>() : 1.0;
+    const std::size_t n = census_.rows();
+    Series path{.title = "", .style = "lines lw 1 lc rgb '#999999'"};
+    Series before{.title = "before a slip", .style = "points pt 7 ps 0.9 lc rgb '#d62728'"};
+    Series after{.title = "after it", .style = "points pt 7 ps 0.9 lc rgb '#1f77b4'"};
+    Series loops{.title = "inside the loops", .style = "linespoints pt 7 ps 0.7 lc rgb '#d62728'"};
+    Series largest{.title = "inside the largest loop", .style = "lines lw 1 dt 2 lc rgb '#ff9900'"};
+    Series slipped{.title = "slipped area", .style = "linespoints pt 7 ps 0.7 lc rgb '#1f77b4'"};
+    double peak = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double Dx = number_or_nan(census_, i, "Dx");
+      const double Fz = number_or_nan(census_, i, "Fz");
+      const double b = number_or_nan(census_, i, "Fx_before") / (alpha * Fz);
+      const double a = number_or_nan(census_, i, "Fx_after") / (alpha * Fz);
+      path.x.insert(path.x.end(), {Dx, Dx});
+      path.y.insert(path.y.end(), {b, a});
+      before.x.push_back(Dx);
+      before.y.push_back(b);
+      after.x.push_back(Dx);
+      after.y.push_back(a);
+      if (std::isfinite(b)) peak = std::max(peak, b);
+      loops.x.push_back(Dx);
+      loops.y.push_back(number_or_nan(census_, i, "loop_area"));
+      largest.x.push_back(Dx);
+      largest.y.push_back(number_or_nan(census_, i, "largest_loop_area"));
+      slipped.x.push_back(Dx);
+      slipped.y.push_back(number_or_nan(census_, i, "slipped_area"));
+    }
+    std::vector<Series> friction = {path, before, after};
+    char buf[96];
+    if (std::isfinite(peak)) {
+      std::snprintf(buf, sizeof buf, "largest before a slip: %.5g", peak);
+      friction.push_back({.x = {before.x.front(), before.x.back()},
+                          .y = {peak, peak},
+                          .title = buf,
+                          .style = "lines lw 1 dt 2 lc rgb 'black'"});
+    }
+    const std::string point = point_title(attributes_);
+    std::snprintf(buf, sizeof buf, "%zu slip%s", n, n == 1 ? "" : "s");
+    plot_png(friction_figure(), friction,
+             {.title = point + "friction at each slip (" + buf + ")",
+              .xlabel = "Dx at the slip (d)",
+              .ylabel = has_alpha ? "mu / alpha = Fx / (alpha Fz)" : "Fx / Fz",
+              .extra_commands = {"set key bottom right", "set grid"}});
+    const double last_loops = number_or_nan(census_, n - 1, "loops");
+    std::snprintf(buf, sizeof buf, "%g loop%s after the last", last_loops,
+                  last_loops == 1.0 ? "" : "s");
+    plot_png(loops_figure(), {loops, largest, slipped},
+             {.title = point + "the loops after each slip (" + buf + ")",
+              .xlabel = "Dx at the slip (d)",
+              .ylabel = "area (d^2)",
+              .extra_commands = {"set key right center", "set grid"}});
+  } catch (const std::exception& e) {
+    if (!figure_failed_) {
+      std::fprintf(stderr, "largest_slip: figures of slips.csv not drawn (%s)\n", e.what());
+    }
+    figure_failed_ = true;
+  }
 }
 
 void LargestSlipSink::state(const slide::Snapshot& frame) {

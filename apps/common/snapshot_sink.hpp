@@ -95,7 +95,11 @@ class SnapshotSink final : public slide::FrameSink {
 // the census of the lines its "after" state holds (tracking::census: loops, their area and
 // character, the slipped area), so that how a Regime III slide's loops nucleate, creep and are
 // arrested is kept for every slip in a few hundred bytes each (the table is rewritten whole at
-// each slip, atomically, like every result file).
+// each slip, atomically, like every result file). Beside it two figures of the table, redrawn
+// with it: slips.png, the friction before and after each slip against Dx with the largest
+// before a slip (does friction rise past the first slip's peak while loops are held: Regime
+// III, MODEL.md 8), and slips_loops.png, the loops' area, the largest loop's and the slipped
+// area after each slip (does the arrested loop hold, creep, or go).
 // No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
@@ -140,6 +144,8 @@ class LargestSlipSink final : public slide::FrameSink {
     return dir_ / "latest_slip_after.nc";
   }
   [[nodiscard]] std::filesystem::path census_file() const { return dir_ / "slips.csv"; }
+  [[nodiscard]] std::filesystem::path friction_figure() const { return dir_ / "slips.png"; }
+  [[nodiscard]] std::filesystem::path loops_figure() const { return dir_ / "slips_loops.png"; }
   // The columns of slips.csv, in order.
   static std::vector<std::string> census_columns();
 
@@ -152,7 +158,11 @@ class LargestSlipSink final : public slide::FrameSink {
   // tracer rejects gets a row with its place and empty census fields, and a note on stderr.
   void add_census_row(const slide::Snapshot& before, const slide::Snapshot& after);
   void set_census_aside(std::string& warning, const std::string& why);
+  // slips.csv and its figures. A figure that cannot be drawn (no gnuplot) is noted on stderr
+  // once and left: the table is the result.
+  void write_census();
 
+  bool figure_failed_ = false;
   int largest_ = 0;
   std::optional<slide::Snapshot> before_;  // of the slip whose "after" comes next
   CsvTable census_{census_columns()};      // slips.csv as on disk

@@ -2,7 +2,7 @@
 // (tests/regression/sweep_largest_slip.toml) through slips of different sizes; the point's
 // largest_slip/ must hold exactly the states before and after the slip with the most slipped
 // sites in its trace (the first of equals), the very states of its trace rows, the states
-// before and after its last slip, and the peak.
+// before and after its last slip, the peak, and slips.csv with its figures.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -77,9 +77,13 @@ TEST(FrictionSweepLargestSlip, KeepsTheStatesOfTheSlipWithMostSites) {
   EXPECT_DOUBLE_EQ(latest_after[0].Dx, trace.number(last_row, "Dx"));
   EXPECT_DOUBLE_EQ(latest_after[0].Fx, trace.number(last_row, "Fx"));
 
-  // Two pairs, the peak and slips.csv, however many slips.
+  // Two pairs, the peak, slips.csv and its two figures, however many slips.
   EXPECT_EQ(std::distance(fs::directory_iterator(point / "largest_slip"), fs::directory_iterator()),
-            6);
+            8);
+  for (const char* png : {"slips.png", "slips_loops.png"}) {
+    ASSERT_TRUE(fs::exists(point / "largest_slip" / png)) << png;
+    EXPECT_GT(fs::file_size(point / "largest_slip" / png), 1000u) << png;
+  }
 }
 
 // slips.csv: a row per slip event of the trace, in order, at its row's Dx and Fx (Fx before: the
