@@ -10,6 +10,7 @@
 #   scripts/long_runs.sh status            where each run is: running, or stopped since when
 #                                          (its log's last write), its last progress line, and
 #                                          each point's latest slip (slips.csv, --largest-slip)
+#                                          and where its figures are (slips.png, slips_loops.png)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
 #                                          this checkout's build, which it keeps from then on:
@@ -143,7 +144,11 @@ status() {
           printf ", at %s GF, %.2f h", f[col["gf_applications"]], f[col["wall_s"]] / 3600
         printf "\n"
       }' "$table"
+    # Its figures (friction and loops at every slip), if the run's build draws them.
+    [ -f "$(dirname "$table")/slips.png" ] &&
+      echo "    figures: $(dirname "$table")/slips.png, slips_loops.png"
   done
+  return 0
 }
 
 stop() {
