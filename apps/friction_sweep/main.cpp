@@ -8,7 +8,7 @@
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
 //   figures and snapshots of contact_slide; with --largest-slip, largest_slip/ with the states
 //   before and after the point's largest slip, those of its latest slip, its peak state and
-//   slips.csv, the loops after each slip);
+//   slips.csv, the loops after each slip, with its figures slips.png and slips_loops.png);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png;
@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
                  "points/<point>/largest_slip/ (for track_loops): two pairs of frames however "
                  "many slips; and slips.csv there, a row per slip with the loops its state "
                  "holds (number, area, screw fraction, slipped area) and the slide's cost so far "
-                 "(GF applications, wall time)")
+                 "(GF applications, wall time), drawn in slips.png (mu/alpha before and after "
+                 "each slip) and slips_loops.png (the loops' and the slipped area)")
         ->excludes(figures_opt);
     cli.add_flag("--adopt", o.adopt,
                  "Continue checkpoints and keep finished rows of another build, or of other "
