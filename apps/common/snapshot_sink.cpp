@@ -439,6 +439,15 @@ void LargestSlipSink::write_census() {
       slipped.x.push_back(Dx);
       slipped.y.push_back(number_or_nan(census_, i, "slipped_area"));
     }
+    // A figure is drawn once it has a value to show (rows whose census the tracer rejected have
+    // none): gnuplot refuses a plot without one.
+    const auto any_finite = [](const std::vector<Series>& s) {
+      return std::any_of(s.begin(), s.end(), [](const Series& one) {
+        for (std::size_t i = 0; i < one.x.size(); ++i)
+          if (std::isfinite(one.x[i]) && std::isfinite(one.y[i])) return true;
+        return false;
+      });
+    };
     std::vector<Series> friction = {path, before, after};
     char buf[96];
     if (std::isfinite(peak)) {
@@ -450,19 +459,23 @@ void LargestSlipSink::write_census() {
     }
     const std::string point = point_title(attributes_);
     std::snprintf(buf, sizeof buf, "%zu slip%s", n, n == 1 ? "" : "s");
-    plot_png(friction_figure(), friction,
-             {.title = point + "friction at each slip (" + buf + ")",
-              .xlabel = "Dx at the slip (d)",
-              .ylabel = has_alpha ? "mu / alpha = Fx / (alpha Fz)" : "Fx / Fz",
-              .extra_commands = {"set key bottom right", "set grid"}});
+    if (any_finite(friction)) {
+      plot_png(friction_figure(), friction,
+               {.title = point + "friction at each slip (" + buf + ")",
+                .xlabel = "Dx at the slip (d)",
+                .ylabel = has_alpha ? "mu / alpha = Fx / (alpha Fz)" : "Fx / Fz",
+                .extra_commands = {"set key bottom right", "set grid"}});
+    }
     const double last_loops = number_or_nan(census_, n - 1, "loops");
     std::snprintf(buf, sizeof buf, "%g loop%s after the last", last_loops,
                   last_loops == 1.0 ? "" : "s");
-    plot_png(loops_figure(), {loops, largest, slipped},
-             {.title = point + "the loops after each slip (" + buf + ")",
-              .xlabel = "Dx at the slip (d)",
-              .ylabel = "area (d^2)",
-              .extra_commands = {"set key right center", "set grid"}});
+    if (any_finite({loops, largest, slipped})) {
+      plot_png(loops_figure(), {loops, largest, slipped},
+               {.title = point + "the loops after each slip (" + buf + ")",
+                .xlabel = "Dx at the slip (d)",
+                .ylabel = "area (d^2)",
+                .extra_commands = {"set key right center", "set grid"}});
+    }
   } catch (const std::exception& e) {
     if (!figure_failed_) {
       std::fprintf(stderr, "largest_slip: figures of slips.csv not drawn (%s)\n", e.what());

@@ -752,7 +752,10 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_FALSE(fs::exists(dir / "peak.nc"));
     sink.state(slip(2, "peak", 2.0, 0));
     EXPECT_EQ(label_of(dir / "peak.nc"), "peak");
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 6);
+    // The two pairs, the peak, slips.csv and its two figures.
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 8);
+    EXPECT_TRUE(fs::exists(sink.friction_figure()));
+    EXPECT_TRUE(fs::exists(sink.loops_figure()));
     // A row per slip in slips.csv: the slip's place (Fx before from its "before" state) and the
     // census of its "after" state, the same as tracking's on that frame.
     const CsvTable rows = CsvTable::read(sink.census_file());
