@@ -144,9 +144,12 @@ status() {
           printf ", at %s GF, %.2f h", f[col["gf_applications"]], f[col["wall_s"]] / 3600
         printf "\n"
       }' "$table"
-    # Its figures (friction and loops at every slip), if the run's build draws them.
-    [ -f "$(dirname "$table")/slips.png" ] &&
-      echo "    figures: $(dirname "$table")/slips.png, slips_loops.png"
+    # Its figures (friction and loops at every slip), those the run's build has drawn.
+    local fig figs=""
+    for fig in slips.png slips_loops.png; do
+      [ -f "$(dirname "$table")/$fig" ] && figs="$figs${figs:+, }$(dirname "$table")/$fig"
+    done
+    [ -n "$figs" ] && echo "    figures: $figs"
   done
   return 0
 }

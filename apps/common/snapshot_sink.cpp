@@ -221,18 +221,19 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
 }
 
 namespace {
-// slips.csv's last columns: the slide's cost when it accepted the slip (Snapshot).
-constexpr std::array<const char*, 2> kCostColumns = {"gf_applications", "wall_s"};
+// slips.csv's last columns, in the order they were added: the slide's cost when it accepted the
+// slip (Snapshot), and where the slip's step began (the "before" state's Dx).
+constexpr std::array<const char*, 3> kLastColumns = {"gf_applications", "wall_s", "Dx_before"};
 }  // namespace
 
 // The slip's place in the slide, then the census (lines_json.hpp, one description with Python),
-// then the slide's cost so far. New columns go at the end: a table of an earlier build is then a
-// prefix of this one and a resumed run keeps its rows (start()).
+// then the slide's cost so far and the step's start. New columns go at the end: a table of an
+// earlier build is then a prefix of this one and a resumed run keeps its rows (start()).
 std::vector<std::string> LargestSlipSink::census_columns() {
   std::vector<std::string> columns = {"slip", "Dx", "Fx_before", "Fx_after", "Fz", "slipped_sites"};
   for (const auto& [name, value] : census_fields({}))
     columns.push_back(name);
-  columns.insert(columns.end(), kCostColumns.begin(), kCostColumns.end());
+  columns.insert(columns.end(), kLastColumns.begin(), kLastColumns.end());
   return columns;
 }
 
@@ -268,14 +269,16 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
   fs::remove(dir_ / "peak.nc", ec);  // made again at the end
   fs::remove(dir_ / "peak.xyz", ec);
   census_ = CsvTable(census_columns());
+  // Drawn again from the rows kept (none on a fresh start).
+  for (const fs::path& f : {friction_figure(), loops_figure()})
+    fs::remove(f, ec);
   if (!resume) {
     for (const fs::path& f :
          {before_file(), after_file(), latest_before_file(), latest_after_file()}) {
       fs::remove(f, ec);
       fs::remove(xyz_beside(f), ec);
     }
-    for (const fs::path& f : {census_file(), friction_figure(), loops_figure()})
-      fs::remove(f, ec);
+    fs::remove(census_file(), ec);
     largest_ = 0;
     return {};
   }
@@ -315,6 +318,10 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
             for (std::size_t c = 0; c < old.columns().size(); ++c)
               row.push_back(old.cell(i, c));
             row.resize(columns.size(), CsvTable::Cell(std::string()));
+            // Dx_before, which builds before it did not write, from the checkpoint's trace.
+            if (const auto* cell = std::get_if<std::string>(&row.back());
+                cell && cell->empty() && std::isfinite(slip.Dx_before))
+              row.back() = slip.Dx_before;
             census_.add_row(std::move(row));
             ++kept;
           }
@@ -372,9 +379,10 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
     }
   }
   // Empty census fields without a census.
-  row.resize(census_.columns().size() - kCostColumns.size(), CsvTable::Cell(std::string()));
+  row.resize(census_.columns().size() - kLastColumns.size(), CsvTable::Cell(std::string()));
   row.emplace_back(static_cast<long long>(after.gf_applications));
   row.emplace_back(after.wall_s);
+  row.emplace_back(before.Dx);
   census_.add_row(std::move(row));
   write_census();
 }
@@ -406,7 +414,7 @@ std::string point_title(const nlohmann::json& attributes) {
 
 void LargestSlipSink::write_census() {
   census_.write(census_file());
-  if (census_.rows() == 0) return;
+  std::error_code ec;
   try {
     // Friction as mu/alpha where the frames give alpha (the seed's Fig. 4 axis), else Fx/Fz.
     const bool has_alpha = attributes_.contains("alpha") && attributes_["alpha"].is_number() &&
@@ -419,19 +427,23 @@ void LargestSlipSink::write_census() {
     Series loops{.title = "inside the loops", .style = "linespoints pt 7 ps 0.7 lc rgb '#d62728'"};
     Series largest{.title = "inside the largest loop", .style = "lines lw 1 dt 2 lc rgb '#ff9900'"};
     Series slipped{.title = "slipped area", .style = "linespoints pt 7 ps 0.7 lc rgb '#1f77b4'"};
-    double peak = -std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < n; ++i) {
       const double Dx = number_or_nan(census_, i, "Dx");
+      // The state before the slip is the one its step began from, a step back (rows of an
+      // earlier build without Dx_before: drawn at the slip's Dx).
+      double Dx0 = number_or_nan(census_, i, "Dx_before");
+      if (!std::isfinite(Dx0)) Dx0 = Dx;
       const double Fz = number_or_nan(census_, i, "Fz");
       const double b = number_or_nan(census_, i, "Fx_before") / (alpha * Fz);
       const double a = number_or_nan(census_, i, "Fx_after") / (alpha * Fz);
-      path.x.insert(path.x.end(), {Dx, Dx});
+      // The slide through its slips: the stable state before, the step to the slip's Dx (its
+      // loading and the slip), then the loading to the next slip's start.
+      path.x.insert(path.x.end(), {Dx0, Dx});
       path.y.insert(path.y.end(), {b, a});
-      before.x.push_back(Dx);
+      before.x.push_back(Dx0);
       before.y.push_back(b);
       after.x.push_back(Dx);
       after.y.push_back(a);
-      if (std::isfinite(b)) peak = std::max(peak, b);
       loops.x.push_back(Dx);
       loops.y.push_back(number_or_nan(census_, i, "loop_area"));
       largest.x.push_back(Dx);
@@ -440,7 +452,7 @@ void LargestSlipSink::write_census() {
       slipped.y.push_back(number_or_nan(census_, i, "slipped_area"));
     }
     // A figure is drawn once it has a value to show (rows whose census the tracer rejected have
-    // none): gnuplot refuses a plot without one.
+    // none): gnuplot refuses a plot without one. One it does not draw is removed.
     const auto any_finite = [](const std::vector<Series>& s) {
       return std::any_of(s.begin(), s.end(), [](const Series& one) {
         for (std::size_t i = 0; i < one.x.size(); ++i)
@@ -450,33 +462,46 @@ void LargestSlipSink::write_census() {
     };
     std::vector<Series> friction = {path, before, after};
     char buf[96];
-    if (std::isfinite(peak)) {
-      std::snprintf(buf, sizeof buf, "largest before a slip: %.5g", peak);
-      friction.push_back({.x = {before.x.front(), before.x.back()},
-                          .y = {peak, peak},
+    // The value before the first slip: in Regime II the peak each cycle returns to, in Regime
+    // III the one friction climbs past while the loops are held.
+    if (n > 0 && std::isfinite(before.y.front()) && std::isfinite(after.x.back())) {
+      std::snprintf(buf, sizeof buf, "before the first slip: %.5g", before.y.front());
+      friction.push_back({.x = {before.x.front(), after.x.back()},
+                          .y = {before.y.front(), before.y.front()},
                           .title = buf,
                           .style = "lines lw 1 dt 2 lc rgb 'black'"});
     }
     const std::string point = point_title(attributes_);
-    std::snprintf(buf, sizeof buf, "%zu slip%s", n, n == 1 ? "" : "s");
+    // The slip events by number (a resumed table may lack rows of slips before its checkpoint).
+    const double slips = n > 0 ? number_or_nan(census_, n - 1, "slip") : 0.0;
+    std::snprintf(buf, sizeof buf, "%g slip%s", slips, slips == 1.0 ? "" : "s");
     if (any_finite(friction)) {
       plot_png(friction_figure(), friction,
                {.title = point + "friction at each slip (" + buf + ")",
-                .xlabel = "Dx at the slip (d)",
+                .xlabel = "Dx (d)",
                 .ylabel = has_alpha ? "mu / alpha = Fx / (alpha Fz)" : "Fx / Fz",
                 .extra_commands = {"set key bottom right", "set grid"}});
+    } else {
+      fs::remove(friction_figure(), ec);
     }
-    const double last_loops = number_or_nan(census_, n - 1, "loops");
-    std::snprintf(buf, sizeof buf, "%g loop%s after the last", last_loops,
+    const double last_loops =
+        n > 0 ? number_or_nan(census_, n - 1, "loops") : std::numeric_limits<double>::quiet_NaN();
+    std::snprintf(buf, sizeof buf, " (%g loop%s after the last)", last_loops,
                   last_loops == 1.0 ? "" : "s");
     if (any_finite({loops, largest, slipped})) {
-      plot_png(loops_figure(), {loops, largest, slipped},
-               {.title = point + "the loops after each slip (" + buf + ")",
-                .xlabel = "Dx at the slip (d)",
-                .ylabel = "area (d^2)",
-                .extra_commands = {"set key right center", "set grid"}});
+      plot_png(
+          loops_figure(), {loops, largest, slipped},
+          {.title = point + "the loops after each slip" + (std::isfinite(last_loops) ? buf : ""),
+           .xlabel = "Dx at the slip (d)",
+           .ylabel = "area (d^2)",
+           .extra_commands = {"set key right center", "set grid"}});
+    } else {
+      fs::remove(loops_figure(), ec);
     }
   } catch (const std::exception& e) {
+    // Not left out of date: a figure on disk is the table's.
+    fs::remove(friction_figure(), ec);
+    fs::remove(loops_figure(), ec);
     if (!figure_failed_) {
       std::fprintf(stderr, "largest_slip: figures of slips.csv not drawn (%s)\n", e.what());
     }

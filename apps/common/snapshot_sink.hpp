@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -96,10 +97,11 @@ class SnapshotSink final : public slide::FrameSink {
 // character, the slipped area), so that how a Regime III slide's loops nucleate, creep and are
 // arrested is kept for every slip in a few hundred bytes each (the table is rewritten whole at
 // each slip, atomically, like every result file). Beside it two figures of the table, redrawn
-// with it: slips.png, the friction before and after each slip against Dx with the largest
-// before a slip (does friction rise past the first slip's peak while loops are held: Regime
-// III, MODEL.md 8), and slips_loops.png, the loops' area, the largest loop's and the slipped
-// area after each slip (does the arrested loop hold, creep, or go).
+// with it: slips.png, the friction before each slip (at the Dx its step began from) and after
+// it, with the value before the first slip as a line (does friction climb past the first
+// slip's peak while loops are held: Regime III, MODEL.md 8), and slips_loops.png, the loops'
+// area, the largest loop's and the slipped area after each slip (does the arrested loop hold,
+// creep, or go). A figure on disk is the table's: one that cannot be drawn is removed.
 // No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
@@ -112,6 +114,9 @@ class LargestSlipSink final : public slide::FrameSink {
     struct Slip {
       double Dx = 0.0;
       int slipped_sites = 0;
+      // Where its step began: the accepted state before it (the trace row above), for the
+      // Dx_before cells of rows an earlier build wrote without them. NaN: not known.
+      double Dx_before = std::numeric_limits<double>::quiet_NaN();
     };
     std::vector<Slip> slips;
     [[nodiscard]] int largest_slipped_sites() const;

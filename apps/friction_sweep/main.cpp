@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
                  "many slips; and slips.csv there, a row per slip with the loops its state "
                  "holds (number, area, screw fraction, slipped area) and the slide's cost so far "
                  "(GF applications, wall time), drawn in slips.png (mu/alpha before and after "
-                 "each slip) and slips_loops.png (the loops' and the slipped area)")
+                 "each slip, against its value before the first) and slips_loops.png (the "
+                 "loops' and the slipped area)")
         ->excludes(figures_opt);
     cli.add_flag("--adopt", o.adopt,
                  "Continue checkpoints and keep finished rows of another build, or of other "

@@ -453,8 +453,13 @@ class SweepRunner {
       std::optional<LargestSlipSink::Resume> so_far;
       if (start) {
         so_far.emplace();
-        for (const slide::TraceRow& r : start->state.partial.trace)
-          if (r.slip) so_far->slips.push_back({.Dx = r.Dx, .slipped_sites = r.slipped_sites});
+        const auto& trace = start->state.partial.trace;
+        for (std::size_t i = 0; i < trace.size(); ++i) {
+          if (!trace[i].slip) continue;
+          so_far->slips.push_back({.Dx = trace[i].Dx,
+                                   .slipped_sites = trace[i].slipped_sites,
+                                   .Dx_before = i > 0 ? trace[i - 1].Dx : trace[i].Dx});
+        }
       }
       if (const std::string warning = sinks.largest->start(so_far); !warning.empty()) {
         say(point, warning);

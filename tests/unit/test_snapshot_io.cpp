@@ -783,11 +783,12 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_EQ(rows.number(i, "slipped_area"), c.slipped_area);
       EXPECT_EQ(rows.integer(i, "gf_applications"), static_cast<long long>(100 * (i + 1)));
       EXPECT_EQ(rows.number(i, "wall_s"), 0.5 * static_cast<double>(i + 1));
+      EXPECT_EQ(rows.number(i, "Dx_before"), static_cast<double>(i + 1));  // the "before" frame's
     }
-    // The cost columns come last, after the census.
+    // The cost columns and the step's start come last, after the census.
     const std::vector<std::string>& columns = rows.columns();
-    EXPECT_EQ(std::vector<std::string>(columns.end() - 2, columns.end()),
-              (std::vector<std::string>{"gf_applications", "wall_s"}));
+    EXPECT_EQ(std::vector<std::string>(columns.end() - 3, columns.end()),
+              (std::vector<std::string>{"gf_applications", "wall_s", "Dx_before"}));
     // The loop's row: one loop of about pi 5^2 d^2 (5 %, as tracking's analytic tests allow).
     EXPECT_EQ(rows.integer(1, "loops"), 1);
     EXPECT_NEAR(rows.number(1, "loop_area"), 25.0 * std::numbers::pi, 1.25 * std::numbers::pi);
@@ -849,10 +850,11 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   }
   {
     // A table of an earlier build, whose columns are the first of today's (before the cost
-    // columns): its rows are kept with the new columns empty, and the next slip's row is full.
-    // A table with a column today's do not have in its place is set aside.
+    // columns and Dx_before): its rows are kept with the new columns empty, but for Dx_before,
+    // which the checkpoint's trace gives, and the next slip's row is full. A table with a column
+    // today's do not have in its place is set aside.
     std::vector<std::string> columns = LargestSlipSink::census_columns();
-    columns.resize(columns.size() - 2);
+    columns.resize(columns.size() - 3);
     CsvTable earlier(columns);
     for (int k = 1; k <= 2; ++k) {
       std::vector<CsvTable::Cell> row = {static_cast<long long>(k),
@@ -866,7 +868,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     }
     earlier.write(dir / "slips.csv");
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5}, {2.0, 40}}}), "");
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5, 0.75}, {2.0, 40, 1.5}}}), "");
     sink.state(slip(1, "slip_003_before", 3.0, 40));
     sink.state(slip(2, "slip_003_after", 3.0, 40));
     const CsvTable rows = CsvTable::read(sink.census_file());
@@ -875,6 +877,8 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_EQ(rows.integer(1, "slipped_sites"), 40);
     EXPECT_EQ(rows.text(1, "gf_applications"), "");
     EXPECT_EQ(rows.text(1, "wall_s"), "");
+    EXPECT_EQ(rows.number(0, "Dx_before"), 0.75);
+    EXPECT_EQ(rows.number(1, "Dx_before"), 1.5);
     EXPECT_EQ(rows.integer(2, "gf_applications"), 300);
     EXPECT_EQ(rows.number(2, "wall_s"), 1.5);
     columns.emplace_back("not_ours");
@@ -899,6 +903,22 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_FALSE(fs::exists(dir / "largest_slip_after.nc"));
     EXPECT_FALSE(fs::exists(dir / "latest_slip_after.nc"));
     EXPECT_FALSE(fs::exists(sink.census_file()));
+    EXPECT_FALSE(fs::exists(sink.friction_figure()));
+    EXPECT_FALSE(fs::exists(sink.loops_figure()));
+  }
+  {
+    // A figure that cannot be written (here a directory holds its name) never stops the slide:
+    // the table grows, and the other figure, which would be out of date, is not left behind.
+    LargestSlipSink sink(dir, {{"a", 3.0}, {"alpha", 0.5}}, {});
+    EXPECT_EQ(sink.start(std::nullopt), "");
+    fs::create_directories(sink.friction_figure() / "in_the_way");
+    sink.state(slip(0, "slip_001_before", 1.0, 5));
+    EXPECT_NO_THROW(sink.state(loop_state("slip_001_after", 1.0, 5)));
+    sink.state(slip(0, "slip_002_before", 2.0, 5));
+    EXPECT_NO_THROW(sink.state(loop_state("slip_002_after", 2.0, 5)));
+    EXPECT_EQ(CsvTable::read(sink.census_file()).rows(), 2u);
+    EXPECT_FALSE(fs::exists(sink.loops_figure()));
+    fs::remove_all(sink.friction_figure());
   }
 }
 
