@@ -1,6 +1,7 @@
 #include "asperity/apps/common/plot.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,7 +9,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -26,7 +29,9 @@ struct ProcessResult {
   std::string output;  // stdout and stderr interleaved
 };
 
-ProcessResult run_process(const std::vector<std::string>& args) {
+// Runs args, killed (and an error thrown) if it has not finished within `timeout`.
+ProcessResult run_process(const std::vector<std::string>& args,
+                          std::chrono::milliseconds timeout = std::chrono::minutes(10)) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     throw std::runtime_error("cannot run " + args[0] + ": " + std::strerror(errno));
@@ -57,7 +62,19 @@ ProcessResult run_process(const std::vector<std::string>& args) {
   }
   ProcessResult result{-1, {}};
   char buf[4096];
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  bool timed_out = false;
   for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{.fd = fds[0], .events = POLLIN, .revents = 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
+    if (ready < 0 && errno != EINTR) break;
+    if (ready <= 0) continue;
     const ssize_t n = ::read(fds[0], buf, sizeof buf);
     if (n > 0) {
       result.output.append(buf, static_cast<std::size_t>(n));
@@ -66,8 +83,15 @@ ProcessResult run_process(const std::vector<std::string>& args) {
     }
   }
   ::close(fds[0]);
+  // Its whole process group (it was started as the group's leader).
+  if (timed_out) ::kill(-pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out) {
+    throw std::runtime_error(args[0] + " did not finish in " +
+                             std::to_string(std::chrono::duration<double>(timeout).count()) +
+                             " s and was killed");
   }
   if (WIFEXITED(status)) result.status = WEXITSTATUS(status);
   return result;
@@ -157,7 +181,13 @@ void render(const std::filesystem::path& png, const std::string& body, const Plo
   gp.replace_extension(".gp");
   TemporaryFile image(png), script_file(gp);
   std::ofstream(script_file.path()) << script(image.path());
-  const ProcessResult result = run_process({ASPERITY_GNUPLOT, script_file.path().string()});
+  if (!(o.timeout_s > 0.0)) {
+    throw std::invalid_argument("plot timeout must be positive, got " +
+                                std::to_string(o.timeout_s));
+  }
+  const ProcessResult result = run_process(
+      {ASPERITY_GNUPLOT, script_file.path().string()},
+      std::chrono::milliseconds(static_cast<long long>(std::ceil(1000.0 * o.timeout_s))));
   std::error_code ec;
   if (result.status != 0 || std::filesystem::file_size(image.path(), ec) == 0 || ec) {
     throw std::runtime_error("gnuplot failed to draw '" + png.string() + "':\n" + result.output);

@@ -24,6 +24,10 @@ struct PlotOptions {
   std::optional<std::pair<double, double>> xrange, yrange;  // axis limits; default autoscale
   std::vector<std::string> extra_commands;  // gnuplot commands issued just before plotting
   bool keep_script = false;  // also write the gnuplot script as <png without extension>.gp
+  // gnuplot is killed, and the figure fails, after this long (s): the figures a sweep draws
+  // mid-slide (friction_sweep --largest-slip, at every slip of a run of days) must not hang it
+  // on a stuck gnuplot; the largest maps take seconds.
+  double timeout_s = 600.0;
 };
 
 // Line/point plot. Throws std::invalid_argument for empty or mismatched series and

@@ -362,6 +362,14 @@ TEST_F(FilesTest, PlotWritesPng) {
   PlotOptions broken;
   broken.extra_commands = {"this is not gnuplot"};
   EXPECT_THROW(plot_png(dir_ / "q.png", {{x, y, ""}}, broken), std::runtime_error);
+  // A gnuplot that does not finish is killed at the timeout, and the figure fails.
+  PlotOptions stuck;
+  stuck.extra_commands = {"pause 30"};
+  stuck.timeout_s = 0.5;
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_THROW(plot_png(dir_ / "r.png", {{x, y, ""}}, stuck), std::runtime_error);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "r.png"));
   EXPECT_EQ(entries(), 2u);
 }
 
