@@ -319,9 +319,10 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
               row.push_back(old.cell(i, c));
             row.resize(columns.size(), CsvTable::Cell(std::string()));
             // Dx_before, which builds before it did not write, from the checkpoint's trace.
-            if (const auto* cell = std::get_if<std::string>(&row.back());
+            CsvTable::Cell& start = row.at(census_.column_index("Dx_before"));
+            if (const auto* cell = std::get_if<std::string>(&start);
                 cell && cell->empty() && std::isfinite(slip.Dx_before))
-              row.back() = slip.Dx_before;
+              start = slip.Dx_before;
             census_.add_row(std::move(row));
             ++kept;
           }
