@@ -419,27 +419,7 @@ TEST(ProtocolTomlinson, RecordsPathFramesOnlyOfTheRelaxationThatIsKept) {
 // row, mu, the slips and the frames handed over, bit for bit. The flow relaxing a slip is paused
 // rather than abandoned (SlideState::pending: its pair, velocity, step and path so far), the
 // other relaxations are abandoned and made again; both are exercised here, on the model whose
-// slips the tests above check against the closed forms.
-void expect_same_slide(const slide::SlideResult& a, const slide::SlideResult& b,
-                       const std::string& what) {
-  ASSERT_EQ(a.trace.size(), b.trace.size()) << what;
-  for (std::size_t i = 0; i < a.trace.size(); ++i) {
-    const auto &x = a.trace[i], &y = b.trace[i];
-    EXPECT_TRUE(x.Dx == y.Dx && x.Fx == y.Fx && x.energy == y.energy && x.slip == y.slip &&
-                x.slipped_sites == y.slipped_sites)
-        << what << ": row " << i << " at Dx " << x.Dx << " / " << y.Dx << " d";
-  }
-  EXPECT_EQ(a.mu, b.mu) << what;
-  EXPECT_EQ(a.peak_Dx, b.peak_Dx) << what;
-  EXPECT_EQ(a.slip_events, b.slip_events) << what;
-  EXPECT_EQ(a.stop_reason, b.stop_reason) << what;
-  ASSERT_EQ(a.snapshots.size(), b.snapshots.size()) << what;
-  for (std::size_t i = 0; i < a.snapshots.size(); ++i) {
-    const auto &x = a.snapshots[i], &y = b.snapshots[i];
-    EXPECT_TRUE(x.label == y.label && x.iteration == y.iteration && x.Dx == y.Dx && x.Fx == y.Fx)
-        << what << ": frame " << i << " " << x.label << " / " << y.label;
-  }
-}
+// slips the tests above check against the closed forms (test::expect_same_result).
 
 // A slide of the pause-and-stop tests: the model, its settings and the fast minimiser's
 // overshoots.
@@ -690,7 +670,8 @@ void check_flow_overrules_an_overshoot(bool stops) {
   EXPECT_EQ(over_first.overshoots, over.overshoots);
   EXPECT_EQ(over_first.result.flow_first_steps, over.overshoots);
   EXPECT_EQ(over_first.result.flow_first_stable, over_first.result.flow_first_steps);
-  expect_same_slide(over.result, over_first.result, "flow first, the fast minimiser overshooting");
+  test::expect_same_path(over.result, over_first.result,
+                         "flow first, the fast minimiser overshooting");
   EXPECT_EQ(over_first.result.minimizations, over.result.minimizations);
   EXPECT_EQ(over_first.result.slip_relaxations, over.result.slip_relaxations);
   EXPECT_EQ(over_first.result.gf_applications, over.result.gf_applications);
@@ -707,7 +688,7 @@ void check_flow_overrules_an_overshoot(bool stops) {
   // Stable by both: one relaxation more each time, the same slide.
   EXPECT_EQ(plain_first.result.flow_first_stable, plain_first.result.flow_first_steps);
   EXPECT_GT(plain_first.result.flow_first_steps, 0);
-  expect_same_slide(plain.result, plain_first.result, "flow first, stable by both");
+  test::expect_same_path(plain.result, plain_first.result, "flow first, stable by both");
   EXPECT_EQ(plain_first.result.minimizations,
             plain.result.minimizations + plain_first.result.flow_first_steps);
   std::printf(

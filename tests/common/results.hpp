@@ -1,5 +1,6 @@
 // Whether two slides gave the same result: every field of slide::SlideResult (the trace row by
-// row, mu, the peak, the counts and costs, the snapshots) to the bit, NaNs included. A slide
+// row, mu, the peak, the counts and costs, the snapshots) to the bit, NaNs included; or the same
+// path at another cost. A slide
 // stopped and resumed from its checkpoint must give the uninterrupted one's (MODEL.md 5: the path
 // is the result); the tests of checkpoints and of the protocol compare with this one list, so
 // that a field added to the result is compared everywhere.
@@ -18,6 +19,34 @@ namespace asperity::test {
 // Bit equality (NaN equals NaN; -0 does not equal 0).
 inline bool same_bits(double x, double y) {
   return std::memcmp(&x, &y, sizeof x) == 0;
+}
+
+// Whether two slides took the same path, whatever it cost: every trace row's place, forces,
+// energy and slips, mu and where it peaked, the slip events, why the slide stopped, and the
+// frames handed over (label, iteration, Dx, Fx), to the bit. Settings that change only how a
+// slide gets there (flow_first_after) must leave all of it as it is; expect_same_result below
+// also compares the costs.
+inline void expect_same_path(const slide::SlideResult& a, const slide::SlideResult& b,
+                             const std::string& where) {
+  ASSERT_EQ(a.trace.size(), b.trace.size()) << where;
+  for (std::size_t i = 0; i < a.trace.size(); ++i) {
+    const auto &x = a.trace[i], &y = b.trace[i];
+    EXPECT_TRUE(same_bits(x.Dx, y.Dx) && same_bits(x.Fx, y.Fx) && same_bits(x.Fz, y.Fz) &&
+                same_bits(x.energy, y.energy) && x.slip == y.slip &&
+                x.slipped_sites == y.slipped_sites)
+        << where << ": trace row " << i << " at Dx " << x.Dx << " / " << y.Dx << " d";
+  }
+  EXPECT_TRUE(same_bits(a.mu, b.mu)) << where;
+  EXPECT_TRUE(same_bits(a.peak_Dx, b.peak_Dx)) << where;
+  EXPECT_EQ(a.slip_events, b.slip_events) << where;
+  EXPECT_EQ(a.stop_reason, b.stop_reason) << where;
+  ASSERT_EQ(a.snapshots.size(), b.snapshots.size()) << where;
+  for (std::size_t i = 0; i < a.snapshots.size(); ++i) {
+    const auto &x = a.snapshots[i], &y = b.snapshots[i];
+    EXPECT_TRUE(x.label == y.label && x.iteration == y.iteration && same_bits(x.Dx, y.Dx) &&
+                same_bits(x.Fx, y.Fx))
+        << where << ": frame " << i << " " << x.label << " / " << y.label;
+  }
 }
 
 inline void expect_same_result(const slide::SlideResult& a, const slide::SlideResult& b,
