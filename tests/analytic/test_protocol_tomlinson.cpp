@@ -485,6 +485,24 @@ PauseKinds check_resumed_from_checkpoints(const PauseCase& c) {
   return resumed;
 }
 
+// The slide (from `start`, if given) stopped at the n-th time it asks whether to stop, and the
+// state its stop handed over (none if it ended first).
+struct Stopped {
+  Slid slid;
+  std::optional<slide::SlideState> state;
+};
+Stopped stop_at_poll(const PauseCase& c, int n, const slide::SlideState* start = nullptr) {
+  int asked = 0;
+  Stopped out;
+  slide::SlideControl control;
+  control.stop_requested = [&] { return ++asked == n; };
+  control.checkpoint = [&](const slide::SlideState& st) { out.state = st; };
+  control.checkpoint_every_s = 1e6;  // only the stop's
+  control.start = start;
+  out.slid = slide_tomlinson(c.m, c.o, control, c.overshoot);
+  return out;
+}
+
 // Stopped at the n-th time the slide asks whether to stop (between steps, and through the
 // heartbeat in its relaxations), for n = 1, 1 + s, 1 + 2 s, ... up to the last poll (s: the
 // stride that makes about max_stops stops), and resumed from the stop's checkpoint: the same
@@ -498,13 +516,7 @@ PauseKinds check_stopped_anywhere(const PauseCase& c, int max_stops) {
   PauseKinds stops;
   int not_stopped = 0;
   for (int n = 1; n <= polls; n += std::max(1, polls / max_stops)) {
-    int asked = 0;
-    std::optional<slide::SlideState> last;
-    slide::SlideControl control;
-    control.stop_requested = [&] { return ++asked == n; };
-    control.checkpoint = [&](const slide::SlideState& st) { last = st; };
-    control.checkpoint_every_s = 1e6;  // only the stop's
-    const Slid stopped = slide_tomlinson(c.m, c.o, control, c.overshoot);
+    const auto [stopped, last] = stop_at_poll(c, n);
     if (!stopped.result.interrupted) {
       ++not_stopped;
       continue;
@@ -545,14 +557,7 @@ Chain check_stopped_in_a_chain(const PauseCase& c, int k) {
   Chain chain;
   std::optional<slide::SlideState> from;
   for (chain.sessions = 1; chain.sessions <= max_sessions; ++chain.sessions) {
-    int asked = 0;
-    std::optional<slide::SlideState> last;
-    slide::SlideControl control;
-    control.stop_requested = [&] { return ++asked == k; };
-    control.checkpoint = [&](const slide::SlideState& st) { last = st; };
-    control.checkpoint_every_s = 1e6;  // only the stop's
-    if (from) control.start = &*from;
-    const Slid s = slide_tomlinson(c.m, c.o, control, c.overshoot);
+    auto [s, last] = stop_at_poll(c, k, from ? &*from : nullptr);
     if (!s.result.interrupted) {
       test::expect_same_result(plain.result, s.result, what);
       return chain;
