@@ -13,6 +13,11 @@ fail() {
   cat "$work/out" >&2
   exit 1
 }
+# status on the made-up folder, its output in $work/out.
+run_status() {
+  (cd "$repo" && RUNS="$work" bash scripts/long_runs.sh status) >"$work/out" 2>&1 ||
+    fail "status exited non-zero"
+}
 dir="$work/issue23/regime3_R800_g/points/a300_R800/largest_slip"
 mkdir -p "$dir"
 # The columns of friction_sweep's table in an order of their own, and one more at the end.
@@ -21,16 +26,15 @@ slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area,gf_appl
 1,4.19375,6587.06,5266.85,179999,207953,1,74290.6,208409,109233,26604,4.1875,x
 2,4.21375,5282.6,5298.1,179999,6,1,74241,208457,118000,28584,4.20375,x
 CSV
-(cd "$repo" && RUNS="$work" bash scripts/long_runs.sh status) >"$work/out" 2>&1 ||
-  fail "status exited non-zero"
+run_status
 grep -q "a300_R800: 2 slips; last: slip 2 at Dx = 4.2138 d, Fx 5282.6 -> 5298.1, 6 sites, 1 loops (area 74241 d^2), slipped area 208457 d^2, at 118000 GF, 7.94 h" "$work/out" ||
   fail "the latest slip of a300_R800"
 grep -q "figures:" "$work/out" && fail "figures named where there are none"
 touch "$dir/slips.png"
-(cd "$repo" && RUNS="$work" bash scripts/long_runs.sh status) >"$work/out" 2>&1 || fail "status exited non-zero"
+run_status
 grep -q "^    figures: $dir/slips.png$" "$work/out" || fail "the one figure there is"
 touch "$dir/slips_loops.png"
-(cd "$repo" && RUNS="$work" bash scripts/long_runs.sh status) >"$work/out" 2>&1 || fail "status exited non-zero"
+run_status
 grep -q "^    figures: $dir/slips.png, $dir/slips_loops.png$" "$work/out" || fail "both figures"
 grep -q "^r1700_a510 \[stopped, no binary\]: (no log)$" "$work/out" || fail "a run never started"
 echo "long_runs.sh status: OK"
