@@ -269,16 +269,15 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
   fs::remove(dir_ / "peak.nc", ec);  // made again at the end
   fs::remove(dir_ / "peak.xyz", ec);
   census_ = CsvTable(census_columns());
-  // Drawn again from the rows kept (none on a fresh start).
-  for (const fs::path& f : {friction_figure(), loops_figure()})
-    fs::remove(f, ec);
   if (!resume) {
     for (const fs::path& f :
          {before_file(), after_file(), latest_before_file(), latest_after_file()}) {
       fs::remove(f, ec);
       fs::remove(xyz_beside(f), ec);
     }
-    fs::remove(census_file(), ec);
+    // A resumed run's figures are drawn again from its kept rows (write_census, below).
+    for (const fs::path& f : {census_file(), friction_figure(), loops_figure()})
+      fs::remove(f, ec);
     largest_ = 0;
     return {};
   }

@@ -163,8 +163,8 @@ class LargestSlipSink final : public slide::FrameSink {
   // tracer rejects gets a row with its place and empty census fields, and a note on stderr.
   void add_census_row(const slide::Snapshot& before, const slide::Snapshot& after);
   void set_census_aside(std::string& warning, const std::string& why);
-  // slips.csv and its figures. A figure that cannot be drawn (no gnuplot) is noted on stderr
-  // once and left: the table is the result.
+  // slips.csv and its figures: each figure is drawn from the rows, or removed where it has
+  // nothing to show or cannot be drawn (noted on stderr once; the table is the result).
   void write_census();
 
   bool figure_failed_ = false;
