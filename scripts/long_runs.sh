@@ -52,8 +52,8 @@ pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
 
 # A copy of this checkout's friction_sweep in $runs/bin, named by its commit (built if needed).
 current_binary() {
-  git diff --quiet HEAD -- core apps ||
-    { echo "core/ or apps/ has changes: commit first (a binary is named by its commit)" >&2; return 1; }
+  git diff --quiet HEAD -- core apps tracking nucleation peierls CMakeLists.txt ||
+    { echo "the sources friction_sweep is built from have changes: commit first (a binary is named by its commit)" >&2; return 1; }
   local bin
   bin="$runs/bin/friction_sweep.$(git rev-parse --short HEAD)"
   if [ ! -x "$bin" ]; then

@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 #include "asperity/core/common/validate.hpp"
@@ -75,6 +76,9 @@ void DetectOptions::validate() const {
   if (!std::isfinite(min_length) || min_length < 0.0) {
     reject("DetectOptions.min_length", std::to_string(min_length), "finite and >= 0");
   }
+  if (!std::isfinite(join_distance) || join_distance < 0.0) {
+    reject("DetectOptions.join_distance", std::to_string(join_distance), "finite and >= 0");
+  }
   if (slip_sign != -1 && slip_sign != 1) {
     reject("DetectOptions.slip_sign", std::to_string(slip_sign), "-1 or +1");
   }
@@ -115,6 +119,13 @@ struct Crossing {
   Point at;            // position (d), before unwrapping
   int cells_seen = 0;  // cells of the processed region that contain this crossing
   long seam = 0;       // registry winding subtracted from q's phase: the edge wraps the cell
+};
+
+// A traced line before the pieces of one core are joined across the contact's edge.
+struct Piece {
+  Line line;
+  std::vector<std::size_t> slipped;            // a site on the slipped side of each crossing
+  std::array<bool, 2> edge_end{false, false};  // open lines: first and last point on the edge
 };
 
 class Tracer {
@@ -159,6 +170,7 @@ class Tracer {
   void measure(Line& line, std::vector<std::size_t>& order) const;
   void sense(Line& line, const std::vector<std::size_t>& order, const Graph& g,
              std::vector<std::size_t>& slipped_sites) const;
+  std::vector<Piece> join(std::vector<Piece> pieces, std::size_t& joined) const;
 
   const FieldView& f_;
   const DetectOptions& o_;
@@ -547,6 +559,100 @@ void Tracer::sense(Line& line, const std::vector<std::size_t>& order, const Grap
   }
 }
 
+// Open pieces of one core, cut where the jagged contact edge cuts into it, joined end to start
+// (DetectOptions::join_distance): candidate links from the end of one piece to the start of
+// another with the same Burgers vector, both ends on the contact edge, taken nearest first with
+// each end used once. Chains become one line each (the gaps are segments of it); a chain that
+// closes is a loop, listed counter-clockwise like the traced ones.
+std::vector<Piece> Tracer::join(std::vector<Piece> pieces, std::size_t& joined) const {
+  std::vector<std::size_t> open;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const Line& l = pieces[k].line;
+    if (l.kind == LineKind::open && l.burgers != 0) open.push_back(k);
+  }
+  struct Link {
+    double gap;
+    std::size_t from, to;
+  };
+  std::vector<Link> links;
+  for (const std::size_t a : open) {
+    if (!pieces[a].edge_end[1]) continue;
+    const Point end = pieces[a].line.points.back();
+    for (const std::size_t b : open) {
+      if (b == a || !pieces[b].edge_end[0] || pieces[b].line.burgers != pieces[a].line.burgers)
+        continue;
+      const Point start = pieces[b].line.points.front();
+      const double gap = std::hypot(start.x - end.x, start.y - end.y);
+      if (gap <= o_.join_distance) links.push_back(Link{gap, a, b});
+    }
+  }
+  if (links.empty()) return pieces;
+  std::sort(links.begin(), links.end(), [](const Link& l, const Link& r) {
+    return std::tie(l.gap, l.from, l.to) < std::tie(r.gap, r.from, r.to);
+  });
+  constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> next(pieces.size(), none), prev(pieces.size(), none);
+  for (const Link& l : links) {
+    if (next[l.from] == none && prev[l.to] == none) {
+      next[l.from] = l.to;
+      prev[l.to] = l.from;
+    }
+  }
+
+  std::vector<Piece> out;
+  std::vector<std::uint8_t> used(pieces.size(), 0);
+  const auto chain = [&](std::size_t first, bool closed) {
+    Piece merged;
+    Line& line = merged.line;
+    line.pieces = 0;
+    double consistency = 0.0, weight = 0.0;
+    for (std::size_t k = first;;) {
+      used[k] = 1;
+      Piece& p = pieces[k];
+      line.points.insert(line.points.end(), p.line.points.begin(), p.line.points.end());
+      merged.slipped.insert(merged.slipped.end(), p.slipped.begin(), p.slipped.end());
+      const auto w = static_cast<double>(p.line.points.size());
+      consistency += w * p.line.registry_consistency;
+      weight += w;
+      ++line.pieces;
+      k = next[k];
+      if (k == none || k == first) break;
+    }
+    line.burgers = pieces[first].line.burgers;
+    line.registry_consistency = weight > 0.0 ? consistency / weight : 0.0;
+    line.kind = closed ? LineKind::loop : LineKind::open;
+    if (!closed) {
+      std::size_t last = first;
+      while (next[last] != none)
+        last = next[last];
+      merged.edge_end = {pieces[first].edge_end[0], pieces[last].edge_end[1]};
+      line.interior_ends = (merged.edge_end[0] ? 0 : 1) + (merged.edge_end[1] ? 0 : 1);
+    }
+    std::vector<std::size_t> order(line.points.size());
+    for (std::size_t k = 0; k < order.size(); ++k)
+      order[k] = k;
+    measure(line, order);
+    // measure() lists loops counter-clockwise; reversed, the jump n_left - n_right changes sign.
+    if (closed && order.size() > 1 && order[1] != 1) line.burgers = -line.burgers;
+    if (line.pieces > 1) joined += static_cast<std::size_t>(line.pieces);
+    out.push_back(std::move(merged));
+  };
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (used[k]) continue;
+    if (next[k] == none && prev[k] == none) {
+      used[k] = 1;
+      out.push_back(std::move(pieces[k]));
+    } else if (prev[k] == none) {
+      chain(k, false);
+    }
+  }
+  // What is left are chains that close.
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (!used[k]) chain(k, true);
+  }
+  return out;
+}
+
 FrameLines Tracer::run() {
   FrameLines out;
   out.d = f_.d;
@@ -601,28 +707,44 @@ FrameLines Tracer::run() {
     }
   }
 
-  std::vector<std::size_t> order, slipped_sites;
-  std::vector<std::uint32_t> line_root;
+  std::vector<std::size_t> order;
+  std::vector<Piece> pieces;
   for (const auto& nodes : members) {
     if (nodes.size() < 2) continue;  // an isolated crossing: a core clipped by the contact edge
-    Line line;
+    Piece piece;
+    Line& line = piece.line;
     build_line(nodes, g, line, order);
     if (line.points.size() < 2) continue;
-    measure(line, order);
-    if (line.length < o_.min_length) {
-      ++out.dropped_short;
-      continue;
+    if (line.kind == LineKind::open) {
+      for (int e = 0; e < 2; ++e) {
+        const std::size_t end = e == 0 ? order.front() : order.back();
+        piece.edge_end[static_cast<std::size_t>(e)] =
+            crossings_[end].cells_seen <= static_cast<int>(boost::degree(end, g));
+      }
     }
-    sense(line, order, g, slipped_sites);
+    measure(line, order);
+    sense(line, order, g, piece.slipped);
     if (line.kind != LineKind::loop && line.burgers != 0 &&
         (line.burgers > 0 ? 1 : -1) != o_.slip_sign) {
       // Open and wrapping lines run with the slipped side on their left.
       std::reverse(line.points.begin(), line.points.end());
       std::reverse(line.angle_deg.begin(), line.angle_deg.end());
+      std::swap(piece.edge_end[0], piece.edge_end[1]);
       line.burgers = -line.burgers;
     }
+    pieces.push_back(std::move(piece));
+  }
+  if (!f_.periodic && o_.join_distance > 0.0) pieces = join(std::move(pieces), out.joined_pieces);
+
+  std::vector<std::uint32_t> line_root;
+  for (Piece& piece : pieces) {
+    Line& line = piece.line;
+    if (line.length < o_.min_length) {
+      ++out.dropped_short;
+      continue;
+    }
     std::unordered_map<std::uint32_t, int> roots;
-    for (const std::size_t s : slipped_sites)
+    for (const std::size_t s : piece.slipped)
       ++roots[sets.find_set(static_cast<std::uint32_t>(s))];
     std::uint32_t root = std::numeric_limits<std::uint32_t>::max();
     int most = 0;

@@ -70,8 +70,8 @@ enum class LineKind {
 std::string to_string(LineKind kind);
 
 struct DetectOptions {
-  // Lines shorter than this are dropped (d). Where a core runs along the jagged edge of the
-  // contact it leaves and re-enters the contact, cutting off pieces of a few d; noise makes
+  // Lines shorter than this are dropped (d), after the join (join_distance): where a core
+  // grazes the jagged edge of the contact it leaves stubs of a few d; noise makes
   // closed contours of about one cell. A loop of length 2 d (radius 0.3 d) is below the lattice
   // resolution anyway.
   double min_length = 2.0;
@@ -84,6 +84,17 @@ struct DetectOptions {
   // A piece of line whose tangent makes an angle below this with b = d x-hat counts as screw,
   // otherwise edge (degrees).
   double screw_angle_deg = 45.0;
+  // Open lines are joined end to start across gaps up to this long (d; 0: never). A core that
+  // runs along the contact's round edge, as the screw lines where loops nucleate (MODEL.md 8),
+  // leaves the traced cells (those with four sites in contact) wherever the jagged edge cuts
+  // into it and comes back a row further in: traced alone it is a piece per lattice row it
+  // crosses. Two pieces are joined when the end of one (on the contact edge) lies within this
+  // distance of the start of the other (on the edge too) and both have the same Burgers vector;
+  // since open lines run with their slipped side on the left, one's end meets the next one's
+  // start. Nearest gaps first, each end used once; a chain that closes is a loop. At R = 800 d,
+  // a = 200 d (the state before the slip) the gaps joined are 0.2-2.6 d and the next end is
+  // 6.0 d away: 3, 4 and 5 d give the same two lines (docs/tracking.md, step 3).
+  double join_distance = 3.0;
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
@@ -102,9 +113,10 @@ struct Line {
                     // (burgers d_tip along the tip's first axis out of registry)
   double registry_consistency = 0.0;  // fraction of the line's crossings with that jump
   int interior_ends = 0;  // ends of an open line inside the contact (a broken trace; normally 0)
-  double length = 0.0;    // d
-  double area = 0.0;      // enclosed area of a loop (d^2); 0 for other lines
-  Point centroid;         // loops: of the enclosed area; other lines: of the line
+  int pieces = 1;  // traced pieces joined across the contact's edge (DetectOptions::join_distance)
+  double length = 0.0;  // d
+  double area = 0.0;    // enclosed area of a loop (d^2); 0 for other lines
+  Point centroid;       // loops: of the enclosed area; other lines: of the line
   double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0;  // bounding box (d)
   double aspect_ratio = 0.0;  // x extent / y extent; infinite for a line along x
   double screw_fraction = 0.0, edge_fraction = 0.0;  // length fractions (sum 1)
@@ -130,6 +142,7 @@ struct FrameLines {
   std::size_t core_crossings = 0;      // grid edges crossed by a core
   std::size_t registry_crossings = 0;  // sign changes of tau_x in registry: rejected
   std::size_t dropped_short = 0;       // lines shorter than DetectOptions::min_length
+  std::size_t joined_pieces = 0;       // open pieces joined into longer lines (join_distance)
 };
 
 // Throws std::invalid_argument if the field or the options are invalid.

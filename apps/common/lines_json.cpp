@@ -23,6 +23,7 @@ nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameL
           {"burgers_x", l.burgers * f.d},
           {"registry_consistency", l.registry_consistency},
           {"interior_ends", l.interior_ends},
+          {"pieces", l.pieces},
           {"length", l.length},
           {"area", l.kind == tracking::LineKind::loop ? nlohmann::json(l.area) : nullptr},
           {"centroid", {l.centroid.x, l.centroid.y}},

@@ -340,6 +340,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
           {"core_crossings", f.core_crossings},
           {"registry_crossings_rejected", f.registry_crossings},
           {"dropped_short", f.dropped_short},
+          {"joined_pieces", f.joined_pieces},
           {"figure", plot ? nlohmann::json(name) : nullptr},
           {"profiles", profile},
           {"lines", lines}};
@@ -406,6 +407,7 @@ nlohmann::json summary_json(const nlohmann::json& inputs, const FrameOptions& o,
   return {{"inputs", inputs},
           {"options",
            {{"min_length", detect.min_length},
+            {"join_distance", detect.join_distance},
             {"slip_sign", detect.slip_sign},
             {"tangent_half_window", detect.tangent_half_window},
             {"screw_angle_deg", detect.screw_angle_deg},
@@ -461,6 +463,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 999999))
         ->excludes(label_option);
     cli.add_option("--min-length", detect.min_length, "Drop lines shorter than this (d)")
+        ->check(app::non_negative())
+        ->capture_default_str();
+    cli.add_option("--join-distance", detect.join_distance,
+                   "Join open lines end to start across gaps up to this long at the contact's "
+                   "jagged edge: the pieces of one core running along it (d; 0: never)")
         ->check(app::non_negative())
         ->capture_default_str();
     cli.add_option("--slip-sign", detect.slip_sign,

@@ -38,10 +38,10 @@ py::object json_to_python(const nlohmann::json& j) {
 
 py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
                     const Array<double>& tau_max, const py::object& in_contact, int origin_x,
-                    int origin_y, double d, bool periodic, double min_length, int slip_sign,
-                    int tangent_half_window, double screw_angle_deg, double centre_fraction,
-                    const py::object& sy, const py::object& tau_y, double tip_angle,
-                    double tip_mismatch) {
+                    int origin_y, double d, bool periodic, double min_length, double join_distance,
+                    int slip_sign, int tangent_half_window, double screw_angle_deg,
+                    double centre_fraction, const py::object& sy, const py::object& tau_y,
+                    double tip_angle, double tip_mismatch) {
   if (sx.ndim() != 2) throw py::value_error("find_lines: sx must be 2D, (n0, n1) block-major");
   tracking::FieldView view;
   view.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
@@ -68,6 +68,7 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
   view.tip = {.angle = tip_angle, .mismatch = tip_mismatch};
   tracking::DetectOptions o;
   o.min_length = min_length;
+  o.join_distance = join_distance;
   o.slip_sign = slip_sign;
   o.tangent_half_window = tangent_half_window;
   o.screw_angle_deg = screw_angle_deg;
@@ -87,7 +88,7 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
       py::arg("contact_radius") = f.contact_radius, py::arg("contact_sites") = f.contact_sites,
       py::arg("core_crossings") = f.core_crossings,
       py::arg("registry_crossings") = f.registry_crossings,
-      py::arg("dropped_short") = f.dropped_short);
+      py::arg("dropped_short") = f.dropped_short, py::arg("joined_pieces") = f.joined_pieces);
 }
 
 nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k1_error,
@@ -162,7 +163,9 @@ py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const p
 void bind_analysis(py::module_& m) {
   m.def("find_lines", &find_lines, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
         py::arg("in_contact") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
-        py::arg("d") = 1.0, py::arg("periodic") = false, py::arg("min_length") = 2.0,
+        py::arg("d") = 1.0, py::arg("periodic") = false,
+        py::arg("min_length") = tracking::DetectOptions{}.min_length,
+        py::arg("join_distance") = tracking::DetectOptions{}.join_distance,
         py::arg("slip_sign") = -1, py::arg("tangent_half_window") = 1,
         py::arg("screw_angle_deg") = 45.0, py::arg("centre_fraction") = 0.5,
         py::arg("sy") = py::none(), py::arg("tau_y") = py::none(), py::arg("tip_angle") = 0.0,

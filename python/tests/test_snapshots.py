@@ -85,17 +85,21 @@ def test_without_snapshots_none_are_kept():
 def test_find_lines_finds_what_track_loops_finds(runs, tmp_path):
     result, files = runs
     label = "slip_001_before"
-    ours = asperity.find_lines(result.snapshots[label])
-    subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--plot-every", "0", "--out",
-                    tmp_path], check=True, capture_output=True)
-    frame = json.loads((tmp_path / "lines.json").read_text())["frames"][0]
-    theirs = frame["lines"]
-    assert len(ours["lines"]) == len(theirs) > 0
-    key = lambda line: (line["kind"], round(line["length"], 9))  # ids are the tracker's
-    for a, b in zip(sorted(ours["lines"], key=key), sorted(theirs, key=key)):
-        for field in ("kind", "burgers_x", "length", "area", "screw_fraction", "location",
-                      "points", "angle_deg", "slipped_area"):
-            assert a[field] == b[field], field
+    # The default, and the pieces at the contact edge left unjoined (join_distance 0).
+    for options, flags in (({}, []), ({"join_distance": 0.0}, ["--join-distance", "0"])):
+        ours = asperity.find_lines(result.snapshots[label], **options)
+        out = tmp_path / str(len(flags))
+        subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--plot-every", "0",
+                        "--out", out, *flags], check=True, capture_output=True)
+        frame = json.loads((out / "lines.json").read_text())["frames"][0]
+        theirs = frame["lines"]
+        assert len(ours["lines"]) == len(theirs) > 0
+        assert ours["joined_pieces"] == frame["joined_pieces"]
+        key = lambda line: (line["kind"], round(line["length"], 9))  # ids are the tracker's
+        for a, b in zip(sorted(ours["lines"], key=key), sorted(theirs, key=key)):
+            for field in ("kind", "burgers_x", "length", "area", "screw_fraction", "location",
+                          "points", "angle_deg", "slipped_area", "pieces"):
+                assert a[field] == b[field], field
 
 
 def test_find_lines_census_adds_up_its_lines(runs):

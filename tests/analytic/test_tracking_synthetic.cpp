@@ -20,11 +20,14 @@
 // - sequences: a loop that appears at frame 1, shrinks and is gone at frame 8 gives exactly one
 //   nucleation (frame 1) and one annihilation (frame 8); two loops that grow into each other
 //   give exactly one merge (the first frame where they overlap) and, run backwards, one split.
+// - cores along the contact's jagged edge: the pieces the traced cells cut them into are joined
+//   into one line per core (EdgeLines, below, with its answers).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <ostream>
 
@@ -298,3 +301,114 @@ TEST(Sequence, TwoLoopsMergeAndSplit) {
 }
 
 }  // namespace
+
+// Cores along the contact's jagged edge (DetectOptions::join_distance). The slipped region is a
+// disk of radius r_s = 59 d inside the contact of radius 60 d, with the sides covered by two
+// ellipses centred on the contact edge at (+-60, 0) (semi-axes 25 and 35 d): inside the contact
+// the core is then two arcs of the circle r = r_s, at the top and bottom, 1 d from the edge, the
+// seed's "two screw lines at the top and bottom" (MODEL.md 8), ending where the ellipses cut them
+// (and along the ellipses' short pieces out to the edge). The marching squares trace only cells
+// with four sites in contact, and along a circle 1 d inside the edge such cells break off at
+// every row where the staircase of the edge steps inward: traced alone, each arc is 17 pieces
+// and 22 pieces shorter than min_length (measured: 34 lines, 44 dropped). Answers, with the
+// default join_distance (3 d): exactly two open lines, b = -d x-hat, no interior ends, each
+// spanning x = -x_c ... x_c to 0.5 d (x_c = 49.66 d where the circle meets the ellipses; their
+// short pieces out to the edge reach 50.0 d), with the length of the arc between those points,
+// 2 r_s asin(x_c / r_s) = 118.03 d, to 1 % (the polygon of crossings and the ellipses' pieces
+// add 0.1-0.3 %: 118.19 and 118.33 d measured for w = 2 and 1 d, as for the same arcs 1.5 d
+// inside the edge, which the marching squares trace whole). The same disk without the ellipses
+// is one closed chain: a loop of area pi r_s^2 within 2 % (measured 0.01-0.02 %), centred.
+namespace {
+double arc_end_x(double r, const Island& e) {
+  // x where the circle of radius r (centre 0) meets the ellipse e (upper half): bisection on the
+  // angle between 0 (inside the ellipse) and pi/2 (outside).
+  double lo = 0.0, hi = std::numbers::pi / 2;
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    const double x = r * std::cos(mid), y = r * std::sin(mid);
+    (std::pow((x - e.cx) / e.ax, 2) + std::pow((y - e.cy) / e.ay, 2) < 1.0 ? lo : hi) = mid;
+  }
+  return r * std::cos(lo);
+}
+}  // namespace
+
+TEST(EdgeLines, PiecesAlongTheJaggedEdgeAreOneLinePerSide) {
+  const double r_s = 59.0;
+  const Island right{60, 0, 25, 35}, left{-60, 0, 25, 35};
+  for (const double w : {1.0, 2.0}) {
+    SyntheticOptions o = contact_options();
+    o.core_width = w;
+    const SyntheticField field = synthetic_field(o, {{0, 0, r_s, r_s}, right, left});
+
+    DetectOptions alone;
+    alone.join_distance = 0.0;
+    const FrameLines cut = find_lines(field.view(), alone);
+    EXPECT_GE(cut.lines.size() + cut.dropped_short, 20u) << "the arcs must come in pieces";
+    EXPECT_EQ(cut.joined_pieces, 0u);
+
+    const FrameLines f = find_lines(field.view());
+    ASSERT_EQ(f.lines.size(), 2u) << "w = " << w;
+    EXPECT_EQ(f.dropped_short, 0u);
+    EXPECT_EQ(f.joined_pieces, cut.lines.size() + cut.dropped_short);
+    const double x_c = arc_end_x(r_s, right);
+    const double arc = 2.0 * r_s * std::asin(x_c / r_s);
+    int top = 0;
+    for (const Line& l : f.lines) {
+      EXPECT_EQ(l.kind, LineKind::open);
+      EXPECT_EQ(l.burgers, -1);
+      EXPECT_EQ(l.interior_ends, 0);
+      EXPECT_GT(l.pieces, 10);
+      EXPECT_GT(l.registry_consistency, 0.999);
+      EXPECT_NEAR(l.x_min, -x_c, 0.5);
+      EXPECT_NEAR(l.x_max, x_c, 0.5);
+      EXPECT_NEAR(l.length, arc, 0.01 * arc);
+      top += l.centroid.y > 0.0 ? 1 : 0;
+      std::printf("w %.0f: %s line of %d pieces, %.2f d (arc %.2f d), x %.2f..%.2f d\n", w,
+                  l.centroid.y > 0.0 ? "top" : "bottom", l.pieces, l.length, arc, l.x_min, l.x_max);
+    }
+    EXPECT_EQ(top, 1);
+
+    // Without the side ellipses the pieces close around the contact: one loop.
+    const FrameLines ring = find_lines(synthetic_field(o, {{0, 0, r_s, r_s}}).view());
+    ASSERT_EQ(ring.lines.size(), 1u);
+    const Line& loop = ring.lines.front();
+    EXPECT_EQ(loop.kind, LineKind::loop);
+    EXPECT_EQ(loop.burgers, -1);
+    EXPECT_GT(loop.pieces, 20);
+    const double area = std::numbers::pi * r_s * r_s;
+    EXPECT_NEAR(loop.area, area, 0.02 * area);
+    EXPECT_NEAR(loop.centroid.x, 0.0, 0.5);
+    EXPECT_NEAR(loop.centroid.y, 0.0, 0.5);
+    std::printf("w %.0f: ring of %d pieces, area %.1f d^2 (pi r_s^2 %.1f)\n", w, loop.pieces,
+                loop.area, area);
+  }
+}
+
+// Two half-loops at the edge whose nearest ends are a few d apart, more than join_distance,
+// stay two lines; with a join distance above the gap they become one (so the test can fail).
+TEST(EdgeLines, SeparateLinesAtTheEdgeAreNotJoined) {
+  const SyntheticField field = synthetic_field(contact_options(), {{57, 8, 8, 5}, {57, -8, 8, 5}});
+  const FrameLines f = find_lines(field.view());
+  ASSERT_EQ(f.lines.size(), 2u);
+  EXPECT_EQ(f.joined_pieces, 0u);
+  double gap = std::numeric_limits<double>::infinity();
+  for (const Line& a : f.lines) {
+    EXPECT_EQ(a.kind, LineKind::open);
+    EXPECT_EQ(a.pieces, 1);
+    for (const Line& b : f.lines) {
+      if (&a == &b) continue;
+      gap = std::min(gap, std::hypot(b.points.front().x - a.points.back().x,
+                                     b.points.front().y - a.points.back().y));
+    }
+  }
+  const double join = DetectOptions{}.join_distance;
+  EXPECT_GT(gap, join);
+  EXPECT_LT(gap, 3.0 * join) << "the ends should be near the join distance";
+  DetectOptions wide;
+  wide.join_distance = gap + 0.1;
+  const FrameLines joined = find_lines(field.view(), wide);
+  ASSERT_EQ(joined.lines.size(), 1u);
+  EXPECT_EQ(joined.lines.front().pieces, 2);
+  std::printf("ends %.2f d apart: %zu lines at join distance %.1f d, %zu at %.2f d\n", gap,
+              f.lines.size(), join, joined.lines.size(), wide.join_distance);
+}

@@ -37,6 +37,10 @@ TEST(TrackingOptions, ViolationsNameTheField) {
   expect_rejects([] { DetectOptions{.slip_sign = 0}.validate(); }, "DetectOptions.slip_sign");
   expect_rejects([] { DetectOptions{.screw_angle_deg = 90}.validate(); },
                  "DetectOptions.screw_angle_deg");
+  expect_rejects([] { DetectOptions{.join_distance = -1}.validate(); },
+                 "DetectOptions.join_distance");
+  expect_rejects([] { DetectOptions{.join_distance = INFINITY}.validate(); },
+                 "DetectOptions.join_distance");
   expect_rejects([] { TrackOptions{.min_overlap = 0}.validate(); }, "TrackOptions.min_overlap");
   expect_rejects([] { TrackOptions{.max_centroid_distance = NAN}.validate(); },
                  "TrackOptions.max_centroid_distance");
