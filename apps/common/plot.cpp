@@ -274,14 +274,18 @@ void heatmap_png(const std::filesystem::path& png, const std::vector<double>& x,
     plot += ", " + plot_item(name, "1:2:(" + num(z) + ")", overlays[k]);
   }
   std::string setup =
-      "set view map\nset pm3d at b\nset key opaque\n"
+      "set view map\nset pm3d at b\n"
       "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n";
   if (!cblabel.empty()) setup += "set cblabel " + quote(cblabel) + "\n";
   if (cbrange) setup += "set cbrange " + range(*cbrange) + "\n";
   // Without this gnuplot extends the axes to round tic values, leaving blank bands.
   if (!options.xrange) setup += "set autoscale xfix\n";
   if (!options.yrange) setup += "set autoscale yfix\n";
-  render(png, setup + data + plot + "\n", options);
+  // The key opaque over the map, set before the caller's commands so that they can restyle it
+  // (a later "set key opaque" would reset a fill colour they chose).
+  PlotOptions o = options;
+  o.extra_commands.insert(o.extra_commands.begin(), "set key opaque");
+  render(png, setup + data + plot + "\n", o);
 }
 
 }  // namespace asperity::app

@@ -125,6 +125,16 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
       overlays.back().y.push_back(b.y);
     }
   }
+  // Each line over a black stroke: the screw lines where loops nucleate run along the contact
+  // edge, where tau_x / tau_max is near 1 (the palette's yellow), and white alone is lost there.
+  std::vector<app::Series> stroked;
+  stroked.reserve(2 * overlays.size());
+  for (auto& o : overlays) {
+    stroked.push_back({.x = o.x, .y = o.y, .title = "", .style = "lines lw 6 lc rgb '#000000'"});
+    stroked.push_back(std::move(o));
+  }
+  // The key above the title, off the map: inside (as gnuplot's splot puts an "outside" key) it
+  // hid the top edge, where those lines are.
   app::heatmap_png(
       png, x, y, map,
       {.title = title,
@@ -132,9 +142,11 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
        .ylabel = "y / d",
        .width = 800,
        .height = 720,
-       .extra_commands = {"set size ratio -1", "set key outside top center horizontal"}},
+       .extra_commands =
+           {"set size ratio -1",
+            "set key at screen 0.5, 0.965 center horizontal box opaque fc rgb '#9a9a9a'"}},
       frame.aligned() ? "tau_x / tau_max" : "tau_1 / tau_max (tip axis)", std::pair{-1.0, 1.0},
-      overlays);
+      stroked);
 }
 
 // Local Peierls stress laws drawn beside the profiles (--peierls): edge and screw fits.
