@@ -170,7 +170,7 @@ class Tracer {
   void measure(Line& line, std::vector<std::size_t>& order) const;
   void sense(Line& line, const std::vector<std::size_t>& order, const Graph& g,
              std::vector<std::size_t>& slipped_sites) const;
-  std::vector<Piece> join(std::vector<Piece> pieces, std::size_t& joined) const;
+  std::vector<Piece> join(std::vector<Piece> pieces) const;
 
   const FieldView& f_;
   const DetectOptions& o_;
@@ -562,9 +562,14 @@ void Tracer::sense(Line& line, const std::vector<std::size_t>& order, const Grap
 // Open pieces of one core, cut where the jagged contact edge cuts into it, joined end to start
 // (DetectOptions::join_distance): candidate links from the end of one piece to the start of
 // another with the same Burgers vector, both ends on the contact edge, taken nearest first with
-// each end used once. Chains become one line each (the gaps are segments of it); a chain that
-// closes is a loop, listed counter-clockwise like the traced ones.
-std::vector<Piece> Tracer::join(std::vector<Piece> pieces, std::size_t& joined) const {
+// each end used once. Chains become one open line each: the gaps are segments of it (the core
+// runs on through the cells the marching squares skip), counted in its length and character
+// like the traced ones. Joins make no loops: a link that would close a chain is left out, so a
+// loop is what the marching squares close, as without joins (a small half-loop nucleated at the
+// edge, its two ends a few d apart, stays an open line; a core along the whole edge stays one
+// open line with both ends at one gap). registry_consistency is the pieces' weighted by their
+// crossings (points).
+std::vector<Piece> Tracer::join(std::vector<Piece> pieces) const {
   std::vector<std::size_t> open;
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const Line& l = pieces[k].line;
@@ -593,18 +598,23 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces, std::size_t& joined) 
   constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
   std::vector<std::size_t> next(pieces.size(), none), prev(pieces.size(), none);
   for (const Link& l : links) {
-    if (next[l.from] == none && prev[l.to] == none) {
-      next[l.from] = l.to;
-      prev[l.to] = l.from;
-    }
+    if (next[l.from] != none || prev[l.to] != none) continue;
+    // A link that would close a chain is not made: joins make no loops (see above).
+    std::size_t head = l.from;
+    while (prev[head] != none)
+      head = prev[head];
+    if (head == l.to) continue;
+    next[l.from] = l.to;
+    prev[l.to] = l.from;
   }
 
   std::vector<Piece> out;
   std::vector<std::uint8_t> used(pieces.size(), 0);
-  const auto chain = [&](std::size_t first, bool closed) {
+  const auto chain = [&](std::size_t first) {
     Piece merged;
     Line& line = merged.line;
     line.pieces = 0;
+    std::size_t last = first;
     double consistency = 0.0, weight = 0.0;
     for (std::size_t k = first;;) {
       used[k] = 1;
@@ -615,26 +625,19 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces, std::size_t& joined) 
       consistency += w * p.line.registry_consistency;
       weight += w;
       ++line.pieces;
+      last = k;
       k = next[k];
-      if (k == none || k == first) break;
+      if (k == none) break;
     }
     line.burgers = pieces[first].line.burgers;
     line.registry_consistency = weight > 0.0 ? consistency / weight : 0.0;
-    line.kind = closed ? LineKind::loop : LineKind::open;
-    if (!closed) {
-      std::size_t last = first;
-      while (next[last] != none)
-        last = next[last];
-      merged.edge_end = {pieces[first].edge_end[0], pieces[last].edge_end[1]};
-      line.interior_ends = (merged.edge_end[0] ? 0 : 1) + (merged.edge_end[1] ? 0 : 1);
-    }
+    line.kind = LineKind::open;
+    merged.edge_end = {pieces[first].edge_end[0], pieces[last].edge_end[1]};
+    line.interior_ends = (merged.edge_end[0] ? 0 : 1) + (merged.edge_end[1] ? 0 : 1);
     std::vector<std::size_t> order(line.points.size());
     for (std::size_t k = 0; k < order.size(); ++k)
       order[k] = k;
-    measure(line, order);
-    // measure() lists loops counter-clockwise; reversed, the jump n_left - n_right changes sign.
-    if (closed && order.size() > 1 && order[1] != 1) line.burgers = -line.burgers;
-    if (line.pieces > 1) joined += static_cast<std::size_t>(line.pieces);
+    measure(line, order);  // an open line: its points are not reordered
     out.push_back(std::move(merged));
   };
   for (std::size_t k = 0; k < pieces.size(); ++k) {
@@ -643,12 +646,8 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces, std::size_t& joined) 
       used[k] = 1;
       out.push_back(std::move(pieces[k]));
     } else if (prev[k] == none) {
-      chain(k, false);
+      chain(k);
     }
-  }
-  // What is left are chains that close.
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    if (!used[k]) chain(k, true);
   }
   return out;
 }
@@ -734,7 +733,8 @@ FrameLines Tracer::run() {
     }
     pieces.push_back(std::move(piece));
   }
-  if (!f_.periodic && o_.join_distance > 0.0) pieces = join(std::move(pieces), out.joined_pieces);
+  // In a periodic cell every site is in contact: there is no edge to join across.
+  if (!f_.periodic && o_.join_distance > 0.0) pieces = join(std::move(pieces));
 
   std::vector<std::uint32_t> line_root;
   for (Piece& piece : pieces) {
@@ -743,6 +743,7 @@ FrameLines Tracer::run() {
       ++out.dropped_short;
       continue;
     }
+    if (line.pieces > 1) out.joined_pieces += static_cast<std::size_t>(line.pieces);
     std::unordered_map<std::uint32_t, int> roots;
     for (const std::size_t s : piece.slipped)
       ++roots[sets.find_set(static_cast<std::uint32_t>(s))];

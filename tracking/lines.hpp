@@ -91,7 +91,9 @@ struct DetectOptions {
   // crosses. Two pieces are joined when the end of one (on the contact edge) lies within this
   // distance of the start of the other (on the edge too) and both have the same Burgers vector;
   // since open lines run with their slipped side on the left, one's end meets the next one's
-  // start. Nearest gaps first, each end used once; a chain that closes is a loop. At R = 800 d,
+  // start. Nearest gaps first, each end used once. Joins make no loops (a link that would close
+  // a chain is left out): loops are what the marching squares close, as without joins. Not in a
+  // periodic cell, which has no edge. At R = 800 d,
   // a = 200 d (the state before the slip) the gaps joined are 0.2-2.6 d and the next end is
   // 6.0 d away: 3, 4 and 5 d give the same two lines (docs/tracking.md, step 3).
   double join_distance = 3.0;
@@ -142,7 +144,7 @@ struct FrameLines {
   std::size_t core_crossings = 0;      // grid edges crossed by a core
   std::size_t registry_crossings = 0;  // sign changes of tau_x in registry: rejected
   std::size_t dropped_short = 0;       // lines shorter than DetectOptions::min_length
-  std::size_t joined_pieces = 0;       // open pieces joined into longer lines (join_distance)
+  std::size_t joined_pieces = 0;       // traced pieces of the lines made by joins (join_distance)
 };
 
 // Throws std::invalid_argument if the field or the options are invalid.

@@ -479,7 +479,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     cli.add_option("--join-distance", detect.join_distance,
                    "Join open lines end to start across gaps up to this long at the contact's "
-                   "jagged edge: the pieces of one core running along it (d; 0: never)")
+                   "jagged edge: the pieces of one core running along it (d; 0: never; "
+                   "not in a periodic cell, which has no edge)")
         ->check(app::non_negative())
         ->capture_default_str();
     cli.add_option("--slip-sign", detect.slip_sign,
