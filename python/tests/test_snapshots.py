@@ -102,6 +102,33 @@ def test_find_lines_finds_what_track_loops_finds(runs, tmp_path):
                 assert a[field] == b[field], field
 
 
+def test_find_lines_joins_the_screw_lines_along_the_contact_edge():
+    # Regime II, a = 60 d, R = 535 d (about 3 s): just before the first slip, cores run along the
+    # top and bottom edges of the contact, where loops nucleate (MODEL.md 8; the seed's "two screw
+    # lines at the top and bottom"). The marching squares cut each into a piece per row where
+    # the jagged edge steps inward (4 lines and 10 stubs shorter than min_length measured with
+    # join_distance = 0); joined (docs/tracking.md, step 3) they are two open screw lines, one
+    # per edge, made of every piece, each at least as long as its pieces together.
+    result = asperity.slide({"contact": {"a": 60, "R": 535}, "slide": {"max_slips": 1},
+                             "output": {"precision": "double"}})
+    frame = result.snapshots["slip_001_before"]
+    cut = asperity.find_lines(frame, join_distance=0.0)
+    joined = asperity.find_lines(frame)
+    assert len(cut["lines"]) + cut["dropped_short"] > 2
+    lines = joined["lines"]
+    assert len(lines) == 2 and joined["dropped_short"] == 0
+    assert sorted(line["centroid"][1] > 0 for line in lines) == [False, True]
+    assert joined["joined_pieces"] == sum(line["pieces"] for line in lines)
+    assert joined["joined_pieces"] == len(cut["lines"]) + cut["dropped_short"]
+    radius = joined["contact_radius"]
+    for line in lines:
+        assert line["kind"] == "open" and line["pieces"] > 2 and line["interior_ends"] == 0
+        assert line["screw_fraction"] > 0.9
+        assert abs(line["centroid"][1]) > 0.9 * radius
+        side = [p for p in cut["lines"] if (p["centroid"][1] > 0) == (line["centroid"][1] > 0)]
+        assert line["length"] >= sum(p["length"] for p in side)
+
+
 def test_find_lines_census_adds_up_its_lines(runs):
     # The census (slips.csv's columns) is the sum over the records: counts by kind, the loops'
     # areas and length-weighted screw fraction, the largest loop; no loop, no fraction (None).
