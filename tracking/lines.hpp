@@ -93,10 +93,11 @@ struct DetectOptions {
   // since open lines run with their slipped side on the left, one's end meets the next one's
   // start. Nearest gaps first, each end used once. Joins make no loops (a link that would close
   // a chain is left out): loops are what the marching squares close, as without joins. Not in a
-  // periodic cell, which has no edge. At R = 800 d,
-  // a = 200 d (the state before the slip) the gaps joined are 0.2-2.6 d and the next end is
-  // 6.0 d away: 3, 4 and 5 d give the same two lines (docs/tracking.md, step 3).
-  double join_distance = 3.0;
+  // periodic cell, which has no edge. In the states just before the first slip at R = 800 d the
+  // gaps joined are at most 2.62 d (a = 200 d) and 2.81 d (a = 300 d), and the nearest end left
+  // is 5.95 and 5.16 d away: every distance from 3 to 5 d gives the same two lines, and 4 d is
+  // the middle of that plateau (docs/tracking.md, step 3).
+  double join_distance = 4.0;
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };

@@ -188,7 +188,7 @@ def find_lines(frame, index=0, periodic=None, **options):
 
     frame: an xarray Dataset in the snapshot layout (result.snapshots[...], or a tools' .nc
     opened with xarray); index: the frame in it. options: min_length (d, default 2),
-    join_distance (d, default 3: open pieces of one core cut by the contact's jagged edge are
+    join_distance (d, default 4: open pieces of one core cut by the contact's jagged edge are
     joined across gaps up to this long; 0: never), slip_sign (-1: sliding along +x),
     tangent_half_window, screw_angle_deg, centre_fraction.
     Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order),

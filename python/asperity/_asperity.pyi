@@ -48,7 +48,7 @@ class PeriodicSurfaceGF:
 def find_lines(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLike,
                in_contact: Optional[npt.ArrayLike] = None, origin_x: int = 0,
                origin_y: int = 0, d: float = 1.0, periodic: bool = False,
-               min_length: float = 2.0, join_distance: float = 3.0, slip_sign: int = -1,
+               min_length: float = 2.0, join_distance: float = 4.0, slip_sign: int = -1,
                tangent_half_window: int = 1,
                screw_angle_deg: float = 45.0, centre_fraction: float = 0.5,
                sy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,

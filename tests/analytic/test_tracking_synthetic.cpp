@@ -311,7 +311,7 @@ TEST(Sequence, TwoLoopsMergeAndSplit) {
 // with four sites in contact, and along a circle 1 d inside the edge such cells break off at
 // every row where the staircase of the edge steps inward: traced alone, each arc is 17 pieces
 // and 22 pieces shorter than min_length (measured: 34 lines, 44 dropped). Answers, with the
-// default join_distance (3 d): exactly two open lines, b = -d x-hat, no interior ends, each
+// default join_distance (4 d): exactly two open lines, b = -d x-hat, no interior ends, each
 // spanning x = -x_c ... x_c to 0.5 d (x_c = 49.66 d where the circle meets the ellipses; their
 // short pieces out to the edge reach 50.0 d), with the length of the arc between those points,
 // 2 r_s asin(x_c / r_s) = 118.03 d, to 1 % (the polygon of crossings and the ellipses' pieces
