@@ -609,7 +609,6 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces) const {
   }
 
   std::vector<Piece> out;
-  std::vector<std::uint8_t> used(pieces.size(), 0);
   const auto chain = [&](std::size_t first) {
     Piece merged;
     Line& line = merged.line;
@@ -617,7 +616,6 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces) const {
     std::size_t last = first;
     double consistency = 0.0, weight = 0.0;
     for (std::size_t k = first;;) {
-      used[k] = 1;
       Piece& p = pieces[k];
       line.points.insert(line.points.end(), p.line.points.begin(), p.line.points.end());
       merged.slipped.insert(merged.slipped.end(), p.slipped.begin(), p.slipped.end());
@@ -634,18 +632,16 @@ std::vector<Piece> Tracer::join(std::vector<Piece> pieces) const {
     line.kind = LineKind::open;
     merged.edge_end = {pieces[first].edge_end[0], pieces[last].edge_end[1]};
     line.interior_ends = (merged.edge_end[0] ? 0 : 1) + (merged.edge_end[1] ? 0 : 1);
-    std::vector<std::size_t> order(line.points.size());
-    for (std::size_t k = 0; k < order.size(); ++k)
-      order[k] = k;
-    measure(line, order);  // an open line: its points are not reordered
+    std::vector<std::size_t> order;  // measure() reorders only loops' points (and order)
+    measure(line, order);
     out.push_back(std::move(merged));
   };
+  // No chain closes, so every piece is a head (prev none) or reached from one.
   for (std::size_t k = 0; k < pieces.size(); ++k) {
-    if (used[k]) continue;
-    if (next[k] == none && prev[k] == none) {
-      used[k] = 1;
+    if (prev[k] != none) continue;
+    if (next[k] == none) {
       out.push_back(std::move(pieces[k]));
-    } else if (prev[k] == none) {
+    } else {
       chain(k);
     }
   }
