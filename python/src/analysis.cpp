@@ -21,6 +21,7 @@
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/tracker.hpp"
 #include "errors.hpp"
 
 namespace asperity::python {
@@ -166,8 +167,10 @@ void bind_analysis(py::module_& m) {
         py::arg("d") = 1.0, py::arg("periodic") = false,
         py::arg("min_length") = tracking::DetectOptions{}.min_length,
         py::arg("join_distance") = tracking::DetectOptions{}.join_distance,
-        py::arg("slip_sign") = -1, py::arg("tangent_half_window") = 1,
-        py::arg("screw_angle_deg") = 45.0, py::arg("centre_fraction") = 0.5,
+        py::arg("slip_sign") = tracking::DetectOptions{}.slip_sign,
+        py::arg("tangent_half_window") = tracking::DetectOptions{}.tangent_half_window,
+        py::arg("screw_angle_deg") = tracking::DetectOptions{}.screw_angle_deg,
+        py::arg("centre_fraction") = tracking::TrackOptions{}.centre_fraction,
         py::arg("sy") = py::none(), py::arg("tau_y") = py::none(), py::arg("tip_angle") = 0.0,
         py::arg("tip_mismatch") = 0.0,
         "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; a tip out of "
