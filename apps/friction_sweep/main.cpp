@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
                  "Only print what the sweep would do: its points with a/b_core^0 and the memory "
                  "each slide needs, which rows an existing table in --out would keep, and "
                  "which points would continue from a checkpoint; runs and writes nothing");
+    auto* peek_opt = cli.add_flag(
+        "--peek", o.peek,
+        "Only write the states the checkpoints of the points in --out hold, as NetCDF in "
+        "points/<point>/peek/ (for track_loops): accepted.nc (the last accepted state), peak.nc "
+        "and, inside a slip, flow.nc (where its paused flow stands, with the sites slipped so "
+        "far); reads while the sweep runs, runs nothing");
+    peek_opt->excludes("--plan");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     cli.add_option("--checkpoint-every", o.checkpoint_every,
                    "Seconds of run time between checkpoints of each running point (0: every step)")

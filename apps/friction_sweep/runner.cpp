@@ -17,6 +17,7 @@
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/apps/common/slide_io.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 #include "asperity/apps/common/snapshot_sink.hpp"
 #include "report.hpp"
 
@@ -80,6 +81,101 @@ class SweepRunner {
         points_(sweep_points(s)),  // validates s
         xpoints_(explicit_sweep_points(s)) {}
 
+  // --peek: the states held by each LFM point's checkpoint in the output folder, as NetCDF for
+  // track_loops, while the sweep runs (or after it stopped): points/<point>/peek/accepted.nc
+  // (the last accepted state), peak.nc and, if a slip flow is paused in it, flow.nc (where the
+  // flow stands: slide::paused_slip). A slip through a contact of a million sites flows for
+  // hours, and the sweep writes a slip's states (--largest-slip) only once it is through. Reads
+  // the checkpoint without the folder's lock: the run replaces it by a rename, so a read sees
+  // one whole file. Returns 1 if a point's checkpoint could not be read or does not fit.
+  int peek_only() {
+    if (!ranks_.leader()) return 0;
+    const fs::path out = o_.out;
+    int looked = 0, failed = 0;
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      const SweepPoint& point = points_[k];
+      const fs::path dir = out / "points" / point_folder(point, false);
+      std::error_code ec;
+      fs::path file = dir / kCheckpointName;
+      if (!fs::exists(file, ec)) file = dir / kCappedCheckpointName;
+      if (!fs::exists(file, ec)) continue;
+      ++looked;
+      try {
+        peek_point(point, file, dir / "peek");
+      } catch (const std::exception& e) {
+        ++failed;
+        std::fprintf(stderr, "friction_sweep --peek: %s: %s\n", describe_point(point).c_str(),
+                     e.what());
+      }
+    }
+    if (looked == 0) {
+      std::printf("friction_sweep --peek: no point of this sweep has a checkpoint in %s\n",
+                  (out / "points").string().c_str());
+    }
+    if (!xpoints_.empty()) {
+      std::printf(
+          "friction_sweep --peek: the explicit model's points are not looked at (their "
+          "slides pause no flow; --figures writes their states)\n");
+    }
+    return failed > 0 ? 1 : 0;
+  }
+
+  void peek_point(const SweepPoint& point, const fs::path& file, const fs::path& into) {
+    SlideScene ps = s_.base;
+    ps.contact.a = point.a;
+    ps.contact.R = point.R;
+    ps.contact.tip = point.tip;
+    const SlideCheckpoint c = read_checkpoint(file);
+    // The checkpoint must be of this point's problem; the build, slide.*, solver.* and fft.*
+    // settings and the outputs (snapshots=, from --figures) may differ: they do not change what
+    // a state is.
+    const FingerprintDifference d = fingerprint_difference(c.settings, slide_fingerprint(ps));
+    std::string other;
+    for (const std::string& item : d.fixed) {
+      if (item.rfind("snapshots=", 0) == 0) continue;
+      other += (other.empty() ? "" : ", ") + item;
+    }
+    if (!other.empty()) {
+      throw std::invalid_argument(file.string() + ": checkpoint of another problem (" + other +
+                                  " differ): give the run's scene and point flags");
+    }
+    const slide::SlideState& st = c.state;
+    const nlohmann::json attributes = snapshot_attributes(ps, nullptr);
+    ensure_directory(into);
+    slide::Snapshot accepted = slide::snapshot_of(ps.contact, st.current, "accepted");
+    write_snapshots(into / "accepted.nc", {accepted}, attributes, ps.snapshot_format);
+    // A slide checkpointed before its first accepted step has no peak yet; files of an earlier
+    // peek that this state does not hold go.
+    std::error_code ec;
+    fs::remove(into / "peak.nc", ec);
+    fs::remove(into / "flow.nc", ec);
+    if (!st.peak.u.empty()) {
+      write_snapshots(into / "peak.nc", {slide::snapshot_of(ps.contact, st.peak, "peak")},
+                      attributes, ps.snapshot_format);
+    }
+    std::printf(
+        "friction_sweep --peek: %s (%s): %zu steps, %d slip events; accepted state at "
+        "Dx = %.4f d, Fx = %.6g, Fx/Fz = %.6g; peak Fx/Fz = %.6g at Dx = %.4f d\n",
+        describe_point(point).c_str(), file.filename().string().c_str(), st.partial.trace.size(),
+        st.partial.slip_events, st.current.Dx, st.current.Fx, st.current.Fx / st.current.Fz,
+        st.peak.Fx / st.peak.Fz, st.peak.Dx);
+    if (st.pending) {
+      const slide::PausedSlip flow = slide::paused_slip(ps.contact, st);
+      slide::Snapshot snap = slide::snapshot_of(ps.contact, flow.state, "flow");
+      snap.iteration = flow.iteration;
+      write_snapshots(into / "flow.nc", {snap}, attributes, ps.snapshot_format);
+      std::printf(
+          "  slip flow to Dx = %.4f d paused at iteration %d: %d sites slipped since the "
+          "accepted state, Fx = %.6g, energy %.10g (accepted: %.10g at its Dx)\n",
+          flow.state.Dx, flow.iteration, flow.slipped_sites, flow.state.Fx, flow.state.energy,
+          st.current.energy);
+    } else {
+      std::printf("  no slip flow paused in it (taken between steps)\n");
+    }
+    std::printf("  wrote %s: accepted.nc%s%s (track_loops reads them)\n", into.string().c_str(),
+                st.peak.u.empty() ? "" : ", peak.nc", st.pending ? ", flow.nc" : "");
+  }
+
   // --plan: the points, with a/b_core^0 and the memory each slide needs, whether an existing
   // table in the output folder holds its row already (it would be kept), and whether it would
   // continue from a checkpoint. Reads, writes nothing, runs nothing.
@@ -140,6 +236,7 @@ class SweepRunner {
 
   int run() {
     if (o_.plan) return plan_only();
+    if (o_.peek) return peek_only();
     // A signal from here on stops the sweep cleanly (points in flight checkpoint, no new ones).
     install_stop_handlers();
     settings_ = settings_fingerprint(s_.base);

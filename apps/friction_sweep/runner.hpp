@@ -26,6 +26,10 @@ struct SweepRunOptions {
   // Only say what the sweep would do (its points, what each needs, the rows an existing table
   // in `out` would keep) and return, writing nothing
   bool plan = false;
+  // Only write the states held by the checkpoints of the points in `out` (the last accepted
+  // state, the peak and a paused slip flow's) as NetCDF into points/<point>/peek/ and return:
+  // a run is looked at while it runs, inside a slip flow of hours
+  bool peek = false;
   std::string command_line;  // printed when a stopped sweep says how to continue
 };
 

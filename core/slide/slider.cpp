@@ -174,6 +174,35 @@ class Slider {
     return r;
   }
 
+  // The state a paused slip flow stands at (PendingSlip): `from` (the last accepted state)
+  // moved to the step's tip position, with the pause's pair on the contact sites and, off the
+  // contact, the displacement its forces make (u = G f), as relax() leaves a state when a flow
+  // ends there. Only the block's alignment is taken from `from`: every force of the state is the
+  // pause's (relax() zeroes those off the contact). Throws std::invalid_argument if the pair
+  // does not hold two values per contact site at that position.
+  State paused_state(const State& from, double Dx, const minimize::FlowPause& pause) {
+    State s = from;
+    const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
+    if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
+    lfm_ = interface::LateralForceModel(scene_, local_block_at(s.shift));
+    lfm_.set_tip(Dx);
+    problem_.distribute();
+    s.Dx = Dx;
+    const std::size_t m = lfm_.contact_sites().size();
+    if (pause.u.size() != 2 * m || pause.f.size() != 2 * m) {
+      throw std::invalid_argument(
+          "paused_slip: the paused flow holds " + std::to_string(pause.u.size()) + " and " +
+          std::to_string(pause.f.size()) + " values, allowed: " + std::to_string(2 * m) +
+          " (2 per contact site at Dx = " + std::to_string(Dx) + " d)");
+    }
+    std::fill(s.f.begin(), s.f.end(), 0.0);
+    scatter(pause.f, s.f);
+    gf_.apply(s.f, s.u);
+    scatter(pause.u, s.u);
+    summarise(pause.u, pause.f, s);
+    return s;
+  }
+
   // Fx, Fz, the contact-site area and the energy of the pair (u, f) on the contact sites, into
   // `s`: sums over the sites of every process, made row by row and added in row order
   // (Comm::ordered_sum), the same bits on any number of processes.
@@ -766,6 +795,26 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
                                 std::to_string(state.u.size()) + " values, allowed: " + why);
   }
   return model.snapshot(state, std::move(label));
+}
+
+PausedSlip paused_slip(const interface::ContactScene& scene, const SlideState& state) {
+  scene.validate();
+  if (!state.pending) {
+    throw std::invalid_argument(
+        "paused_slip: the state holds no paused slip flow (SlideState::pending is empty: it was "
+        "taken between steps)");
+  }
+  Slider model(scene, SlideOptions{});
+  if (const std::string why = model.check_fields(state.current); !why.empty()) {
+    throw std::invalid_argument("paused_slip: the state's fields do not fit this scene: " +
+                                std::to_string(state.current.u.size()) +
+                                " values, allowed: " + why);
+  }
+  PausedSlip out;
+  out.iteration = state.pending->flow.iteration;
+  out.state = model.paused_state(state.current, state.pending->Dx, state.pending->flow);
+  out.slipped_sites = model.slipped_sites(state.current, out.state);
+  return out;
 }
 
 StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptions& options,

@@ -79,6 +79,19 @@ StepRelaxation relax_step(const interface::ContactScene& scene, const SlideOptio
 Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& state,
                      std::string label);
 
+// Where a slip flow paused in a checkpoint stands (SlideState::pending; lateral force model):
+// the state at the paused iteration on the step's block, as the slide would hold it had the
+// flow ended there (the pair on the contact sites, u = G f off it), and the sites that have
+// slipped since the last accepted state (registry_jumps). A slip through a large contact flows
+// for hours: this is how a run is looked at inside it (friction_sweep --peek, for track_loops).
+// Throws std::invalid_argument if the state holds no paused flow or does not fit the scene.
+struct PausedSlip {
+  SlideFields state;
+  int iteration = 0;      // the flow's iterations done
+  int slipped_sites = 0;  // since SlideState::current
+};
+PausedSlip paused_slip(const interface::ContactScene& scene, const SlideState& state);
+
 // Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
 // positions whose registry index round(s/d) (x or y) changed between the two displacement fields
 // (2 per block site, x then y, both on this block) by a jump of at least d/4 in that component;

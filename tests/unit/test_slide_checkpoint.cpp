@@ -355,6 +355,92 @@ TEST(SlideCheckpoint, SlipFlowPausesAndContinuesBitForBit) {
                std::invalid_argument);
 }
 
+TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
+  // slide::paused_slip (friction_sweep --peek): the state of a checkpoint's paused slip flow.
+  // Taken at every accepted step of every slip flow of the a = 43 d slide (checkpoints due at
+  // once), it must hold (1) the pause's pair itself on the contact sites, bit for bit, at the
+  // step's tip position; (2) along one flow, an energy that never rises (rkc rejects a step that
+  // raises it: the flow descends, MODEL.md 5), from above the state the slip ends in down to it;
+  // (3) at the flow's last accepted step, the state the slide accepts after the slip, bit for
+  // bit (the slide makes it the same way: pair on the contact, u = G f off it), with the slip's
+  // sites (registry_jumps) as its trace row counts them.
+  auto s = scene(43.0, 0.0);
+  s.options.slip_minimizer = slide::slip_minimizer_from(s.options.minimizer, minimize::Method::flow,
+                                                        minimize::Preconditioner::interface);
+  std::vector<SlideState> inside, between;
+  const SlideResult r = slide::slide(
+      s.contact, s.options,
+      SlideControl{.checkpoint =
+                       [&](const SlideState& st) { (st.pending ? inside : between).push_back(st); },
+                   .checkpoint_every_s = 1e-9});
+  ASSERT_FALSE(r.failed) << r.stop_reason;
+  ASSERT_GT(r.slip_events, 0);
+  ASSERT_GE(inside.size(), 10u);
+  std::size_t flows = 0, compared_ends = 0;
+  double energy_before = 0.0;
+  for (std::size_t k = 0; k < inside.size(); ++k) {
+    const SlideState& st = inside[k];
+    const slide::PausedSlip p = slide::paused_slip(s.contact, st);
+    const std::string where = "pause " + std::to_string(k) +
+                              " (Dx = " + std::to_string(st.pending->Dx) + " d, iteration " +
+                              std::to_string(st.pending->flow.iteration) + ")";
+    ASSERT_EQ(p.iteration, st.pending->flow.iteration) << where;
+    ASSERT_EQ(p.state.Dx, st.pending->Dx) << where;
+    // (1) The contact sites, in the order the pair holds them (block order), are the snapshot's
+    // sites in contact.
+    const slide::Snapshot snap = slide::snapshot_of(s.contact, p.state, "flow");
+    const std::size_t m = st.pending->flow.u.size() / 2;
+    std::size_t j = 0;
+    bool same = true;
+    for (std::size_t i = 0; i < snap.in_contact.size(); ++i) {
+      if (!snap.in_contact[i]) continue;
+      same = same && j < m && snap.ux[i] == st.pending->flow.u[j] &&
+             snap.uy[i] == st.pending->flow.u[m + j];
+      ++j;
+    }
+    EXPECT_TRUE(same && j == m) << where << ": " << j << " sites in contact, pair of " << m;
+    // (2) Energy along the flow.
+    const bool same_flow = k > 0 && inside[k - 1].pending->Dx == st.pending->Dx &&
+                           inside[k - 1].pending->flow.iteration < st.pending->flow.iteration;
+    if (same_flow) {
+      EXPECT_LE(p.state.energy, energy_before) << where;
+    } else {
+      ++flows;
+    }
+    energy_before = p.state.energy;
+    // (3) The flow's last pause against the state accepted after it.
+    const bool last_of_flow = k + 1 == inside.size() || inside[k + 1].pending->Dx != st.pending->Dx;
+    if (!last_of_flow) continue;
+    const auto after = std::find_if(between.begin(), between.end(), [&](const SlideState& b) {
+      return b.current.Dx == st.pending->Dx;
+    });
+    if (after == between.end()) continue;
+    ++compared_ends;
+    double du = 0.0, df = 0.0;
+    for (std::size_t i = 0; i < p.state.u.size(); ++i) {
+      du = std::max(du, std::abs(p.state.u[i] - after->current.u[i]));
+      df = std::max(df, std::abs(p.state.f[i] - after->current.f[i]));
+    }
+    EXPECT_EQ(du, 0.0) << where << ": the last pause against the state accepted after the flow";
+    EXPECT_EQ(df, 0.0) << where;
+    EXPECT_EQ(p.state.energy, after->current.energy) << where;
+    EXPECT_EQ(p.state.Fx, after->current.Fx) << where;
+    const auto row = std::find_if(r.trace.begin(), r.trace.end(), [&](const slide::TraceRow& t) {
+      return t.Dx == st.pending->Dx && t.slip;
+    });
+    ASSERT_NE(row, r.trace.end()) << where << ": no slip in the trace at this Dx";
+    EXPECT_EQ(p.slipped_sites, row->slipped_sites) << where;
+    EXPECT_GT(p.slipped_sites, 0) << where;
+  }
+  // Measured: 148 pauses in the one flow this slide computes (its second slip is replayed),
+  // the last at iteration 151, 5 628 sites slipped.
+  EXPECT_GE(flows, 1u);
+  EXPECT_EQ(compared_ends, flows);
+  // No paused flow in a state taken between steps.
+  ASSERT_FALSE(between.empty());
+  EXPECT_THROW(slide::paused_slip(s.contact, between.back()), std::invalid_argument);
+}
+
 // The scene of the flow-first tests: a Regime III slide (R = 20 d, a = 15 d) with step growth
 // and the flow for slips; flow_first_after = 2, so that the flow both slips and finds steps
 // stable.
