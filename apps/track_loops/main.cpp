@@ -134,7 +134,8 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
     stroked.push_back(std::move(o));
   }
   // The key above the title, off the map: inside (as gnuplot's splot puts an "outside" key) it
-  // hid the top edge, where those lines are.
+  // hid the top edge, where those lines are. One row: stacked, three entries (edge, mixed,
+  // screw) reached down over the title.
   app::heatmap_png(
       png, x, y, map,
       {.title = title,
@@ -144,7 +145,7 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
        .height = 720,
        .extra_commands =
            {"set size ratio -1",
-            "set key at screen 0.5, 0.965 center horizontal box opaque fc rgb '#9a9a9a'"}},
+            "set key at screen 0.5, 0.965 center horizontal maxrows 1 box opaque fc rgb '#9a9a9a'"}},
       frame.aligned() ? "tau_x / tau_max" : "tau_1 / tau_max (tip axis)", std::pair{-1.0, 1.0},
       stroked);
 }
