@@ -8,7 +8,8 @@
 // - points/a<a>_R<R>/: summary.json and trace.csv of each point (with --figures, also the
 //   figures and snapshots of contact_slide; with --largest-slip, largest_slip/ with the states
 //   before and after the point's largest slip, those of its latest slip, its peak state and
-//   slips.csv, the loops after each slip, with its figures slips.png and slips_loops.png);
+//   slips.csv, the loops after each slip, with its figures slips.png and slips_loops.png; with
+//   --peek, run beside or after the sweep, peek/ with the states its checkpoint holds);
 // - summary.json: settings, counts and the log-log slope of mu/alpha in Regime II; wall times
 //   and provenance under "run" (the rest is the same for the same sweep);
 // - mu_vs_a_over_bcore0.png and kinetic_over_static.png;

@@ -126,13 +126,13 @@ class SweepRunner {
     ps.contact.R = point.R;
     ps.contact.tip = point.tip;
     const SlideCheckpoint c = read_checkpoint(file);
-    // The checkpoint must be of this point's problem; the build, slide.*, solver.* and fft.*
-    // settings and the outputs (snapshots=, from --figures) may differ: they do not change what
-    // a state is.
+    // The checkpoint must be of this point's problem; the build, the slide.*, solver.* and fft.*
+    // settings (adoptable) and the outputs (output.*, and snapshots= from --figures) may
+    // differ: they do not change what a state is.
     const FingerprintDifference d = fingerprint_difference(c.settings, slide_fingerprint(ps));
     std::string other;
     for (const std::string& item : d.fixed) {
-      if (item.rfind("snapshots=", 0) == 0) continue;
+      if (item.rfind("snapshots=", 0) == 0 || item.rfind("output.", 0) == 0) continue;
       other += (other.empty() ? "" : ", ") + item;
     }
     if (!other.empty()) {
@@ -144,15 +144,11 @@ class SweepRunner {
     ensure_directory(into);
     slide::Snapshot accepted = slide::snapshot_of(ps.contact, st.current, "accepted");
     write_snapshots(into / "accepted.nc", {accepted}, attributes, ps.snapshot_format);
-    // A slide checkpointed before its first accepted step has no peak yet; files of an earlier
-    // peek that this state does not hold go.
+    write_snapshots(into / "peak.nc", {slide::snapshot_of(ps.contact, st.peak, "peak")}, attributes,
+                    ps.snapshot_format);
+    // A flow.nc of an earlier peek is not this state's.
     std::error_code ec;
-    fs::remove(into / "peak.nc", ec);
     fs::remove(into / "flow.nc", ec);
-    if (!st.peak.u.empty()) {
-      write_snapshots(into / "peak.nc", {slide::snapshot_of(ps.contact, st.peak, "peak")},
-                      attributes, ps.snapshot_format);
-    }
     std::printf(
         "friction_sweep --peek: %s (%s): %zu steps, %d slip events; accepted state at "
         "Dx = %.4f d, Fx = %.6g, Fx/Fz = %.6g; peak Fx/Fz = %.6g at Dx = %.4f d\n",
@@ -160,7 +156,7 @@ class SweepRunner {
         st.partial.slip_events, st.current.Dx, st.current.Fx, st.current.Fx / st.current.Fz,
         st.peak.Fx / st.peak.Fz, st.peak.Dx);
     if (st.pending) {
-      const slide::PausedSlip flow = slide::paused_slip(ps.contact, st);
+      const slide::PausedSlip flow = slide::paused_slip(ps.contact, ps.options, st);
       slide::Snapshot snap = slide::snapshot_of(ps.contact, flow.state, "flow");
       snap.iteration = flow.iteration;
       write_snapshots(into / "flow.nc", {snap}, attributes, ps.snapshot_format);
@@ -172,8 +168,8 @@ class SweepRunner {
     } else {
       std::printf("  no slip flow paused in it (taken between steps)\n");
     }
-    std::printf("  wrote %s: accepted.nc%s%s (track_loops reads them)\n", into.string().c_str(),
-                st.peak.u.empty() ? "" : ", peak.nc", st.pending ? ", flow.nc" : "");
+    std::printf("  wrote %s: accepted.nc, peak.nc%s (track_loops reads them)\n",
+                into.string().c_str(), st.pending ? ", flow.nc" : "");
   }
 
   // --plan: the points, with a/b_core^0 and the memory each slide needs, whether an existing

@@ -136,18 +136,17 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
   // The key above the title, off the map: inside (as gnuplot's splot puts an "outside" key) it
   // hid the top edge, where those lines are. One row: stacked, three entries (edge, mixed,
   // screw) reached down over the title.
-  app::heatmap_png(
-      png, x, y, map,
-      {.title = title,
-       .xlabel = "x / d",
-       .ylabel = "y / d",
-       .width = 800,
-       .height = 720,
-       .extra_commands =
-           {"set size ratio -1",
-            "set key at screen 0.5, 0.965 center horizontal maxrows 1 box opaque fc rgb '#9a9a9a'"}},
-      frame.aligned() ? "tau_x / tau_max" : "tau_1 / tau_max (tip axis)", std::pair{-1.0, 1.0},
-      stroked);
+  app::heatmap_png(png, x, y, map,
+                   {.title = title,
+                    .xlabel = "x / d",
+                    .ylabel = "y / d",
+                    .width = 800,
+                    .height = 720,
+                    .extra_commands = {"set size ratio -1",
+                                       "set key at screen 0.5, 0.965 center horizontal maxrows 1 "
+                                       "box opaque fc rgb '#9a9a9a'"}},
+                   frame.aligned() ? "tau_x / tau_max" : "tau_1 / tau_max (tip axis)",
+                   std::pair{-1.0, 1.0}, stroked);
 }
 
 // Local Peierls stress laws drawn beside the profiles (--peierls): edge and screw fits.

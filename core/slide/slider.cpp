@@ -797,14 +797,25 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
   return model.snapshot(state, std::move(label));
 }
 
-PausedSlip paused_slip(const interface::ContactScene& scene, const SlideState& state) {
+PausedSlip paused_slip(const interface::ContactScene& scene, const SlideOptions& options,
+                       const SlideState& state) {
   scene.validate();
+  options.validate();
   if (!state.pending) {
     throw std::invalid_argument(
         "paused_slip: the state holds no paused slip flow (SlideState::pending is empty: it was "
         "taken between steps)");
   }
-  Slider model(scene, SlideOptions{});
+  // As the slide checks a start state (protocol.hpp): a damaged file must not reach the block
+  // arithmetic.
+  if (!std::isfinite(state.pending->Dx) || !(state.pending->Dx > state.current.Dx) ||
+      std::abs(state.pending->Dx - state.current.Dx) > 1e6 * scene.d) {
+    throw std::invalid_argument(
+        "paused_slip: SlideState.pending.Dx = " + std::to_string(state.pending->Dx) +
+        " d, allowed: finite and beyond the last accepted state's Dx = " +
+        std::to_string(state.current.Dx) + " d");
+  }
+  Slider model(scene, options);
   if (const std::string why = model.check_fields(state.current); !why.empty()) {
     throw std::invalid_argument("paused_slip: the state's fields do not fit this scene: " +
                                 std::to_string(state.current.u.size()) +

@@ -84,13 +84,16 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
 // flow ended there (the pair on the contact sites, u = G f off it), and the sites that have
 // slipped since the last accepted state (registry_jumps). A slip through a large contact flows
 // for hours: this is how a run is looked at inside it (friction_sweep --peek, for track_loops).
-// Throws std::invalid_argument if the state holds no paused flow or does not fit the scene.
+// `options` are the slide's: its FFT settings make u = G f off the contact bit for bit the
+// run's. Throws std::invalid_argument if the state holds no paused flow, or one whose tip
+// position is not finite and beyond the last accepted state's, or does not fit the scene.
 struct PausedSlip {
   SlideFields state;
   int iteration = 0;      // the flow's iterations done
   int slipped_sites = 0;  // since SlideState::current
 };
-PausedSlip paused_slip(const interface::ContactScene& scene, const SlideState& state);
+PausedSlip paused_slip(const interface::ContactScene& scene, const SlideOptions& options,
+                       const SlideState& state);
 
 // Slip test of MODEL.md 5 (slider.cpp): the number of sites of `block` in the contact at both tip
 // positions whose registry index round(s/d) (x or y) changed between the two displacement fields

@@ -7,6 +7,7 @@
 // that a state between steps no longer holds, refuse a checkpoint of another problem (exit 1),
 // and leave the checkpoint alone.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -106,7 +107,7 @@ TEST(FrictionSweepPeek, WritesTheStatesOfACheckpointInsideASlipFlow) {
                            " --peek > " + (dir / "peek.txt").string() + " 2>&1";
   ASSERT_EQ(run(peek), 0) << read_text(dir / "peek.txt");
   const std::string said = read_text(dir / "peek.txt");
-  const auto p = asperity::slide::paused_slip(s.contact, paused);
+  const auto p = asperity::slide::paused_slip(s.contact, s.options, paused);
   EXPECT_NE(said.find("paused at iteration " + std::to_string(p.iteration) + ": " +
                       std::to_string(p.slipped_sites) + " sites slipped"),
             std::string::npos)

@@ -380,7 +380,7 @@ TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
   double energy_before = 0.0;
   for (std::size_t k = 0; k < inside.size(); ++k) {
     const SlideState& st = inside[k];
-    const slide::PausedSlip p = slide::paused_slip(s.contact, st);
+    const slide::PausedSlip p = slide::paused_slip(s.contact, s.options, st);
     const std::string where = "pause " + std::to_string(k) +
                               " (Dx = " + std::to_string(st.pending->Dx) + " d, iteration " +
                               std::to_string(st.pending->flow.iteration) + ")";
@@ -438,7 +438,29 @@ TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
   EXPECT_EQ(compared_ends, flows);
   // No paused flow in a state taken between steps.
   ASSERT_FALSE(between.empty());
-  EXPECT_THROW(slide::paused_slip(s.contact, between.back()), std::invalid_argument);
+  EXPECT_THROW(slide::paused_slip(s.contact, s.options, between.back()), std::invalid_argument);
+  // The state depends on the last accepted one only through the block's alignment: every force
+  // is the pause's (those off the contact zero) and every displacement follows from them, so
+  // with an accepted state of another alignment (the first, at Dx = 0: the roll to the step's
+  // block is then made) whose fields are filled with junk nothing of it may show.
+  const SlideState& mid = inside[inside.size() / 2];
+  SlideState moved = mid;
+  moved.current = between.front().current;
+  std::fill(moved.current.f.begin(), moved.current.f.end(), 0.25);
+  std::fill(moved.current.u.begin(), moved.current.u.end(), -3.0);
+  ASSERT_NE(moved.current.shift, mid.current.shift) << "the roll is not exercised";
+  const slide::PausedSlip a = slide::paused_slip(s.contact, s.options, mid);
+  const slide::PausedSlip b = slide::paused_slip(s.contact, s.options, moved);
+  EXPECT_EQ(a.state.shift, b.state.shift);
+  EXPECT_TRUE(a.state.u == b.state.u && a.state.f == b.state.f)
+      << "a field of the last accepted state shows in the paused one";
+  EXPECT_EQ(a.state.energy, b.state.energy);
+  // A damaged file: the step's tip position not beyond the accepted state's, or not finite.
+  moved = mid;
+  moved.pending->Dx = moved.current.Dx;
+  EXPECT_THROW(slide::paused_slip(s.contact, s.options, moved), std::invalid_argument);
+  moved.pending->Dx = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(slide::paused_slip(s.contact, s.options, moved), std::invalid_argument);
 }
 
 // The scene of the flow-first tests: a Regime III slide (R = 20 d, a = 15 d) with step growth
