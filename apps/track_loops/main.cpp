@@ -327,8 +327,10 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
   nlohmann::json profile = nullptr;
   if (plot) {
     std::ostringstream title;
-    title << s.label << " #" << where.frame_in_file << " (iteration " << s.iteration
-          << ", Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
+    // A state (not a frame of a relaxation path) has iteration -1: no iteration to name.
+    title << s.label << " #" << where.frame_in_file << " (";
+    if (s.iteration >= 0) title << "iteration " << s.iteration << ", ";
+    title << "Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
     plot_frame(dir / name, s, f, title.str());
     ++tally.figures;
     if (o.profiles) {
