@@ -12,6 +12,9 @@
 #                                          each point's latest slip (slips.csv, --largest-slip)
 #                                          and where its figures are (slips.png, slips_loops.png)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
+#   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
+#                                          slip (friction_sweep --peek), and the lines of its
+#                                          states (track_loops): beside the running run
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
 #                                          this checkout's build, which it keeps from then on:
 #                                          a run whose binary is gone, one moved to a new build,
@@ -157,6 +160,44 @@ status() {
   return 0
 }
 
+# What each point's checkpoint holds, beside the running run or after it stopped: friction_sweep
+# --peek (this checkout's build: it reads the checkpoint of any build) writes the last accepted
+# state, the peak and, inside a slip, where the slip's flow stands into points/<p>/peek/, and
+# track_loops finds the lines of the accepted and the flow's state (points/<p>/peek/<state>_lines/).
+# A slip through a = 510 d flows for hours before the run writes its states.
+peek() {
+  local name=$1 out=$3 flags=$4
+  local copy="$runs/$out.scene.toml"
+  if [ ! -f "$copy" ] || [ ! -d "$runs/$out/points" ]; then
+    echo "$name: nothing to look at (no $copy or $runs/$out/points)"
+    return
+  fi
+  if [ ! -x "$build/bin/friction_sweep" ] || [ ! -x "$build/bin/track_loops" ]; then
+    echo "$name: build friction_sweep and track_loops first ($build/bin)" >&2
+    return 1
+  fi
+  # shellcheck disable=SC2086
+  "$build/bin/friction_sweep" "$copy" --out "$runs/$out" $flags --peek || return 1
+  local nc
+  for nc in "$runs/$out"/points/*/peek/accepted.nc "$runs/$out"/points/*/peek/flow.nc; do
+    [ -f "$nc" ] || continue
+    local into="${nc%.nc}_lines"
+    "$build/bin/track_loops" "$nc" --out "$into" >"$into.log" 2>&1 ||
+      { echo "  track_loops failed on $nc: $into.log" >&2; continue; }
+    python3 - "$into/lines.json" <<'PY'
+import json, sys
+frame = json.load(open(sys.argv[1]))["frames"][0]
+lines = frame["lines"]
+loops = [l for l in lines if l["kind"] == "loop"]
+print(f"  {frame['label']} (Dx = {frame['Dx']:.4f} d): {len(loops)} loop(s), "
+      f"{len(lines) - len(loops)} other line(s); " + "; ".join(
+          f"{l['kind']} {l['length']:.1f} d, screw {100 * l['screw_fraction']:.0f} %, "
+          f"{l['x_extent']:.0f} x {l['y_extent']:.0f} d" for l in lines[:8]))
+print(f"    {sys.argv[1].rsplit('/', 1)[0]}/frame_0000.png")
+PY
+  done
+}
+
 stop() {
   local name=$1 out=$3
   local p
@@ -182,12 +223,13 @@ while IFS='|' read -r name scene out flags auto; do
     start) start "$name" "$scene" "$out" "$flags" ;;
     status) status "$name" "$scene" "$out" "$flags" ;;
     stop) stop "$name" "$scene" "$out" "$flags" ;;
+    peek) peek "$name" "$scene" "$out" "$flags" ;;
     adopt)
       [ "$want" != "  " ] || { echo "adopt: name the runs" >&2; exit 2; }
       adopt "$name" "$scene" "$out" "$flags"
       ;;
     *)
-      echo "usage: scripts/long_runs.sh start|status|stop|adopt [name...]" >&2
+      echo "usage: scripts/long_runs.sh start|status|stop|adopt|peek [name...]" >&2
       exit 2
       ;;
   esac

@@ -2,7 +2,8 @@
 # scripts/long_runs.sh status on a made-up run folder (RUNS): a point's slips.csv is read by
 # column name (so that columns added at its end, as Dx_before was, change nothing), its latest
 # slip and cost are printed, and so are the slip figures that exist; a run without a log or a
-# binary says so. Nothing is started: status only reads.
+# binary says so; peek of a run without its scene copy says so. Nothing is started: status and
+# peek only read.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mktemp -d)
@@ -37,4 +38,9 @@ touch "$dir/slips_loops.png"
 run_status
 grep -q "^    figures: $dir/slips.png, $dir/slips_loops.png$" "$work/out" || fail "both figures"
 grep -q "^r1700_a510 \[stopped, no binary\]: (no log)$" "$work/out" || fail "a run never started"
+# peek reads only: a run without its scene copy has nothing to look at, and says so.
+(cd "$repo" && RUNS="$work" bash scripts/long_runs.sh peek r800) >"$work/out" 2>&1 ||
+  fail "peek exited non-zero"
+grep -q "^r800: nothing to look at (no $work/issue23/regime3_R800_g.scene.toml" "$work/out" ||
+  fail "peek of a run without its scene copy"
 echo "long_runs.sh status: OK"
