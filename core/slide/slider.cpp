@@ -97,13 +97,7 @@ class Slider {
                                  const minimize::MinimizerOptions* solver = nullptr,
                                  detail::RelaxPausing* pausing = nullptr) {
     const minimize::FlowPause* from = pausing ? pausing->from : nullptr;
-    const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
-    // Rolled rows come in without displacements; u = G f below recomputes them.
-    if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
-    lfm_ = interface::LateralForceModel(scene_, local_block_at(s.shift));
-    lfm_.set_tip(Dx);
-    problem_.distribute();
-    s.Dx = Dx;
+    move_to(s, Dx);
     // Sites that left the contact carry no force; u = G f also refreshes the pair.
     const std::size_t n = local_count();
     std::vector<std::uint8_t> in(n, 0);
@@ -165,13 +159,29 @@ class Slider {
     }
     const auto r = minimize::minimize(problem_, u, f, solver ? *solver : options_.minimizer,
                                       observer, from, pausing ? &pausing->pauses : nullptr);
+    take_pair(u, f, s);
+    return r;
+  }
+
+  // The block of `s` aligned to tip position Dx (the block follows the tip) and the model moved
+  // there. Rolled rows come in without displacements; the caller's u = G f recomputes them.
+  void move_to(State& s, double Dx) {
+    const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
+    if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
+    lfm_ = interface::LateralForceModel(scene_, local_block_at(s.shift));
+    lfm_.set_tip(Dx);
+    problem_.distribute();
+    s.Dx = Dx;
+  }
+
+  // The pair (u, f) on the contact sites into `s`, whose forces off the contact are zero. The
+  // displacement off the contact follows from the forces (slip detection and snapshots compare
+  // it between states); on the contact it is the minimiser's.
+  void take_pair(std::span<const double> u, std::span<const double> f, State& s) {
     scatter(f, s.f);
-    // The displacement off the contact follows from the new forces (slip detection and
-    // snapshots compare it between states); on the contact it is the minimiser's.
     gf_.apply(s.f, s.u);
     scatter(u, s.u);
     summarise(u, f, s);
-    return r;
   }
 
   // The state a paused slip flow stands at (PendingSlip): `from` (the last accepted state)
@@ -182,12 +192,7 @@ class Slider {
   // does not hold two values per contact site at that position.
   State paused_state(const State& from, double Dx, const minimize::FlowPause& pause) {
     State s = from;
-    const int target_shift = static_cast<int>(std::floor(Dx / scene_.d + 0.5));
-    if (target_shift != s.shift) roll_fields(s, target_shift - s.shift);
-    lfm_ = interface::LateralForceModel(scene_, local_block_at(s.shift));
-    lfm_.set_tip(Dx);
-    problem_.distribute();
-    s.Dx = Dx;
+    move_to(s, Dx);
     const std::size_t m = lfm_.contact_sites().size();
     if (pause.u.size() != 2 * m || pause.f.size() != 2 * m) {
       throw std::invalid_argument(
@@ -196,10 +201,7 @@ class Slider {
           " (2 per contact site at Dx = " + std::to_string(Dx) + " d)");
     }
     std::fill(s.f.begin(), s.f.end(), 0.0);
-    scatter(pause.f, s.f);
-    gf_.apply(s.f, s.u);
-    scatter(pause.u, s.u);
-    summarise(pause.u, pause.f, s);
+    take_pair(pause.u, pause.f, s);
     return s;
   }
 
