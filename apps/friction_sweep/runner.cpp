@@ -121,10 +121,7 @@ class SweepRunner {
   }
 
   void peek_point(const SweepPoint& point, const fs::path& file, const fs::path& into) {
-    SlideScene ps = s_.base;
-    ps.contact.a = point.a;
-    ps.contact.R = point.R;
-    ps.contact.tip = point.tip;
+    const SlideScene ps = point_scene(point);
     const SlideCheckpoint c = read_checkpoint(file);
     // The checkpoint must be of this point's problem; the build, the slide.*, solver.* and fft.*
     // settings (adoptable) and the outputs (output.*, and snapshots= from --figures) may
@@ -142,8 +139,8 @@ class SweepRunner {
     const slide::SlideState& st = c.state;
     const nlohmann::json attributes = snapshot_attributes(ps, nullptr);
     ensure_directory(into);
-    slide::Snapshot accepted = slide::snapshot_of(ps.contact, st.current, "accepted");
-    write_snapshots(into / "accepted.nc", {accepted}, attributes, ps.snapshot_format);
+    write_snapshots(into / "accepted.nc", {slide::snapshot_of(ps.contact, st.current, "accepted")},
+                    attributes, ps.snapshot_format);
     write_snapshots(into / "peak.nc", {slide::snapshot_of(ps.contact, st.peak, "peak")}, attributes,
                     ps.snapshot_format);
     // A flow.nc of an earlier peek is not this state's.
@@ -333,12 +330,18 @@ class SweepRunner {
     n_jobs_ = std::min(n_jobs_, static_cast<int>(order_.size()));
   }
 
+  // The LFM scene at a point: the sweep's settings with its a, R and tip.
+  SlideScene point_scene(const SweepPoint& point) const {
+    SlideScene ps = s_.base;
+    ps.contact.a = point.a;
+    ps.contact.R = point.R;
+    ps.contact.tip = point.tip;
+    return ps;
+  }
+
   // The contact and slide options of LFM point k, as its memory estimate sees them.
   std::pair<interface::ContactScene, slide::SlideOptions> point_slide(std::size_t k) const {
-    interface::ContactScene c = s_.base.contact;
-    c.a = points_[k].a;
-    c.R = points_[k].R;
-    c.tip = points_[k].tip;
+    const interface::ContactScene c = point_scene(points_[k]).contact;
     slide::SlideOptions opt = s_.base.options;
     if (!o_.figures) opt.path_frame_slips = 0;  // frames discarded: no path is held either
     return {c, opt};
@@ -565,10 +568,7 @@ class SweepRunner {
   std::optional<SweepRow> run_point(const Job& job) {
     const auto started = std::chrono::steady_clock::now();
     const SweepPoint& point = point_of(job);
-    SlideScene ps = s_.base;
-    ps.contact.a = point.a;
-    ps.contact.R = point.R;
-    ps.contact.tip = point.tip;
+    SlideScene ps = point_scene(point);
     try {
       return slide_point(job, point, ps);
     } catch (const std::exception& e) {
