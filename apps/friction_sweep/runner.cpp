@@ -157,11 +157,16 @@ class SweepRunner {
       slide::Snapshot snap = slide::snapshot_of(ps.contact, flow.state, "flow");
       snap.iteration = flow.iteration;
       write_snapshots(into / "flow.nc", {snap}, attributes, ps.snapshot_format);
+      // How far from rest the paused state is, against the tolerance that ends the flow: a
+      // creeping line is far above it, one being held comes down to it.
+      const minimize::MinimizerOptions& slip_solver =
+          ps.options.slip_minimizer ? *ps.options.slip_minimizer : ps.options.minimizer;
       std::printf(
           "  slip flow to Dx = %.4f d paused at iteration %d: %d sites slipped since the "
-          "accepted state, Fx = %.6g, energy %.10g (accepted: %.10g at its Dx)\n",
+          "accepted state, Fx = %.6g, energy %.10g (accepted: %.10g at its Dx), max |r| = %.3g "
+          "G d^2 (the flow ends at %.3g)\n",
           flow.state.Dx, flow.iteration, flow.slipped_sites, flow.state.Fx, flow.state.energy,
-          st.current.energy);
+          st.current.energy, flow.max_force, slip_solver.force_tolerance);
     } else {
       std::printf("  no slip flow paused in it (taken between steps)\n");
     }

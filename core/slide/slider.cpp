@@ -205,6 +205,19 @@ class Slider {
     return s;
   }
 
+  // max |r_i| of the pair (u, f) on the contact sites at the model's tip position, r = f - f_int(u)
+  // as the minimisers evaluate it (problem.hpp): one interface evaluation, no GF application.
+  [[nodiscard]] double residual(std::span<const double> u, std::span<const double> f) {
+    std::vector<double> fint(u.size());
+    (void)problem_.interface(u, fint);
+    double local = 0.0;
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      const double r = std::abs(f[j] - fint[j]);
+      if (!(r <= local)) local = r;  // a NaN stays (Comm::max)
+    }
+    return comm_.max(local);
+  }
+
   // Fx, Fz, the contact-site area and the energy of the pair (u, f) on the contact sites, into
   // `s`: sums over the sites of every process, made row by row and added in row order
   // (Comm::ordered_sum), the same bits on any number of processes.
@@ -827,6 +840,8 @@ PausedSlip paused_slip(const interface::ContactScene& scene, const SlideOptions&
   out.iteration = state.pending->flow.iteration;
   out.state = model.paused_state(state.current, state.pending->Dx, state.pending->flow);
   out.slipped_sites = model.slipped_sites(state.current, out.state);
+  // The model stands at the step's tip position (paused_state moved it there).
+  out.max_force = model.residual(state.pending->flow.u, state.pending->flow.f);
   return out;
 }
 

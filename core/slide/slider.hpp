@@ -81,16 +81,20 @@ Snapshot snapshot_of(const interface::ContactScene& scene, const SlideFields& st
 
 // Where a slip flow paused in a checkpoint stands (SlideState::pending; lateral force model):
 // the state at the paused iteration on the step's block, as the slide would hold it had the
-// flow ended there (the pair on the contact sites, u = G f off it), and the sites that have
-// slipped since the last accepted state (registry_jumps). A slip through a large contact flows
-// for hours: this is how a run is looked at inside it (friction_sweep --peek, for track_loops).
-// `options` are the slide's: its FFT settings make u = G f off the contact bit for bit the
-// run's. Throws std::invalid_argument if the state holds no paused flow, or one whose tip
-// position is not finite and beyond the last accepted state's, or does not fit the scene.
+// flow ended there (the pair on the contact sites, u = G f off it), the sites that have
+// slipped since the last accepted state (registry_jumps), and how far the state is from
+// equilibrium: max |r_i| over the contact sites, r = f - f_int(u) (SOLVERS.md), the measure a
+// minimiser's force_tolerance bounds. A line that creeps through a long flow leaves a state a
+// minimiser with a looser tolerance than that would stop in, calling the line held. A slip through
+// a large contact flows for hours: this is how a run is looked at inside it (friction_sweep --peek,
+// for track_loops). `options` are the slide's: its FFT settings make u = G f off the contact bit
+// for bit the run's. Throws std::invalid_argument if the state holds no paused flow, or one whose
+// tip position is not finite and beyond the last accepted state's, or does not fit the scene.
 struct PausedSlip {
   SlideFields state;
-  int iteration = 0;      // the flow's iterations done
-  int slipped_sites = 0;  // since SlideState::current
+  int iteration = 0;       // the flow's iterations done
+  int slipped_sites = 0;   // since SlideState::current
+  double max_force = 0.0;  // max |r_i| of the pair at the pause (G d^2 per site)
 };
 PausedSlip paused_slip(const interface::ContactScene& scene, const SlideOptions& options,
                        const SlideState& state);

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -113,6 +114,12 @@ TEST(FrictionSweepPeek, WritesTheStatesOfACheckpointInsideASlipFlow) {
             std::string::npos)
       << said;
   EXPECT_GT(p.slipped_sites, 0) << "the middle of the first slip flow";
+  // How far from rest the paused state is: the library's number, above the flow's tolerance in
+  // the middle of a slip.
+  char residual[64];
+  std::snprintf(residual, sizeof residual, "max |r| = %.3g G d^2", p.max_force);
+  EXPECT_NE(said.find(residual), std::string::npos) << said;
+  EXPECT_GT(p.max_force, s.options.slip_minimizer->force_tolerance);
   auto want = asperity::slide::snapshot_of(s.contact, p.state, "flow");
   want.iteration = p.iteration;
   const auto flow = asperity::app::read_snapshots(point / "peek" / "flow.nc");

@@ -363,7 +363,9 @@ TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
   // raises it: the flow descends, MODEL.md 5), from above the state the slip ends in down to it;
   // (3) at the flow's last accepted step, the state the slide accepts after the slip, bit for
   // bit (the slide makes it the same way: pair on the contact, u = G f off it), with the slip's
-  // sites (registry_jumps) as its trace row counts them.
+  // sites (registry_jumps) as its trace row counts them; (4) max |r| above the slip minimiser's
+  // force tolerance at every pause the flow went on from, and within it at the last (the flow
+  // ends there, converged).
   auto s = scene(43.0, 0.0);
   s.options.slip_minimizer = slide::slip_minimizer_from(s.options.minimizer, minimize::Method::flow,
                                                         minimize::Preconditioner::interface);
@@ -410,7 +412,14 @@ TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
     energy_before = p.state.energy;
     // (3) The flow's last pause against the state accepted after it.
     const bool last_of_flow = k + 1 == inside.size() || inside[k + 1].pending->Dx != st.pending->Dx;
-    if (!last_of_flow) continue;
+    // (4) Distance from rest, as the flow measures it when it decides to stop.
+    const double tolerance = s.options.slip_minimizer->force_tolerance;
+    ASSERT_TRUE(std::isfinite(p.max_force)) << where;
+    if (!last_of_flow) {
+      EXPECT_GT(p.max_force, tolerance) << where << ": the flow went on from here";
+      continue;
+    }
+    EXPECT_LE(p.max_force, tolerance) << where << ": the flow ended here";
     const auto after = std::find_if(between.begin(), between.end(), [&](const SlideState& b) {
       return b.current.Dx == st.pending->Dx;
     });
@@ -455,6 +464,7 @@ TEST(SlideCheckpoint, PausedSlipIsWhereTheFlowStands) {
   EXPECT_TRUE(a.state.u == b.state.u && a.state.f == b.state.f)
       << "a field of the last accepted state shows in the paused one";
   EXPECT_EQ(a.state.energy, b.state.energy);
+  EXPECT_EQ(a.max_force, b.max_force);
   // A damaged file: the step's tip position not beyond the accepted state's, or not finite.
   moved = mid;
   moved.pending->Dx = moved.current.Dx;
