@@ -245,6 +245,24 @@ void MinimizerOptions::validate() const {
   settings::validate(*this, settings());
 }
 
+double max_residual(Problem& problem, std::span<const double> u, std::span<const double> f) {
+  const std::size_t n = problem.size();
+  if (u.size() != n || f.size() != n) {
+    throw std::invalid_argument("max_residual: the pair has " + std::to_string(u.size()) + " and " +
+                                std::to_string(f.size()) + " values for " + std::to_string(n) +
+                                " unknowns");
+  }
+  // The same passes and reductions as minimize()'s, so that the number is the one it would test.
+  const detail::PassThreads pass_threads_guard(problem.threads());
+  const detail::Reduction reduction{
+      .comm = &problem.comm(), .runs = problem.runs(), .blocks = problem.share().blocks};
+  const detail::PassReduction pass_reduction_guard(reduction);
+  detail::Evaluator eval(problem);
+  std::vector<double> r(n);
+  (void)eval(u, f, r);
+  return detail::max_abs(r);
+}
+
 MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<double>& f,
                         const MinimizerOptions& options, const Observer& observer,
                         const FlowPause* resume, const FlowPauses* pauses) {

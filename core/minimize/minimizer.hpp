@@ -161,6 +161,13 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                         const MinimizerOptions& options, const Observer& observer = {},
                         const FlowPause* resume = nullptr, const FlowPauses* pauses = nullptr);
 
+// max |r_i| with r = f - f_int(u) at the pair (u, f), over the unknowns of every process: the
+// number minimize() compares with force_tolerance (MinimizeResult::max_force), for a pair that
+// did not come out of a converged call (a flow's pause, a checkpoint). One interface evaluation,
+// no GF application; NaN if any r_i is NaN. Throws std::invalid_argument if u or f is not of the
+// problem's size.
+double max_residual(Problem& problem, std::span<const double> u, std::span<const double> f);
+
 // Lowest eigenvalue of A = G + G H_int G at u (sign = stability) and, if wanted, the unstable
 // direction in displacement space (v = G w) with its force image w.
 struct Stability {

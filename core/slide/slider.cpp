@@ -205,17 +205,10 @@ class Slider {
     return s;
   }
 
-  // max |r_i| of the pair (u, f) on the contact sites at the model's tip position, r = f - f_int(u)
-  // as the minimisers evaluate it (problem.hpp): one interface evaluation, no GF application.
+  // max |r_i| of the pair (u, f) on the contact sites at the model's tip position, as the
+  // minimisers test it (minimize::max_residual): one interface evaluation, no GF application.
   [[nodiscard]] double residual(std::span<const double> u, std::span<const double> f) {
-    std::vector<double> fint(u.size());
-    (void)problem_.interface(u, fint);
-    double local = 0.0;
-    for (std::size_t j = 0; j < u.size(); ++j) {
-      const double r = std::abs(f[j] - fint[j]);
-      if (!(r <= local)) local = r;  // a NaN stays (Comm::max)
-    }
-    return comm_.max(local);
+    return minimize::max_residual(problem_, u, f);
   }
 
   // Fx, Fz, the contact-site area and the energy of the pair (u, f) on the contact sites, into

@@ -388,6 +388,50 @@ TEST(Minimizer, FlowPausedAnywhereContinuesBitForBit) {
                std::invalid_argument);
 }
 
+TEST(Minimizer, MaxResidualIsTheNumberMinimizeTests) {
+  // max_residual of a converged call's pair is the max_force that call tested against the
+  // tolerance, to the bit (the same evaluation, the same passes); of a flow's pause, the
+  // distance from rest the flow went on from (above the tolerance); of any pair, the largest
+  // |f - f_int(u)| made by hand from the interface.
+  const interface::ContactScene scene { .a = 6.0, .R = 100.0 };
+  for (const auto method : {minimize::Method::lbfgs, minimize::Method::flow}) {
+    Contact c(scene, 0.45);
+    std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
+    const minimize::MinimizerOptions o{.method = method, .force_tolerance = 1e-7};
+    const auto r = minimize::minimize(c.problem, u, f, o);
+    ASSERT_EQ(r.termination, Termination::converged) << to_string(method);
+    EXPECT_EQ(minimize::max_residual(c.problem, u, f), r.max_force) << to_string(method);
+    EXPECT_LE(minimize::max_residual(c.problem, u, f), o.force_tolerance);
+  }
+  Contact c(scene, 0.45);
+  const std::size_t n = c.problem.size();
+  std::optional<minimize::FlowPause> saved;
+  const minimize::FlowPauses at_5{.due = [](int it) { return it == 5; },
+                                  .pause =
+                                      [&](const minimize::FlowPause& p) {
+                                        saved = p;
+                                        return true;
+                                      }};
+  std::vector<double> u(n, 0.0), f(n, 0.0);
+  const minimize::MinimizerOptions flow{.method = minimize::Method::flow, .force_tolerance = 1e-7};
+  (void)minimize::minimize(c.problem, u, f, flow, {}, nullptr, &at_5);
+  ASSERT_TRUE(saved.has_value());
+  const double paused = minimize::max_residual(c.problem, saved->u, saved->f);
+  EXPECT_GT(paused, flow.force_tolerance);
+  std::vector<double> fint(n);
+  (void)c.problem.interface(saved->u, fint);
+  double by_hand = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    by_hand = std::max(by_hand, std::abs(saved->f[i] - fint[i]));
+  EXPECT_EQ(paused, by_hand);
+  // A NaN anywhere shows; a pair of the wrong size is refused.
+  std::vector<double> bad = saved->f;
+  bad[n / 2] = std::nan("");
+  EXPECT_TRUE(std::isnan(minimize::max_residual(c.problem, saved->u, bad)));
+  bad.pop_back();
+  EXPECT_THROW((void)minimize::max_residual(c.problem, saved->u, bad), std::invalid_argument);
+}
+
 TEST(Minimizer, FlowRejectsBadTolerance) {
   EXPECT_THROW(minimize::MinimizerOptions{.flow_tolerance = 0.0}.validate(), std::invalid_argument);
   EXPECT_EQ(minimize::method_from_string("flow"), minimize::Method::flow);
