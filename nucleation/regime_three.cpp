@@ -141,6 +141,17 @@ double local_peierls_stress(double tau_max, const PeierlsLaw& law) {
   return tau_max * regime_three_central(1.0 / tau_max, law);
 }
 
+WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> laws) {
+  WeakestSegment w{std::numeric_limits<double>::quiet_NaN(),
+                   std::numeric_limits<double>::quiet_NaN()};
+  if (!(tau_max > 0.0)) return {laws.empty() ? w.tau_P : 0.0, w.theta_deg};  // no segment there
+  for (const AngleLaw& a : laws) {
+    const double t = local_peierls_stress(tau_max, a.law);
+    if (!(t >= w.tau_P)) w = {t, a.theta_deg};  // the first law replaces the NaN
+  }
+  return w;
+}
+
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {
   // With w = w* s on [0, w*]:
   //   int_0^1 w^2 min(1, k1 e^(-k2 beta / w)) dw = k1 w*^3 E_4(ln k1) + (1 - w*^3) / 3.

@@ -63,6 +63,21 @@ double contact_radius(double a_over_bcore0, double R, double alpha, double nu);
 // (tau_max <= 0). Beside a stress profile it is the stress an arrested core must stay below.
 double local_peierls_stress(double tau_max, const PeierlsLaw& law);
 
+// The least local Peierls stress over line angles, each with its own law (the scan's fit at
+// that angle): the weakest straight segment, which is what a curved loop's hold rests on (at the
+// narrow cores of large contacts high-index directions are several times weaker than edge).
+// Returns that stress and its angle; {NaN, NaN} for no laws; outside the contact (tau_max <= 0)
+// {0, NaN}: no registry holds a core there, and no angle is the weakest.
+struct AngleLaw {
+  double theta_deg = 0.0;  // line angle: 0 screw, 90 edge
+  PeierlsLaw law;
+};
+struct WeakestSegment {
+  double tau_P = 0.0;      // in G
+  double theta_deg = 0.0;  // its angle
+};
+WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> laws);
+
 // mu / alpha of the two forms at beta = b_core^0 / d.
 double regime_three_central(double beta, const PeierlsLaw& law);
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);

@@ -78,4 +78,28 @@ PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& char
   return out;
 }
 
+std::vector<PeierlsAngleFit> read_peierls_fits(const fs::path& path) {
+  fs::path p = path;
+  if (fs::is_directory(p)) p /= "summary.json";
+  if (!fs::exists(p)) throw std::invalid_argument(p.string() + ": no such peierls_scan summary");
+  std::ifstream in(p, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
+  if (summary.is_discarded() || !summary.is_object() || !summary.contains("fits") ||
+      !summary["fits"].is_object()) {
+    throw std::invalid_argument(p.string() + ": not a peierls_scan summary with fits (fits)");
+  }
+  std::vector<PeierlsAngleFit> out;
+  for (const auto& [key, e] : summary["fits"].items()) {
+    if (!e.is_object() || !e.value("valid", false)) continue;
+    const nlohmann::json theta = e.contains("theta_deg") ? e["theta_deg"] : nlohmann::json();
+    if (!theta.is_number() || !(theta.get<double>() >= 0.0 && theta.get<double>() <= 90.0)) {
+      throw std::invalid_argument(p.string() + ": fits." + key + ".theta_deg = " + theta.dump() +
+                                  ": not an angle in [0, 90] degrees");
+    }
+    out.push_back({key, theta.get<double>(), read_peierls_fit(p, key)});
+  }
+  return out;
+}
+
 }  // namespace asperity::app

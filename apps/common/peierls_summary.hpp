@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "asperity/nucleation/regime_three.hpp"
 
@@ -22,5 +23,16 @@ struct PeierlsSummaryFit {
 // "theta_45.0"). Every number is checked: a missing, mistyped or invalid entry throws
 // std::invalid_argument naming the file and the key.
 PeierlsSummaryFit read_peierls_fit(const std::filesystem::path& path, const std::string& character);
+
+// Every valid fit of the summary, one per line angle the scan made ("edge", "screw",
+// "theta_45.0", ...), each read and checked as read_peierls_fit does; fits marked not valid
+// (too few resolved points in the window) are left out. Throws as read_peierls_fit for a file
+// that is not a summary with fits, or a valid fit with a bad number or no theta_deg.
+struct PeierlsAngleFit {
+  std::string key;         // the key in "fits"
+  double theta_deg = 0.0;  // line angle (0 screw, 90 edge)
+  PeierlsSummaryFit fit;
+};
+std::vector<PeierlsAngleFit> read_peierls_fits(const std::filesystem::path& path);
 
 }  // namespace asperity::app

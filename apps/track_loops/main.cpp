@@ -13,6 +13,7 @@
 #include <netcdf.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -149,9 +150,20 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
                    std::pair{-1.0, 1.0}, stroked);
 }
 
-// Local Peierls stress laws drawn beside the profiles (--peierls): edge and screw fits.
+// Local Peierls stress laws drawn beside the profiles (--peierls): the edge and screw fits (the
+// seed's Fig. 9), and every fitted angle of the scan, whose least is the weakest straight
+// segment: a curved loop is held only where its weakest segments are (at the narrow cores of
+// large contacts the high-index directions are several times weaker than edge;
+// data/reference/peierls_narrow_cores.md).
 struct LocalPeierls {
   std::optional<nucleation::PeierlsLaw> edge, screw;
+  std::vector<nucleation::AngleLaw> angles;  // every fitted angle of the scan
+
+  // Whether the weakest curve says more than edge and screw: a fit at another angle.
+  [[nodiscard]] bool has_mixed() const {
+    return std::any_of(angles.begin(), angles.end(),
+                       [](const auto& a) { return a.theta_deg > 0.0 && a.theta_deg < 90.0; });
+  }
 };
 
 // The seed's Fig. 9 for one frame: the profiles along x and y through the tip centre, into
@@ -160,7 +172,7 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
                               const tracking::FrameLines& f, const std::vector<int>& ids,
                               const LocalPeierls& peierls, const std::string& title) {
   app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
-                       "tau_P_edge", "tau_P_screw"});
+                       "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg"});
   nlohmann::json record = nlohmann::json::object();
   const auto local = [](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
     return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
@@ -170,19 +182,22 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
     const tracking::StressProfile p = tracking::stress_profile(s, axis);
     const double scale = p.tau_max_peak;  // alpha p0, the frame's: the same for both axes
     record["alpha_p0"] = scale;
-    std::vector<double> x, tau, bound, edge, screw;
+    std::vector<double> x, tau, bound, edge, screw, weakest;
     for (std::size_t k = 0; k < p.position.size(); ++k) {
       const double tau_p_edge = local(peierls.edge, p.tau_max[k]);
       const double tau_p_screw = local(peierls.screw, p.tau_max[k]);
+      const auto [tau_p_weakest, weakest_theta] =
+          nucleation::weakest_local_peierls_stress(p.tau_max[k], peierls.angles);
       table.add_row({tracking::to_string(axis), p.position[k], p.tau_x[k], p.tau_y[k], p.tau_max[k],
                      p.pressure[k], static_cast<long long>(p.in_contact[k]), tau_p_edge,
-                     tau_p_screw});
+                     tau_p_screw, tau_p_weakest, weakest_theta});
       if (!p.in_contact[k] || !(p.tau_max[k] > 0.0)) continue;
       x.push_back(p.position[k]);
       tau.push_back(p.tau_x[k] / scale);
       bound.push_back(p.tau_max[k] / scale);
       edge.push_back(tau_p_edge / scale);
       screw.push_back(tau_p_screw / scale);
+      weakest.push_back(tau_p_weakest / scale);
     }
     const std::vector<tracking::CoreCrossing> cores = tracking::core_crossings(f, p);
     nlohmann::json cores_json = nlohmann::json::array();
@@ -210,6 +225,10 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
       plus_minus(edge, "+-tau_P edge (local p)", "lines lw 2 dt 2 lc rgb '#d62728'");
     if (peierls.screw) {
       plus_minus(screw, "+-tau_P screw (local p)", "lines lw 2 dt 3 lc rgb '#1f77b4'");
+    }
+    if (peierls.has_mixed()) {
+      plus_minus(weakest, "+-tau_P weakest fitted angle (local p)",
+                 "lines lw 2 dt 4 lc rgb '#2ca02c'");
     }
     series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
     // Cores on the axis, by character as in the maps (screw < 30 deg < mixed < 60 deg < edge).
@@ -387,10 +406,17 @@ namespace {
 nlohmann::json read_local_peierls(const std::string& path, LocalPeierls& peierls) {
   const app::PeierlsSummaryFit edge = app::read_peierls_fit(path, "edge");
   const app::PeierlsSummaryFit screw = app::read_peierls_fit(path, "screw");
-  peierls = {edge.law, screw.law};
+  peierls = {edge.law, screw.law, {}};
+  nlohmann::json angles = nlohmann::json::array();
+  for (const app::PeierlsAngleFit& a : app::read_peierls_fits(path)) {
+    peierls.angles.push_back({a.theta_deg, a.fit.law});
+    angles.push_back(
+        {{"fit", a.key}, {"theta_deg", a.theta_deg}, {"k1", a.fit.law.k1}, {"k2", a.fit.law.k2}});
+  }
   return {{"source", edge.file.string()},
           {"edge", {{"k1", edge.law.k1}, {"k2", edge.law.k2}}},
           {"screw", {{"k1", screw.law.k1}, {"k2", screw.law.k2}}},
+          {"angles", angles},
           {"window_b_core", {edge.law.b_min, edge.law.b_max}}};
 }
 

@@ -3,7 +3,9 @@
 // seed's Fig. 9 made from a snapshot. Checks what must hold whatever the solver does:
 // - every site of a profile has |tau_x| <= tau_max (the LFM's force is -tau_max sin(2 pi s/d));
 // - the local Peierls columns are the fits' law at the local core width d G / tau_max, capped
-//   at tau_max (recomputed here from the summary's k1, k2);
+//   at tau_max (recomputed here from the summary's k1, k2); the weakest column is the least of
+//   every valid fit of the summary (the fixture's scan has screw, 63.4 degrees and edge), at
+//   that fit's angle, and below edge and screw;
 // - every core on a profile lies where tau_x changes sign between its neighbouring sites (a
 //   core is such a sign change, MODEL.md 7), and frames with a loop crossing the row show it.
 #include <gtest/gtest.h>
@@ -37,7 +39,7 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
   const fs::path dir = PROFILES;
   const auto fits = read_json(fs::path(PEIERLS) / "summary.json").at("fits");
   const auto frames = read_json(dir / "lines.json").at("frames");
-  int profiled = 0, cores = 0;
+  int profiled = 0, cores = 0, weakest_rows = 0, mixed_rows = 0;
   for (const auto& frame : frames) {
     if (frame.at("profiles").is_null()) continue;
     ++profiled;
@@ -52,6 +54,21 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
         EXPECT_LE(std::abs(tau_x), tau_max * (1 + 1e-12) + 1e-300) << axis << " row " << i;
         EXPECT_NEAR(table.number(i, "tau_P_edge"), law(fits.at("edge"), tau_max), 1e-14);
         EXPECT_NEAR(table.number(i, "tau_P_screw"), law(fits.at("screw"), tau_max), 1e-14);
+        if (tau_max > 0.0) {
+          double least = INFINITY, theta = NAN;
+          for (const auto& [key, fit] : fits.items()) {
+            if (!fit.at("valid").get<bool>()) continue;
+            if (const double t = law(fit, tau_max); t < least) {
+              least = t;
+              theta = fit.at("theta_deg").get<double>();
+            }
+          }
+          EXPECT_NEAR(table.number(i, "tau_P_weakest"), least, 1e-14);
+          EXPECT_EQ(table.number(i, "weakest_theta_deg"), theta);
+          EXPECT_LE(table.number(i, "tau_P_weakest"), table.number(i, "tau_P_edge"));
+          ++weakest_rows;
+          if (theta > 0.0 && theta < 90.0) ++mixed_rows;
+        }
         position.push_back(table.number(i, "position"));
         tau.push_back(tau_x);
       }
@@ -70,6 +87,9 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
     }
   }
   EXPECT_GT(profiled, 3);
+  // In this contact's core widths the 63.4-degree line is the weakest (docs/peierls.md).
+  EXPECT_GT(weakest_rows, 100);
+  EXPECT_EQ(mixed_rows, weakest_rows);
   // The slip's loop crosses the profiles in most of its frames.
   EXPECT_GT(cores, 4);
 }

@@ -205,6 +205,25 @@ TEST(RegimeThree, LocalPeierlsStressIsTheLawAtTheLocalCoreWidth) {
   EXPECT_EQ(local_peierls_stress(-1.0, law), 0.0);
 }
 
+TEST(RegimeThree, WeakestSegmentIsTheLeastLawAtTheLocalCoreWidth) {
+  // Two laws that cross: k1 e^(-k2 b) equal at b_core = ln(k1a/k1b)/(k2a - k2b) = ln(4)/2 =
+  // 0.693 d. Wider cores (tau_max < 1.443 G): the steeper law (k2 = 3.6) is the weaker.
+  const std::array<AngleLaw, 3> laws{AngleLaw{90.0, {.k1 = 2.3, .k2 = 1.6}},
+                                     AngleLaw{63.4, {.k1 = 9.2, .k2 = 3.6}},
+                                     AngleLaw{0.0, {.k1 = 1.5, .k2 = 0.8}}};
+  const WeakestSegment wide = weakest_local_peierls_stress(0.5, laws);  // b_core = 2 d
+  EXPECT_EQ(wide.theta_deg, 63.4);
+  EXPECT_NEAR(wide.tau_P, 0.5 * 9.2 * std::exp(-7.2), 1e-15);
+  // b_core = 0.6 d: edge 2.3 e^-0.96 = 0.881 is the least (63.4 degrees is capped at 1).
+  const WeakestSegment narrow = weakest_local_peierls_stress(1.0 / 0.6, laws);
+  EXPECT_EQ(narrow.theta_deg, 90.0);
+  EXPECT_NEAR(narrow.tau_P, 2.3 * std::exp(-0.96) / 0.6, 1e-14);
+  EXPECT_EQ(weakest_local_peierls_stress(0.0, laws).tau_P, 0.0);
+  EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.0, laws).theta_deg));
+  EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.5, {}).tau_P));
+  EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.5, {}).theta_deg));
+}
+
 // a / b_core^0 = c alpha a^2 / R and its inverse, consistent with b_core^0 = R / (c alpha a).
 TEST(RegimeThree, ControlParameterAndContactRadius) {
   const double c = 8.0 / std::numbers::pi;  // nu = 0.5
