@@ -141,13 +141,52 @@ double local_peierls_stress(double tau_max, const PeierlsLaw& law) {
   return tau_max * regime_three_central(1.0 / tau_max, law);
 }
 
-WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> laws) {
-  WeakestSegment w{std::numeric_limits<double>::quiet_NaN(),
-                   std::numeric_limits<double>::quiet_NaN()};
-  if (!(tau_max > 0.0)) return {laws.empty() ? w.tau_P : 0.0, w.theta_deg};  // no segment there
-  for (const AngleLaw& a : laws) {
-    const double t = local_peierls_stress(tau_max, a.law);
-    if (!(t >= w.tau_P)) w = {t, a.theta_deg};  // the first law replaces the NaN
+void AngleLaw::validate() const {
+  const std::string where = "Peierls samples at theta = " + std::to_string(theta_deg) + " deg: ";
+  if (b_core.size() != ratio.size()) {
+    throw std::invalid_argument(where + std::to_string(b_core.size()) + " core widths and " +
+                                std::to_string(ratio.size()) + " values");
+  }
+  for (std::size_t i = 0; i < b_core.size(); ++i) {
+    if (!(std::isfinite(b_core[i]) && b_core[i] > 0.0) || (i > 0 && !(b_core[i] > b_core[i - 1]))) {
+      throw std::invalid_argument(where + "b_core[" + std::to_string(i) +
+                                  "] = " + std::to_string(b_core[i]) +
+                                  ", allowed: finite, positive and ascending");
+    }
+    if (!(std::isfinite(ratio[i]) && ratio[i] > 0.0)) {
+      throw std::invalid_argument(where + "tau_P / tau_max = " + std::to_string(ratio[i]) +
+                                  " at b_core = " + std::to_string(b_core[i]) +
+                                  " d, allowed: finite and positive");
+    }
+  }
+  if (law) law->validate();
+}
+
+double local_peierls_stress(double tau_max, const AngleLaw& angle) {
+  if (!(tau_max > 0.0)) return 0.0;
+  const double b = 1.0 / tau_max;  // b_core / d = G / tau_max (MODEL.md 3)
+  const std::vector<double>& x = angle.b_core;
+  if (!x.empty() && b >= x.front() && b <= x.back()) {
+    const auto hi = std::lower_bound(x.begin(), x.end(), b);
+    const auto k = static_cast<std::size_t>(hi - x.begin());
+    if (x[k] == b) return tau_max * std::min(1.0, angle.ratio[k]);
+    const double t = (b - x[k - 1]) / (x[k] - x[k - 1]);
+    const double r =
+        std::exp((1.0 - t) * std::log(angle.ratio[k - 1]) + t * std::log(angle.ratio[k]));
+    return tau_max * std::min(1.0, r);
+  }
+  return angle.law ? local_peierls_stress(tau_max, *angle.law)
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
+WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> angles) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!(tau_max > 0.0)) return {angles.empty() ? nan : 0.0, nan};  // no segment there
+  WeakestSegment w{nan, nan};
+  for (const AngleLaw& a : angles) {
+    const double t = local_peierls_stress(tau_max, a);
+    if (std::isnan(t)) continue;                // no value at this core width
+    if (!(t >= w.tau_P)) w = {t, a.theta_deg};  // the first value replaces the NaN
   }
   return w;
 }

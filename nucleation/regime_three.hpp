@@ -23,8 +23,10 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace asperity::nucleation {
 
@@ -63,20 +65,33 @@ double contact_radius(double a_over_bcore0, double R, double alpha, double nu);
 // (tau_max <= 0). Beside a stress profile it is the stress an arrested core must stay below.
 double local_peierls_stress(double tau_max, const PeierlsLaw& law);
 
-// The least local Peierls stress over line angles, each with its own law (the scan's fit at
-// that angle): the weakest straight segment, which is what a curved loop's hold rests on (at the
-// narrow cores of large contacts high-index directions are several times weaker than edge).
-// Returns that stress and its angle; {NaN, NaN} for no laws; outside the contact (tau_max <= 0)
-// {0, NaN}: no registry holds a core there, and no angle is the weakest.
+// One line angle's Peierls stress (MODEL.md 6): the cell's values at the core widths it was
+// computed at (a peierls_scan table's resolved rows at that angle) and the law fitted to them.
+// The local stress at tau_max (b_core = d G / tau_max) is interpolated between the two samples
+// around b_core, log-linearly (the law's own form between two points), inside the samples'
+// range; outside it, the law if there is one, else NaN (no extrapolation of samples). A fit
+// over a window of 2-6 d misses the high-index directions at the narrower cores of large
+// contacts by up to 2x (data/reference/peierls_narrow_cores.md), where samples do not.
+// Capped at tau_max; 0 outside the contact (tau_max <= 0).
 struct AngleLaw {
-  double theta_deg = 0.0;  // line angle: 0 screw, 90 edge
-  PeierlsLaw law;
+  double theta_deg = 0.0;             // line angle: 0 screw, 90 edge
+  std::optional<PeierlsLaw> law;      // the fit at this angle, if valid
+  std::vector<double> b_core, ratio;  // samples: b_core ascending (d), tau_P / tau_max (> 0)
+
+  void validate() const;  // throws std::invalid_argument: sizes, order, positivity, finiteness
 };
+double local_peierls_stress(double tau_max, const AngleLaw& angle);
+
+// The least local Peierls stress over line angles: the weakest straight segment, which is what
+// a curved loop's hold rests on (at the narrow cores of large contacts high-index directions
+// are several times weaker than edge). Angles with no value at tau_max (NaN) are skipped.
+// Returns that stress and its angle; {NaN, NaN} if no angle has a value; outside the contact
+// (tau_max <= 0) {0, NaN}: no registry holds a core there, and no angle is the weakest.
 struct WeakestSegment {
   double tau_P = 0.0;      // in G
   double theta_deg = 0.0;  // its angle
 };
-WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> laws);
+WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> angles);
 
 // mu / alpha of the two forms at beta = b_core^0 / d.
 double regime_three_central(double beta, const PeierlsLaw& law);

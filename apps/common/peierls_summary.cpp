@@ -1,8 +1,13 @@
 #include "asperity/apps/common/peierls_summary.hpp"
 
+#include "asperity/apps/common/output_files.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -78,10 +83,12 @@ PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& char
   return out;
 }
 
-std::vector<PeierlsAngleFit> read_peierls_fits(const fs::path& path) {
+PeierlsAngles read_peierls_angles(const fs::path& path) {
+  PeierlsAngles out;
   fs::path p = path;
   if (fs::is_directory(p)) p /= "summary.json";
   if (!fs::exists(p)) throw std::invalid_argument(p.string() + ": no such peierls_scan summary");
+  out.summary = p;
   std::ifstream in(p, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
@@ -89,7 +96,17 @@ std::vector<PeierlsAngleFit> read_peierls_fits(const fs::path& path) {
       !summary["fits"].is_object()) {
     throw std::invalid_argument(p.string() + ": not a peierls_scan summary with fits (fits)");
   }
-  std::vector<PeierlsAngleFit> out;
+  // Angles are matched between the fits and the table's rows to this (both are the cell's
+  // offered angle, written from the same double).
+  constexpr double same_angle = 1e-6;
+  const auto angle_of = [&](double theta) -> std::size_t {
+    for (std::size_t i = 0; i < out.angles.size(); ++i) {
+      if (std::abs(out.angles[i].theta_deg - theta) < same_angle) return i;
+    }
+    out.angles.push_back({.theta_deg = theta});
+    out.fit_keys.emplace_back();
+    return out.angles.size() - 1;
+  };
   for (const auto& [key, e] : summary["fits"].items()) {
     if (!e.is_object() || !e.value("valid", false)) continue;
     const nlohmann::json theta = e.contains("theta_deg") ? e["theta_deg"] : nlohmann::json();
@@ -97,9 +114,55 @@ std::vector<PeierlsAngleFit> read_peierls_fits(const fs::path& path) {
       throw std::invalid_argument(p.string() + ": fits." + key + ".theta_deg = " + theta.dump() +
                                   ": not an angle in [0, 90] degrees");
     }
-    out.push_back({key, theta.get<double>(), read_peierls_fit(p, key)});
+    const std::size_t i = angle_of(theta.get<double>());
+    out.angles[i].law = read_peierls_fit(p, key).law;
+    out.fit_keys[i] = key;
   }
-  return out;
+  const fs::path table_path = p.parent_path() / "peierls.csv";
+  if (fs::exists(table_path)) {
+    out.table = table_path;
+    const CsvTable table = CsvTable::read(table_path);
+    std::vector<std::map<double, double>> samples(out.angles.size());
+    for (std::size_t r = 0; r < table.rows(); ++r) {
+      double least = std::numeric_limits<double>::infinity();
+      for (const char* sign : {"pos", "neg"}) {
+        if (table.integer(r, std::string("resolved_") + sign) == 0) continue;
+        least = std::min(least, table.number(r, std::string("tau_P_over_tau_max_") + sign));
+      }
+      if (!std::isfinite(least)) continue;  // unresolved both ways: no value to interpolate
+      const std::size_t i = angle_of(table.number(r, "theta_deg"));
+      samples.resize(out.angles.size());
+      const double b = table.number(r, "b_core");
+      const auto [at, fresh] = samples[i].emplace(b, least);
+      if (!fresh) at->second = std::min(at->second, least);
+    }
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      for (const auto& [b, ratio] : samples[i]) {
+        out.angles[i].b_core.push_back(b);
+        out.angles[i].ratio.push_back(ratio);
+      }
+    }
+  }
+  for (const nucleation::AngleLaw& a : out.angles) {
+    try {
+      a.validate();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument((out.table.empty() ? p : out.table).string() + ": " + e.what());
+    }
+  }
+  // Ascending angle, keys alongside.
+  std::vector<std::size_t> order(out.angles.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return out.angles[a].theta_deg < out.angles[b].theta_deg;
+  });
+  PeierlsAngles sorted{.summary = out.summary, .table = out.table};
+  for (const std::size_t i : order) {
+    sorted.angles.push_back(std::move(out.angles[i]));
+    sorted.fit_keys.push_back(std::move(out.fit_keys[i]));
+  }
+  return sorted;
 }
 
 }  // namespace asperity::app

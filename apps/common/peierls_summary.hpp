@@ -24,15 +24,18 @@ struct PeierlsSummaryFit {
 // std::invalid_argument naming the file and the key.
 PeierlsSummaryFit read_peierls_fit(const std::filesystem::path& path, const std::string& character);
 
-// Every valid fit of the summary, one per line angle the scan made ("edge", "screw",
-// "theta_45.0", ...), each read and checked as read_peierls_fit does; fits marked not valid
-// (too few resolved points in the window) are left out. Throws as read_peierls_fit for a file
-// that is not a summary with fits, or a valid fit with a bad number or no theta_deg.
-struct PeierlsAngleFit {
-  std::string key;         // the key in "fits"
-  double theta_deg = 0.0;  // line angle (0 screw, 90 edge)
-  PeierlsSummaryFit fit;
+// Every line angle of a peierls_scan folder (or its summary.json): the angle's valid fit, read
+// and checked as read_peierls_fit does (fits marked not valid, too few resolved points in the
+// window, have none), and, if the scan's table peierls.csv is beside the summary, the angle's
+// resolved values as samples (the smaller of the two signs' thresholds at each b_core), which
+// nucleation::local_peierls_stress interpolates inside their range. Throws
+// std::invalid_argument for a file that is not a summary with fits, a valid fit with a bad
+// number or no theta_deg, or a table with a bad row.
+struct PeierlsAngles {
+  std::vector<nucleation::AngleLaw> angles;  // ascending theta
+  std::vector<std::string> fit_keys;         // the fit's key per angle ("" for none)
+  std::filesystem::path summary, table;      // the files read (table: empty if none)
 };
-std::vector<PeierlsAngleFit> read_peierls_fits(const std::filesystem::path& path);
+PeierlsAngles read_peierls_angles(const std::filesystem::path& path);
 
 }  // namespace asperity::app

@@ -151,18 +151,21 @@ void plot_frame(const fs::path& png, const slide::Snapshot& s, const tracking::F
 }
 
 // Local Peierls stress laws drawn beside the profiles (--peierls): the edge and screw fits (the
-// seed's Fig. 9), and every fitted angle of the scan, whose least is the weakest straight
-// segment: a curved loop is held only where its weakest segments are (at the narrow cores of
-// large contacts the high-index directions are several times weaker than edge;
+// seed's Fig. 9), and every angle of the scan (its fit, and its computed values where the
+// scan's table is beside the summary), whose least is the weakest straight segment: a curved
+// loop is held only where its weakest segments are (at the narrow cores of large contacts the
+// high-index directions are several times weaker than edge, and fits on 2-6 d miss them there;
 // data/reference/peierls_narrow_cores.md).
 struct LocalPeierls {
   std::optional<nucleation::PeierlsLaw> edge, screw;
-  std::vector<nucleation::AngleLaw> angles;  // every fitted angle of the scan
+  std::vector<nucleation::AngleLaw> angles;  // every angle of the scan: fit and table values
 
-  // Whether the weakest curve says more than edge and screw: a fit at another angle.
-  [[nodiscard]] bool has_mixed() const {
-    return std::any_of(angles.begin(), angles.end(),
-                       [](const auto& a) { return a.theta_deg > 0.0 && a.theta_deg < 90.0; });
+  // Whether the weakest curve says more than the edge and screw fits: another angle, or the
+  // scan's computed values.
+  [[nodiscard]] bool draws_weakest() const {
+    return std::any_of(angles.begin(), angles.end(), [](const nucleation::AngleLaw& a) {
+      return (a.theta_deg > 0.0 && a.theta_deg < 90.0) || !a.b_core.empty();
+    });
   }
 };
 
@@ -226,9 +229,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
     if (peierls.screw) {
       plus_minus(screw, "+-tau_P screw (local p)", "lines lw 2 dt 3 lc rgb '#1f77b4'");
     }
-    if (peierls.has_mixed()) {
-      plus_minus(weakest, "+-tau_P weakest fitted angle (local p)",
-                 "lines lw 2 dt 4 lc rgb '#2ca02c'");
+    if (peierls.draws_weakest()) {
+      plus_minus(weakest, "+-tau_P weakest angle (local p)", "lines lw 2 dt 4 lc rgb '#2ca02c'");
     }
     series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
     // Cores on the axis, by character as in the maps (screw < 30 deg < mixed < 60 deg < edge).
@@ -407,16 +409,24 @@ nlohmann::json read_local_peierls(const std::string& path, LocalPeierls& peierls
   const app::PeierlsSummaryFit edge = app::read_peierls_fit(path, "edge");
   const app::PeierlsSummaryFit screw = app::read_peierls_fit(path, "screw");
   peierls = {edge.law, screw.law, {}};
+  const app::PeierlsAngles all = app::read_peierls_angles(path);
+  peierls.angles = all.angles;
   nlohmann::json angles = nlohmann::json::array();
-  for (const app::PeierlsAngleFit& a : app::read_peierls_fits(path)) {
-    peierls.angles.push_back({a.theta_deg, a.fit.law});
-    angles.push_back(
-        {{"fit", a.key}, {"theta_deg", a.theta_deg}, {"k1", a.fit.law.k1}, {"k2", a.fit.law.k2}});
+  for (std::size_t i = 0; i < all.angles.size(); ++i) {
+    const nucleation::AngleLaw& a = all.angles[i];
+    nlohmann::json entry = {{"theta_deg", a.theta_deg}, {"samples_b_core", a.b_core}};
+    if (a.law) {
+      entry["fit"] = all.fit_keys[i];
+      entry["k1"] = a.law->k1;
+      entry["k2"] = a.law->k2;
+    }
+    angles.push_back(std::move(entry));
   }
   return {{"source", edge.file.string()},
           {"edge", {{"k1", edge.law.k1}, {"k2", edge.law.k2}}},
           {"screw", {{"k1", screw.law.k1}, {"k2", screw.law.k2}}},
           {"angles", angles},
+          {"table", all.table.string()},
           {"window_b_core", {edge.law.b_min, edge.law.b_max}}};
 }
 

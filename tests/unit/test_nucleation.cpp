@@ -208,9 +208,9 @@ TEST(RegimeThree, LocalPeierlsStressIsTheLawAtTheLocalCoreWidth) {
 TEST(RegimeThree, WeakestSegmentIsTheLeastLawAtTheLocalCoreWidth) {
   // Two laws that cross: k1 e^(-k2 b) equal at b_core = ln(k1a/k1b)/(k2a - k2b) = ln(4)/2 =
   // 0.693 d. Wider cores (tau_max < 1.443 G): the steeper law (k2 = 3.6) is the weaker.
-  const std::array<AngleLaw, 3> laws{AngleLaw{90.0, {.k1 = 2.3, .k2 = 1.6}},
-                                     AngleLaw{63.4, {.k1 = 9.2, .k2 = 3.6}},
-                                     AngleLaw{0.0, {.k1 = 1.5, .k2 = 0.8}}};
+  const std::array<AngleLaw, 3> laws{AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}},
+                                     AngleLaw{63.4, PeierlsLaw{.k1 = 9.2, .k2 = 3.6}},
+                                     AngleLaw{0.0, PeierlsLaw{.k1 = 1.5, .k2 = 0.8}}};
   const WeakestSegment wide = weakest_local_peierls_stress(0.5, laws);  // b_core = 2 d
   EXPECT_EQ(wide.theta_deg, 63.4);
   EXPECT_NEAR(wide.tau_P, 0.5 * 9.2 * std::exp(-7.2), 1e-15);
@@ -222,6 +222,38 @@ TEST(RegimeThree, WeakestSegmentIsTheLeastLawAtTheLocalCoreWidth) {
   EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.0, laws).theta_deg));
   EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.5, {}).tau_P));
   EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.5, {}).theta_deg));
+}
+
+TEST(RegimeThree, SampledPeierlsStressIsInterpolatedInsideAndTheLawOutside) {
+  // Samples of the cell at b_core = 2, 3, 4 d (tau_P / tau_max 0.02, 8e-4, 2e-5); the law
+  // k1 e^(-k2 b) with k1 = 3, k2 = 2.5 beyond them.
+  AngleLaw a{.theta_deg = 76.0,
+             .law = PeierlsLaw{.k1 = 3.0, .k2 = 2.5},
+             .b_core = {2.0, 3.0, 4.0},
+             .ratio = {0.02, 8e-4, 2e-5}};
+  a.validate();
+  EXPECT_NEAR(local_peierls_stress(0.5, a), 0.5 * 0.02, 1e-16);    // on a sample
+  EXPECT_NEAR(local_peierls_stress(0.25, a), 0.25 * 2e-5, 1e-18);  // the last sample
+  EXPECT_NEAR(local_peierls_stress(0.4, a), 0.4 * std::sqrt(0.02 * 8e-4), 1e-16);  // 2.5 d
+  // Outside the samples, the law: b_core = 1.5 d and 5 d.
+  EXPECT_NEAR(local_peierls_stress(1.0 / 1.5, a), 3.0 * std::exp(-3.75) / 1.5, 1e-15);
+  EXPECT_NEAR(local_peierls_stress(0.2, a), 0.2 * 3.0 * std::exp(-12.5), 1e-18);
+  // Without a law, nothing outside; the weakest then skips the angle.
+  AngleLaw samples_only = a;
+  samples_only.law.reset();
+  EXPECT_TRUE(std::isnan(local_peierls_stress(0.2, samples_only)));
+  const std::array<AngleLaw, 2> both{samples_only,
+                                     AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}}};
+  EXPECT_EQ(weakest_local_peierls_stress(0.2, both).theta_deg, 90.0);
+  EXPECT_EQ(weakest_local_peierls_stress(0.5, both).theta_deg, 76.0);  // 0.02 < 2.3 e^-3.2
+  EXPECT_EQ(local_peierls_stress(0.0, a), 0.0);
+  // Bad samples are refused, naming what is wrong.
+  for (AngleLaw bad : {AngleLaw{.b_core = {2.0, 3.0}, .ratio = {0.02}},
+                       AngleLaw{.b_core = {3.0, 2.0}, .ratio = {0.02, 0.01}},
+                       AngleLaw{.b_core = {2.0, 3.0}, .ratio = {0.02, 0.0}},
+                       AngleLaw{.b_core = {-1.0}, .ratio = {0.02}}}) {
+    EXPECT_THROW(bad.validate(), std::invalid_argument);
+  }
 }
 
 // a / b_core^0 = c alpha a^2 / R and its inverse, consistent with b_core^0 = R / (c alpha a).
