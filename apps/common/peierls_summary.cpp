@@ -10,20 +10,30 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <utility>
 
 namespace asperity::app {
 
 namespace fs = std::filesystem;
 
-PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& character) {
-  PeierlsSummaryFit out;
+namespace {
+
+// The summary's path (`path` or summary.json in it) and its JSON (discarded if not JSON).
+std::pair<fs::path, nlohmann::json> read_summary(const fs::path& path) {
   fs::path p = path;
   if (fs::is_directory(p)) p /= "summary.json";
   if (!fs::exists(p)) throw std::invalid_argument(p.string() + ": no such peierls_scan summary");
-  out.file = p;
   std::ifstream in(p, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
+  return {p, nlohmann::json::parse(text, nullptr, false)};
+}
+
+}  // namespace
+
+PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& character) {
+  PeierlsSummaryFit out;
+  const auto [p, summary] = read_summary(path);
+  out.file = p;
   const std::string key = "fits." + character;
   if (summary.is_discarded() || !summary.is_object() || !summary.contains("fits") ||
       !summary["fits"].is_object() || !summary["fits"].contains(character)) {
@@ -85,13 +95,8 @@ PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& char
 
 PeierlsAngles read_peierls_angles(const fs::path& path) {
   PeierlsAngles out;
-  fs::path p = path;
-  if (fs::is_directory(p)) p /= "summary.json";
-  if (!fs::exists(p)) throw std::invalid_argument(p.string() + ": no such peierls_scan summary");
+  const auto [p, summary] = read_summary(path);
   out.summary = p;
-  std::ifstream in(p, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
   if (summary.is_discarded() || !summary.is_object() || !summary.contains("fits") ||
       !summary["fits"].is_object()) {
     throw std::invalid_argument(p.string() + ": not a peierls_scan summary with fits (fits)");
