@@ -28,11 +28,10 @@ std::pair<fs::path, nlohmann::json> read_summary(const fs::path& path) {
   return {p, nlohmann::json::parse(text, nullptr, false)};
 }
 
-}  // namespace
-
-PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& character) {
+// The fit `character` of the summary `summary` read from `p`, checked (read_peierls_fit).
+PeierlsSummaryFit fit_in(const fs::path& p, const nlohmann::json& summary,
+                         const std::string& character) {
   PeierlsSummaryFit out;
-  const auto [p, summary] = read_summary(path);
   out.file = p;
   const std::string key = "fits." + character;
   if (summary.is_discarded() || !summary.is_object() || !summary.contains("fits") ||
@@ -93,6 +92,13 @@ PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& char
   return out;
 }
 
+}  // namespace
+
+PeierlsSummaryFit read_peierls_fit(const fs::path& path, const std::string& character) {
+  const auto [p, summary] = read_summary(path);
+  return fit_in(p, summary, character);
+}
+
 PeierlsAngles read_peierls_angles(const fs::path& path) {
   PeierlsAngles out;
   const auto [p, summary] = read_summary(path);
@@ -120,7 +126,7 @@ PeierlsAngles read_peierls_angles(const fs::path& path) {
                                   ": not an angle in [0, 90] degrees");
     }
     const std::size_t i = angle_of(theta.get<double>());
-    out.angles[i].law = read_peierls_fit(p, key).law;
+    out.angles[i].law = fit_in(p, summary, key).law;
     out.fit_keys[i] = key;
   }
   const fs::path table_path = p.parent_path() / "peierls.csv";
