@@ -101,6 +101,24 @@ MinimizeResult Relaxation::finish(int iterations, std::vector<double>& u, std::v
 
 namespace {
 
+// The passes and sums of a minimisation of `problem` on this thread, for the scope's duration:
+// its threads for the element-wise passes and its reduction for the dot products and maxima
+// (kernels.hpp). minimize() and max_residual() both set them through this one scope, so the
+// number max_residual() reports is the one minimize() tests.
+class ProblemPasses {
+ public:
+  explicit ProblemPasses(const Problem& problem)
+      : threads_(problem.threads()),
+        reduction_{
+            .comm = &problem.comm(), .runs = problem.runs(), .blocks = problem.share().blocks},
+        pass_reduction_(reduction_) {}
+
+ private:
+  detail::PassThreads threads_;
+  detail::Reduction reduction_;  // before pass_reduction_, which points at it
+  detail::PassReduction pass_reduction_;
+};
+
 // The setting's choices: the registered methods' names, in the registry's order.
 std::vector<std::string> method_names() {
   std::vector<std::string> names;
@@ -252,11 +270,7 @@ double max_residual(Problem& problem, std::span<const double> u, std::span<const
                                 std::to_string(f.size()) + " values for " + std::to_string(n) +
                                 " unknowns");
   }
-  // The same passes and reductions as minimize()'s, so that the number is the one it would test.
-  const detail::PassThreads pass_threads_guard(problem.threads());
-  const detail::Reduction reduction{
-      .comm = &problem.comm(), .runs = problem.runs(), .blocks = problem.share().blocks};
-  const detail::PassReduction pass_reduction_guard(reduction);
+  const ProblemPasses passes(problem);
   detail::Evaluator eval(problem);
   std::vector<double> r(n);
   (void)eval(u, f, r);
@@ -281,10 +295,7 @@ MinimizeResult minimize(Problem& problem, std::vector<double>& u, std::vector<do
                                 " iterations; it has " + std::to_string(resume->u.size()) +
                                 " at iteration " + std::to_string(resume->iteration));
   }
-  const detail::PassThreads pass_threads_guard(problem.threads());
-  const detail::Reduction reduction{
-      .comm = &problem.comm(), .runs = problem.runs(), .blocks = problem.share().blocks};
-  const detail::PassReduction pass_reduction_guard(reduction);
+  const ProblemPasses passes(problem);
   // Newton's KINSOL vectors and the Lanczos check's eigensolver are serial (their own dot
   // products); the other methods reduce theirs over the processes (kernels.hpp).
   if (problem.comm().distributed() &&
