@@ -222,8 +222,10 @@ LargestSlipSink::LargestSlipSink(fs::path dir, nlohmann::json attributes, Snapsh
 
 namespace {
 // slips.csv's last columns, in the order they were added: the slide's cost when it accepted the
-// slip (Snapshot), and where the slip's step began (the "before" state's Dx).
-constexpr std::array<const char*, 3> kLastColumns = {"gf_applications", "wall_s", "Dx_before"};
+// slip (Snapshot), where the slip's step began (the "before" state's Dx), and the slip event a
+// replayed slip repeats (0: computed).
+constexpr std::array<const char*, 4> kLastColumns = {"gf_applications", "wall_s", "Dx_before",
+                                                     "replay_of"};
 }  // namespace
 
 // The slip's place in the slide, then the census (lines_json.hpp, one description with Python),
@@ -317,11 +319,17 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
             for (std::size_t c = 0; c < old.columns().size(); ++c)
               row.push_back(old.cell(i, c));
             row.resize(columns.size(), CsvTable::Cell(std::string()));
-            // Dx_before, which builds before it did not write, from the checkpoint's trace.
+            // Dx_before, which builds before it did not write, from the checkpoint's trace; and
+            // replay_of where the trace tells (a computed slip: 0; a replayed one's source is
+            // not in the trace, so its cell stays empty).
             CsvTable::Cell& start = row.at(census_.column_index("Dx_before"));
             if (const auto* cell = std::get_if<std::string>(&start);
                 cell && cell->empty() && std::isfinite(slip.Dx_before))
               start = slip.Dx_before;
+            CsvTable::Cell& source = row.at(census_.column_index("replay_of"));
+            if (const auto* cell = std::get_if<std::string>(&source);
+                cell && cell->empty() && !slip.replayed)
+              source = 0LL;
             census_.add_row(std::move(row));
             ++kept;
           }
@@ -383,6 +391,7 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   row.emplace_back(static_cast<long long>(after.gf_applications));
   row.emplace_back(after.wall_s);
   row.emplace_back(before.Dx);
+  row.emplace_back(static_cast<long long>(after.replay_of));
   census_.add_row(std::move(row));
   write_census();
 }

@@ -92,17 +92,18 @@ class SnapshotSink final : public slide::FrameSink {
 // slide takes hundreds); the "before" state of every slip is held until its "after" arrives.
 // Also the pair of the latest slip, latest_slip_before.nc and latest_slip_after.nc, replaced at
 // every slip: a point that runs for days can be looked at (track_loops) while it runs.
-// And slips.csv, a row per slip: where it happened (Dx, Fx before and after, slipped sites) and
+// And slips.csv, a row per slip: where it happened (Dx, Fx before and after, slipped sites),
 // the census of the lines its "after" state holds (tracking::census: loops, their area and
-// character, the slipped area), so that how a Regime III slide's loops nucleate, creep and are
-// arrested is kept for every slip in a few hundred bytes each (the table is rewritten whole at
-// each slip, atomically, like every result file). Beside it two figures of the table, redrawn
-// with it: slips.png, the friction before each slip (at the Dx its step began from) and after
-// it, with the value before the first slip as a line (does friction climb past the first
-// slip's peak while loops are held: Regime III, MODEL.md 8), and slips_loops.png, the loops'
-// area, the largest loop's and the slipped area after each slip (does the arrested loop hold,
-// creep, or go). A figure on disk is the table's: one that cannot be drawn is removed.
-// No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
+// character, the slipped area), the slide's cost so far and, for a slip replayed from the
+// repeating cycle, the computed slip it repeats (Snapshot::replay_of), so that how a Regime III
+// slide's loops nucleate, creep and are arrested is kept for every slip in a few hundred bytes each
+// (the table is rewritten whole at each slip, atomically, like every result file). Beside it two
+// figures of the table, redrawn with it: slips.png, the friction before each slip (at the Dx its
+// step began from) and after it, with the value before the first slip as a line (does friction
+// climb past the first slip's peak while loops are held: Regime III, MODEL.md 8), and
+// slips_loops.png, the loops' area, the largest loop's and the slipped area after each slip (does
+// the arrested loop hold, creep, or go). A figure on disk is the table's: one that cannot be drawn
+// is removed. No relaxation paths. With SnapshotFormat::xyz, each file also as .xyz beside it.
 class LargestSlipSink final : public slide::FrameSink {
  public:
   LargestSlipSink(std::filesystem::path dir, nlohmann::json attributes, SnapshotFormat format,
@@ -117,6 +118,9 @@ class LargestSlipSink final : public slide::FrameSink {
       // Where its step began: the accepted state before it (the trace row above), for the
       // Dx_before cells of rows an earlier build wrote without them. NaN: not known.
       double Dx_before = std::numeric_limits<double>::quiet_NaN();
+      // Replayed from the repeating cycle (the trace row's flag), for the replay_of cells of
+      // rows an earlier build wrote without them.
+      bool replayed = false;
     };
     std::vector<Slip> slips;
     [[nodiscard]] int largest_slipped_sites() const;

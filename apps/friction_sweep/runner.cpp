@@ -559,7 +559,8 @@ class SweepRunner {
           if (!trace[i].slip) continue;
           so_far->slips.push_back({.Dx = trace[i].Dx,
                                    .slipped_sites = trace[i].slipped_sites,
-                                   .Dx_before = i > 0 ? trace[i - 1].Dx : trace[i].Dx});
+                                   .Dx_before = i > 0 ? trace[i - 1].Dx : trace[i].Dx,
+                                   .replayed = trace[i].replayed});
         }
       }
       if (const std::string warning = sinks.largest->start(so_far); !warning.empty()) {

@@ -56,6 +56,10 @@ struct Snapshot {
   // work lost after its last checkpoint.
   std::size_t gf_applications = 0;
   double wall_s = 0.0;  // (s)
+  // Of a replayed slip's "before" and "after" states (SlideOptions::replay_cycle): the slip event
+  // whose states these are, carried on by whole periods (its slipped sites, forces and lines);
+  // 0 for a computed slip and every other frame. Not stored in the NetCDF frames.
+  int replay_of = 0;
 };
 
 // Receives the frames of a slide as they are made (SlideControl::frames). Called from the

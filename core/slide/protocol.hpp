@@ -622,6 +622,7 @@ class ProtocolRun {
          {std::pair<const State*, const char*>{&state_, "_before"}, {&next, "_after"}}) {
       Snapshot frame = model_.snapshot(*fields, label + suffix);
       frame.slipped_sites = sites;
+      frame.replay_of = replay_of;
       if (fields == &next) {
         frame.gf_applications = gf_total(model_.gf_applications());
         frame.wall_s = wall_before_ + elapsed();

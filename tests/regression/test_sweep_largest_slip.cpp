@@ -5,6 +5,7 @@
 // before and after its last slip, the peak, and slips.csv with its figures.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -165,6 +166,45 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
           << "row " << r;
     }
   }
+}
+
+// A replayed slip (the state a period on equalled an earlier one, so the slide carries the cycle
+// on instead of computing it) repeats a computed slip's numbers; its row in slips.csv says
+// which slip, and a computed slip's says 0. The fixture: the default scene's Regime II contact,
+// whose second slip is the first replayed a period (d, the aligned tip's) on.
+TEST(FrictionSweepLargestSlip, ReplayedSlipsNameTheSlipTheyRepeat) {
+  using asperity::app::CsvTable;
+  const fs::path point = fs::path(REPLAY_DIR) / "points" / "a43_R535";
+  const auto trace = CsvTable::read(point / "trace.csv");
+  const auto slips = CsvTable::read(point / "largest_slip" / "slips.csv");
+  std::size_t k = 0;
+  int replayed = 0;
+  for (std::size_t i = 0; i < trace.rows(); ++i) {
+    if (trace.integer(i, "slip") == 0) continue;
+    ASSERT_LT(k, slips.rows()) << "fewer rows than slips";
+    const long long source = slips.integer(k, "replay_of");
+    if (trace.integer(i, "replayed") == 0) {
+      EXPECT_EQ(source, 0) << "slip " << k + 1 << " was computed";
+    } else {
+      ++replayed;
+      // An earlier, computed slip, whose slipped sites, forces and lines these are, a whole
+      // number of periods back.
+      ASSERT_GE(source, 1) << "slip " << k + 1;
+      ASSERT_LT(source, static_cast<long long>(k + 1)) << "slip " << k + 1;
+      const auto j = static_cast<std::size_t>(source - 1);
+      EXPECT_EQ(slips.integer(j, "replay_of"), 0);
+      for (const char* column : {"slipped_sites", "loops", "open_lines"})
+        EXPECT_EQ(slips.integer(k, column), slips.integer(j, column)) << column;
+      for (const char* column : {"Fx_before", "Fx_after", "Fz", "slipped_area"})
+        EXPECT_EQ(slips.number(k, column), slips.number(j, column)) << column;
+      const double periods = slips.number(k, "Dx") - slips.number(j, "Dx");
+      EXPECT_GE(periods, 1.0 - 1e-9);
+      EXPECT_NEAR(periods, std::round(periods), 1e-9);
+    }
+    ++k;
+  }
+  EXPECT_EQ(k, slips.rows());
+  ASSERT_GE(replayed, 1) << "the fixture's slide no longer replays a slip";
 }
 
 }  // namespace

@@ -737,8 +737,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     sink.state(slip(1, "slip_001_after", 1.0, 5));
     sink.state(slip(2, "slip_002_before", 2.0, 40));
     sink.state(loop_state("slip_002_after", 2.0, 40));
-    sink.state(slip(1, "slip_003_before", 3.0, 40));  // as large, not larger: the first stays
-    sink.state(slip(2, "slip_003_after", 3.0, 40));
+    // Slip 3 is slip 1 replayed a period on (the slide says so on its frames): as large as
+    // slip 2, not larger, so the first of equals stays.
+    Snapshot replay_before = slip(1, "slip_003_before", 3.0, 40);
+    Snapshot replay_after = slip(2, "slip_003_after", 3.0, 40);
+    replay_before.replay_of = replay_after.replay_of = 1;
+    sink.state(replay_before);
+    sink.state(replay_after);
     sink.state(slip(0, "slip_004_before", 4.0, 7));
     sink.state(slip(1, "slip_004_after", 4.0, 7));
     EXPECT_EQ(sink.largest_slipped_sites(), 40);
@@ -784,11 +789,12 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_EQ(rows.integer(i, "gf_applications"), static_cast<long long>(100 * (i + 1)));
       EXPECT_EQ(rows.number(i, "wall_s"), 0.5 * static_cast<double>(i + 1));
       EXPECT_EQ(rows.number(i, "Dx_before"), static_cast<double>(i + 1));  // the "before" frame's
+      EXPECT_EQ(rows.integer(i, "replay_of"), i == 2 ? 1 : 0);
     }
-    // The cost columns and the step's start come last, after the census.
+    // The cost columns, the step's start and the replay's source come last, after the census.
     const std::vector<std::string>& columns = rows.columns();
-    EXPECT_EQ(std::vector<std::string>(columns.end() - 3, columns.end()),
-              (std::vector<std::string>{"gf_applications", "wall_s", "Dx_before"}));
+    EXPECT_EQ(std::vector<std::string>(columns.end() - 4, columns.end()),
+              (std::vector<std::string>{"gf_applications", "wall_s", "Dx_before", "replay_of"}));
     // The loop's row: one loop of about pi 5^2 d^2 (5 %, as tracking's analytic tests allow).
     EXPECT_EQ(rows.integer(1, "loops"), 1);
     EXPECT_NEAR(rows.number(1, "loop_area"), 25.0 * std::numbers::pi, 1.25 * std::numbers::pi);
@@ -850,11 +856,12 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   }
   {
     // A table of an earlier build, whose columns are the first of today's (before the cost
-    // columns and Dx_before): its rows are kept with the new columns empty, but for Dx_before,
-    // which the checkpoint's trace gives, and the next slip's row is full. A table with a column
+    // columns, Dx_before and replay_of): its rows are kept with the new columns empty, but for
+    // Dx_before and a computed slip's replay_of (0), which the checkpoint's trace gives (a
+    // replayed slip's source it does not), and the next slip's row is full. A table with a column
     // today's do not have in its place is set aside.
     std::vector<std::string> columns = LargestSlipSink::census_columns();
-    columns.resize(columns.size() - 3);
+    columns.resize(columns.size() - 4);
     CsvTable earlier(columns);
     for (int k = 1; k <= 2; ++k) {
       std::vector<CsvTable::Cell> row = {static_cast<long long>(k),
@@ -868,7 +875,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     }
     earlier.write(dir / "slips.csv");
     LargestSlipSink sink(dir, {}, {});
-    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5, 0.75}, {2.0, 40, 1.5}}}), "");
+    EXPECT_EQ(sink.start(LargestSlipSink::Resume{{{1.0, 5, 0.75}, {2.0, 40, 1.5, true}}}), "");
     sink.state(slip(1, "slip_003_before", 3.0, 40));
     sink.state(slip(2, "slip_003_after", 3.0, 40));
     const CsvTable rows = CsvTable::read(sink.census_file());
@@ -879,6 +886,9 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_EQ(rows.text(1, "wall_s"), "");
     EXPECT_EQ(rows.number(0, "Dx_before"), 0.75);
     EXPECT_EQ(rows.number(1, "Dx_before"), 1.5);
+    EXPECT_EQ(rows.integer(0, "replay_of"), 0);
+    EXPECT_EQ(rows.text(1, "replay_of"), "");
+    EXPECT_EQ(rows.integer(2, "replay_of"), 0);
     EXPECT_EQ(rows.integer(2, "gf_applications"), 300);
     EXPECT_EQ(rows.number(2, "wall_s"), 1.5);
     columns.emplace_back("not_ours");
