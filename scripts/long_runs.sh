@@ -9,8 +9,10 @@
 #                                          below: this machine has 2 cores, so two at a time)
 #   scripts/long_runs.sh status            where each run is: running, or stopped since when
 #                                          (its log's last write), its last progress line, and
-#                                          each point's latest slip (slips.csv, --largest-slip)
-#                                          and where its figures are (slips.png, slips_loops.png)
+#                                          each point's latest slip (slips.csv, --largest-slip),
+#                                          the pace of its last 10 slips (slips and d of Dx an
+#                                          hour, GF a slip) and where its figures are (slips.png,
+#                                          slips_loops.png)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
 #                                          slip (friction_sweep --peek), and the lines of its
@@ -144,7 +146,12 @@ status() {
     [ -f "$table" ] || continue
     awk -F, -v point="$(basename "$(dirname "$(dirname "$table")")")" '
       NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
-      { last = $0; n = NR - 1 }
+      {
+        last = $0; n = NR - 1
+        split($0, f, ",")
+        dx[n] = f[col["Dx"]]
+        if ("wall_s" in col) { wall[n] = f[col["wall_s"]]; gf[n] = f[col["gf_applications"]] }
+      }
       END {
         if (n == 0) { printf "  %s: no slip yet\n", point; exit }
         split(last, f, ",")
@@ -152,6 +159,15 @@ status() {
         if ("gf_applications" in col && f[col["gf_applications"]] != "")
           printf ", at %s GF, %.2f h", f[col["gf_applications"]], f[col["wall_s"]] / 3600
         printf "\n"
+        # The pace of the last slips (up to 10 cycles, from their cost columns): what planning a
+        # run of days needs. Across a restart the wall time holds the set-up (docs/tracking.md).
+        k = n - 1 < 10 ? n - 1 : 10
+        if (k >= 1 && wall[n] != "" && wall[n - k] != "" && wall[n] > wall[n - k]) {
+          h = (wall[n] - wall[n - k]) / 3600
+          printf "    pace over slips %d-%d: %.3g slips/h, %.3g d of Dx/h", n - k + 1, n, k / h, (dx[n] - dx[n - k]) / h
+          if (gf[n] != "" && gf[n - k] != "") printf ", %.0f GF a slip", (gf[n] - gf[n - k]) / k
+          printf "\n"
+        }
       }' "$table"
     # Its figures (friction and loops at every slip), those the run's build has drawn.
     local fig figs=""

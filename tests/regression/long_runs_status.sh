@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # scripts/long_runs.sh status on a made-up run folder (RUNS): a point's slips.csv is read by
 # column name (so that columns added at its end, as Dx_before was, change nothing), its latest
-# slip and cost are printed, and so are the slip figures that exist; a run without a log or a
+# slip, cost and pace are printed, and so are the slip figures that exist; a run without a log or a
 # binary says so; peek of a run without its scene copy says so. Nothing is started: status and
 # peek only read.
 set -euo pipefail
@@ -30,6 +30,9 @@ CSV
 run_status
 grep -q "a300_R800: 2 slips; last: slip 2 at Dx = 4.2138 d, Fx 5282.6 -> 5298.1, 6 sites, 1 loops (area 74241 d^2), slipped area 208457 d^2, at 118000 GF, 7.94 h" "$work/out" ||
   fail "the latest slip of a300_R800"
+# The pace from the cost columns: 1 cycle of 1 980 s, 0.02 d and 8 767 GF.
+grep -q "^    pace over slips 2-2: 1.82 slips/h, 0.0364 d of Dx/h, 8767 GF a slip$" "$work/out" ||
+  fail "the pace of a300_R800"
 grep -q "figures:" "$work/out" && fail "figures named where there are none"
 touch "$dir/slips.png"
 run_status
@@ -38,6 +41,15 @@ touch "$dir/slips_loops.png"
 run_status
 grep -q "^    figures: $dir/slips.png, $dir/slips_loops.png$" "$work/out" || fail "both figures"
 grep -q "^r1700_a510 \[stopped, no binary\]: (no log)$" "$work/out" || fail "a run never started"
+# No pace from one slip, nor from a table of a build before the cost columns.
+head -2 "$dir/slips.csv" >"$work/one.csv" && mv "$work/one.csv" "$dir/slips.csv"
+run_status
+grep -q "a300_R800: 1 slips" "$work/out" || fail "the one slip"
+grep -q "pace" "$work/out" && fail "a pace from one slip"
+printf 'slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area\n1,4.19375,6587.06,5266.85,179999,207953,1,74290.6,208409\n2,4.21375,5282.6,5298.1,179999,6,1,74241,208457\n' >"$dir/slips.csv"
+run_status
+grep -q "a300_R800: 2 slips" "$work/out" || fail "the table without cost columns"
+grep -q "pace" "$work/out" && fail "a pace without cost columns"
 # peek reads only: a run without its scene copy has nothing to look at, and says so.
 (cd "$repo" && RUNS="$work" bash scripts/long_runs.sh peek r800) >"$work/out" 2>&1 ||
   fail "peek exited non-zero"
