@@ -148,9 +148,8 @@ status() {
       NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
       {
         last = $0; n = NR - 1
-        split($0, f, ",")
-        dx[n] = f[col["Dx"]]
-        if ("wall_s" in col) { wall[n] = f[col["wall_s"]]; gf[n] = f[col["gf_applications"]] }
+        dx[n] = $col["Dx"]
+        if ("wall_s" in col) { wall[n] = $col["wall_s"]; gf[n] = $col["gf_applications"] }
       }
       END {
         if (n == 0) { printf "  %s: no slip yet\n", point; exit }

@@ -319,17 +319,16 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
             for (std::size_t c = 0; c < old.columns().size(); ++c)
               row.push_back(old.cell(i, c));
             row.resize(columns.size(), CsvTable::Cell(std::string()));
-            // Dx_before, which builds before it did not write, from the checkpoint's trace; and
-            // replay_of where the trace tells (a computed slip: 0; a replayed one's source is
-            // not in the trace, so its cell stays empty).
-            CsvTable::Cell& start = row.at(census_.column_index("Dx_before"));
-            if (const auto* cell = std::get_if<std::string>(&start);
-                cell && cell->empty() && std::isfinite(slip.Dx_before))
-              start = slip.Dx_before;
-            CsvTable::Cell& source = row.at(census_.column_index("replay_of"));
-            if (const auto* cell = std::get_if<std::string>(&source);
-                cell && cell->empty() && !slip.replayed)
-              source = 0LL;
+            // A cell an earlier build did not write, filled where the checkpoint's trace tells.
+            const auto fill = [&](std::string_view column, bool known, CsvTable::Cell value) {
+              CsvTable::Cell& cell = row.at(census_.column_index(column));
+              if (const auto* text = std::get_if<std::string>(&cell);
+                  known && text && text->empty())
+                cell = std::move(value);
+            };
+            fill("Dx_before", std::isfinite(slip.Dx_before), slip.Dx_before);
+            // A computed slip repeats none (0); a replayed one's source is not in the trace.
+            fill("replay_of", !slip.replayed, 0LL);
             census_.add_row(std::move(row));
             ++kept;
           }

@@ -737,11 +737,11 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     sink.state(slip(1, "slip_001_after", 1.0, 5));
     sink.state(slip(2, "slip_002_before", 2.0, 40));
     sink.state(loop_state("slip_002_after", 2.0, 40));
-    // Slip 3 is slip 1 replayed a period on (the slide says so on its frames): as large as
+    // Slip 3 is slip 2 replayed a period on (the slide says so on its frames): as large as
     // slip 2, not larger, so the first of equals stays.
     Snapshot replay_before = slip(1, "slip_003_before", 3.0, 40);
     Snapshot replay_after = slip(2, "slip_003_after", 3.0, 40);
-    replay_before.replay_of = replay_after.replay_of = 1;
+    replay_before.replay_of = replay_after.replay_of = 2;
     sink.state(replay_before);
     sink.state(replay_after);
     sink.state(slip(0, "slip_004_before", 4.0, 7));
@@ -789,7 +789,7 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_EQ(rows.integer(i, "gf_applications"), static_cast<long long>(100 * (i + 1)));
       EXPECT_EQ(rows.number(i, "wall_s"), 0.5 * static_cast<double>(i + 1));
       EXPECT_EQ(rows.number(i, "Dx_before"), static_cast<double>(i + 1));  // the "before" frame's
-      EXPECT_EQ(rows.integer(i, "replay_of"), i == 2 ? 1 : 0);
+      EXPECT_EQ(rows.integer(i, "replay_of"), i == 2 ? 2 : 0);
     }
     // The cost columns, the step's start and the replay's source come last, after the census.
     const std::vector<std::string>& columns = rows.columns();
