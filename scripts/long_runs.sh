@@ -10,8 +10,9 @@
 #   scripts/long_runs.sh status            where each run is: running, or stopped since when
 #                                          (its log's last write), its last progress line, and
 #                                          each point's latest slip (slips.csv, --largest-slip),
-#                                          the pace of its last 10 slips (slips and d of Dx an
-#                                          hour, GF a slip) and where its figures are (slips.png,
+#                                          the pace of its last 10 slips (slips computed and d
+#                                          of Dx an hour, GF a computed slip; replayed slips are
+#                                          not counted) and where its figures are (slips.png,
 #                                          slips_loops.png)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
@@ -150,6 +151,9 @@ status() {
         last = $0; n = NR - 1
         dx[n] = $col["Dx"]
         if ("wall_s" in col) { wall[n] = $col["wall_s"]; gf[n] = $col["gf_applications"] }
+        # A replayed slip (replay_of > 0) repeats an earlier cycle at no cost: counted in the pace
+        # as a slip, it would make a point that replays look fast (docs/tracking.md).
+        replayed[n] = ("replay_of" in col && $col["replay_of"] + 0 > 0)
       }
       END {
         if (n == 0) { printf "  %s: no slip yet\n", point; exit }
@@ -163,8 +167,12 @@ status() {
         k = n - 1 < 10 ? n - 1 : 10
         if (k >= 1 && wall[n] != "" && wall[n - k] != "" && wall[n] > wall[n - k]) {
           h = (wall[n] - wall[n - k]) / 3600
-          printf "    pace over slips %d-%d: %.3g slips/h, %.3g d of Dx/h", n - k + 1, n, k / h, (dx[n] - dx[n - k]) / h
-          if (gf[n] != "" && gf[n - k] != "") printf ", %.0f GF a slip", (gf[n] - gf[n - k]) / k
+          r = 0
+          for (i = n - k + 1; i <= n; ++i) r += replayed[i]
+          c = k - r
+          printf "    pace over slips %d-%d: %.3g slips/h, %.3g d of Dx/h", n - k + 1, n, c / h, (dx[n] - dx[n - k]) / h
+          if (r > 0) printf " (%d replayed slips left out of the count; their Dx is in)", r
+          if (c > 0 && gf[n] != "" && gf[n - k] != "") printf ", %.0f GF a slip", (gf[n] - gf[n - k]) / c
           printf "\n"
         }
       }' "$table"
