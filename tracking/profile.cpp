@@ -46,6 +46,7 @@ StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
     p.tau_y.push_back(s.tau_y[i]);
     p.tau_max.push_back(s.tau_max[i]);
     p.pressure.push_back(s.pressure[i]);
+    if (s.sx.size() == n) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
     p.in_contact.push_back(s.in_contact.empty() ? std::uint8_t(s.tau_max[i] > 0.0)
                                                 : s.in_contact[i]);
   }
@@ -77,6 +78,54 @@ std::vector<CoreCrossing> core_crossings(const FrameLines& f, const StressProfil
   }
   std::sort(out.begin(), out.end(),
             [](const CoreCrossing& u, const CoreCrossing& v) { return u.position < v.position; });
+  return out;
+}
+
+CoreStress core_stress(const StressProfile& p, double from, double to) {
+  if (p.offset.size() != p.position.size())
+    throw std::invalid_argument("core_stress: the profile has no registry offset (s_x)");
+  if (!(from <= to))
+    throw std::invalid_argument("core_stress: the window's ends are out of order (from > to)");
+  CoreStress c;
+  double weighted = 0.0;
+  for (std::size_t k = 0; k + 1 < p.position.size(); ++k) {
+    const double a = p.position[k], b = p.position[k + 1];
+    if (std::min(a, b) < from || std::max(a, b) > to) continue;
+    if (!p.in_contact[k] || !p.in_contact[k + 1]) continue;
+    // Positions grow with k, so rho keeps one sign across a core.
+    const double rho = p.offset[k + 1] - p.offset[k];
+    c.slip += rho;
+    weighted += rho * 0.5 * (p.tau_x[k] + p.tau_x[k + 1]);
+    ++c.bonds;
+  }
+  c.tau = c.slip != 0.0 ? weighted / c.slip : std::nan("");
+  return c;
+}
+
+std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
+                                              const std::vector<CoreCrossing>& cores,
+                                              double widths) {
+  if (!(widths > 0.0))
+    throw std::invalid_argument("crossing_stresses: widths must be > 0 (core widths either side)");
+  std::vector<CrossingStress> out;
+  out.reserve(cores.size());
+  for (std::size_t j = 0; j < cores.size(); ++j) {
+    const double x = cores[j].position;
+    CrossingStress c;
+    if (!p.position.empty()) {
+      const auto nearest =
+          std::min_element(p.position.begin(), p.position.end(),
+                           [x](double a, double b) { return std::abs(a - x) < std::abs(b - x); });
+      c.tau_max = p.tau_max[static_cast<std::size_t>(nearest - p.position.begin())];
+    }
+    // b_core = d G / tau_max with tau in G and lengths in d; no envelope, no core width.
+    double h = c.tau_max > 0.0 ? widths / c.tau_max : 0.0;
+    if (j > 0) h = std::min(h, 0.5 * (x - cores[j - 1].position));
+    if (j + 1 < cores.size()) h = std::min(h, 0.5 * (cores[j + 1].position - x));
+    c.half_width = h;
+    c.stress = core_stress(p, x - h, x + h);
+    out.push_back(c);
+  }
   return out;
 }
 

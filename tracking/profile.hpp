@@ -3,7 +3,9 @@
 // it (along y), the envelope tau_max = alpha p(r) that bounds it, and where dislocation lines
 // cross the profile. At a core tau_x changes sign between about +tau_max and -tau_max (MODEL.md
 // 7); an arrested core sits where the stress it feels stays below the local Peierls stress,
-// which the caller draws beside it (nucleation::local_peierls_stress). The seed's Fig. 9 is this
+// which the caller draws beside it (nucleation::local_peierls_stress). The stress it feels is
+// not tau_x at the core (that is the core's own swing) but tau_x weighted by the core's slip
+// density, the Peierls-Nabarro force per Burgers vector (core_stress). The seed's Fig. 9 is this
 // figure for its a/b_core^0 = 278 contact.
 //
 // Only the tracking/ library: plain fields in, plain structs out.
@@ -29,6 +31,9 @@ struct StressProfile {
   double centre = 0.0;           // coordinate of the tip centre along the axis (d): Dx or 0
   std::vector<double> position;  // site coordinate along the axis minus `centre` (d)
   std::vector<double> tau_x, tau_y, tau_max, pressure;  // per site (G)
+  // Registry offset s_x - X per site (d): it changes by one period d across a core and hardly
+  // elsewhere (the interface is held in registry). Empty if the snapshot has no s_x.
+  std::vector<double> offset;
   std::vector<std::uint8_t> in_contact;
   double tau_max_peak = 0.0;  // largest tau_max of the frame (G): alpha p0 of a Hertz contact
 };
@@ -47,5 +52,46 @@ struct CoreCrossing {
 
 // Crossings in increasing position; a vertex exactly on the row counts once.
 std::vector<CoreCrossing> core_crossings(const FrameLines& lines, const StressProfile& profile);
+
+// The stress on a core where it crosses the profile: tau_x averaged across the core with its
+// slip density as the weight (the Peierls-Nabarro force on the core per Burgers vector),
+//
+//   tau_core = sum_k rho_k tau_k / sum_k rho_k,
+//
+// over the bonds k between neighbouring profile sites that lie in [from, to] (profile
+// coordinates, d) and in the contact, rho_k the change of the registry offset s_x - X over the
+// bond and tau_k the mean tau_x of its two sites. Why this weight: the core's own stress is
+// K * rho with an odd kernel K (a straight line, a translation-invariant elastic medium), and
+// sum rho (K * rho) = 0 for any rho, so the core's own +-tau_max swing drops out, whatever the
+// core's shape, and what is left is the stress of everything else (the load, other lines, the
+// line's curvature). At equilibrium that is what the lattice holds the core against, so
+// |tau_core| is at most the local Peierls stress of the segment, and equal to it where the
+// core creeps at threshold. `slip` is sum_k rho_k (d): about +-d for a resolved core; a cut
+// that holds less of the core (a window too narrow, the contact's edge) weighs less of it.
+struct CoreStress {
+  double tau = 0.0;   // (G); NaN if no bond of the window has a slip
+  double slip = 0.0;  // sum of rho_k over the window (d)
+  int bonds = 0;      // bonds in the window
+};
+// Throws std::invalid_argument if the profile has no registry offset or from > to.
+CoreStress core_stress(const StressProfile& profile, double from, double to);
+
+// core_stress of each crossing in a window centred on it: `widths` local core widths either side
+// (b_core = d G / tau_max at the profile site nearest the crossing, MODEL.md 3; tau in G, lengths
+// in d), cut at halfway to the neighbouring crossings so that no window holds two cores. The
+// window leaves out the core's tail, which decays only as 1/x^2: in a loaded Peierls cell (tests/
+// analytic/test_core_stress.cpp) a centred window of 4 b_core either side missed the load by
+// 3e-4 tau_max at b_core = 2 d, 1.3 b_core by 3e-3 tau_max at 6 d. A site outside the contact
+// ends the window too (core_stress skips its bonds), so a core at the contact's edge weighs only
+// its inner side: `slip` says how much of it.
+struct CrossingStress {
+  CoreStress stress;
+  double half_width = 0.0;  // of the window (d)
+  double tau_max = 0.0;     // at the site nearest the crossing (G)
+};
+// Throws std::invalid_argument if widths <= 0 or the profile has no registry offset.
+std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
+                                              const std::vector<CoreCrossing>& cores,
+                                              double widths = 4.0);
 
 }  // namespace asperity::tracking

@@ -175,7 +175,12 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
                               const tracking::FrameLines& f, const std::vector<int>& ids,
                               const LocalPeierls& peierls, const std::string& title) {
   app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
-                       "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg"});
+                       "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg",
+                       "offset"});
+  // Per core crossing: the stress it holds and the local Peierls stresses (cores_NNNN.csv).
+  app::CsvTable cores_table({"axis", "position", "angle_deg", "line_id", "kind", "stress", "slip",
+                             "half_width", "tau_max", "tau_P_edge", "tau_P_screw", "tau_P_weakest",
+                             "weakest_theta_deg"});
   nlohmann::json record = nlohmann::json::object();
   const auto local = [](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
     return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
@@ -193,7 +198,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
           nucleation::weakest_local_peierls_stress(p.tau_max[k], peierls.angles);
       table.add_row({tracking::to_string(axis), p.position[k], p.tau_x[k], p.tau_y[k], p.tau_max[k],
                      p.pressure[k], static_cast<long long>(p.in_contact[k]), tau_p_edge,
-                     tau_p_screw, tau_p_weakest, weakest_theta});
+                     tau_p_screw, tau_p_weakest, weakest_theta,
+                     p.offset.empty() ? std::nan("") : p.offset[k]});
       if (!p.in_contact[k] || !(p.tau_max[k] > 0.0)) continue;
       x.push_back(p.position[k]);
       tau.push_back(p.tau_x[k] / scale);
@@ -203,12 +209,37 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
       weakest.push_back(tau_p_weakest / scale);
     }
     const std::vector<tracking::CoreCrossing> cores = tracking::core_crossings(f, p);
+    // The stress each core holds (its slip-weighted tau_x) beside the local Peierls stresses:
+    // at or below them for a held core, at them for one creeping at threshold.
+    std::vector<tracking::CrossingStress> held;
+    if (!p.offset.empty()) held = tracking::crossing_stresses(p, cores);
     nlohmann::json cores_json = nlohmann::json::array();
-    for (const auto& c : cores) {
-      cores_json.push_back({{"position", c.position},
-                            {"angle_deg", c.angle_deg},
-                            {"line_id", ids.at(c.line)},
-                            {"kind", tracking::to_string(c.kind)}});
+    for (std::size_t j = 0; j < cores.size(); ++j) {
+      const tracking::CoreCrossing& c = cores[j];
+      nlohmann::json core = {{"position", c.position},
+                             {"angle_deg", c.angle_deg},
+                             {"line_id", ids.at(c.line)},
+                             {"kind", tracking::to_string(c.kind)}};
+      if (!held.empty()) {
+        const tracking::CrossingStress& h = held[j];
+        const auto [tau_p_weakest, weakest_theta] =
+            nucleation::weakest_local_peierls_stress(h.tau_max, peierls.angles);
+        const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
+        core["stress"] = number(h.stress.tau);
+        core["slip"] = h.stress.slip;
+        core["half_width"] = h.half_width;
+        core["tau_max"] = h.tau_max;
+        core["tau_P_edge"] = number(local(peierls.edge, h.tau_max));
+        core["tau_P_screw"] = number(local(peierls.screw, h.tau_max));
+        core["tau_P_weakest"] = number(tau_p_weakest);
+        core["weakest_theta_deg"] = number(weakest_theta);
+        cores_table.add_row({tracking::to_string(axis), c.position, c.angle_deg,
+                             static_cast<long long>(ids.at(c.line)), tracking::to_string(c.kind),
+                             h.stress.tau, h.stress.slip, h.half_width, h.tau_max,
+                             local(peierls.edge, h.tau_max), local(peierls.screw, h.tau_max),
+                             tau_p_weakest, weakest_theta});
+      }
+      cores_json.push_back(std::move(core));
     }
     record[tracking::to_string(axis)] = {
         {"through", p.through}, {"centre", p.centre}, {"cores", cores_json}};
@@ -233,18 +264,23 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
       plus_minus(weakest, "+-tau_P weakest angle (local p)", "lines lw 2 dt 4 lc rgb '#2ca02c'");
     }
     series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
-    // Cores on the axis, by character as in the maps (screw < 30 deg < mixed < 60 deg < edge).
-    const std::array<std::string, 3> titles = {"core: screw", "core: mixed", "core: edge"};
+    // Cores by character as in the maps (screw < 30 deg < mixed < 60 deg < edge), drawn at the
+    // stress they hold (their slip-weighted tau_x), or on the axis where that is not known.
+    const std::array<std::string, 3> titles = {"core: screw (at the stress it holds)",
+                                               "core: mixed (at the stress it holds)",
+                                               "core: edge (at the stress it holds)"};
     const std::array<std::string, 3> colours = {"#1f77b4", "#ff9900", "#d62728"};
     for (int c = 0; c < 3; ++c) {
       app::Series marks{
           .title = titles[static_cast<std::size_t>(c)],
           .style = "points pt 7 ps 1.6 lc rgb '" + colours[static_cast<std::size_t>(c)] + "'"};
-      for (const auto& core : cores) {
+      for (std::size_t j = 0; j < cores.size(); ++j) {
+        const tracking::CoreCrossing& core = cores[j];
         const int cc = core.angle_deg < 30.0 ? 0 : (core.angle_deg > 60.0 ? 2 : 1);
         if (cc != c) continue;
+        const double held_tau = held.empty() ? std::nan("") : held[j].stress.tau;
         marks.x.push_back(core.position);
-        marks.y.push_back(0.0);
+        marks.y.push_back(std::isfinite(held_tau) ? held_tau / scale : 0.0);
       }
       if (!marks.x.empty()) series.push_back(std::move(marks));
     }
@@ -266,6 +302,11 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   std::snprintf(name, sizeof name, "profile_%04d.csv", index);
   table.write(dir / name);
   record["table"] = name;
+  if (cores_table.rows() > 0) {
+    std::snprintf(name, sizeof name, "cores_%04d.csv", index);
+    cores_table.write(dir / name);
+    record["cores_table"] = name;
+  }
   return record;
 }
 

@@ -9,7 +9,11 @@
 //   recomputed here from peierls.csv and the summary, and no more than edge's fit where the
 //   fit is used;
 // - every core on a profile lies where tau_x changes sign between its neighbouring sites (a
-//   core is such a sign change, MODEL.md 7), and frames with a loop crossing the row show it.
+//   core is such a sign change, MODEL.md 7), and frames with a loop crossing the row show it;
+// - the stress each core holds (cores_NNNN.csv and lines.json) is its slip-weighted tau_x,
+//   recomputed here from the profile's tau_x and registry offset over a window of 4 local core
+//   widths either side (cut at halfway to the next core), with the local Peierls stresses at
+//   the core's tau_max; the window holds most of the core's slip of one period.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -51,6 +55,17 @@ std::map<std::string, std::map<double, double>> table_samples(const fs::path& cs
   return out;
 }
 
+// tau_max of the k-th site of a profile in the profiles table.
+double table_tau_max(const asperity::app::CsvTable& t, const char* axis, std::size_t k) {
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (t.text(i, "axis") != axis) continue;
+    if (seen++ == k) return t.number(i, "tau_max");
+  }
+  ADD_FAILURE() << "no site " << k << " along " << axis;
+  return NAN;
+}
+
 double law(const nlohmann::json& fit, double tau_max) {
   if (!(tau_max > 0.0)) return 0.0;
   return tau_max * std::min(1.0, fit.at("k1").get<double>() *
@@ -76,16 +91,19 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
            std::min(1.0, std::exp((1 - t) * std::log(lo->second) + t * std::log(hi->second)));
   };
   const auto frames = read_json(dir / "lines.json").at("frames");
-  int profiled = 0, cores = 0, weakest_rows = 0, mixed_rows = 0, sampled_rows = 0;
+  int profiled = 0, cores = 0, weakest_rows = 0, mixed_rows = 0, sampled_rows = 0, held_cores = 0;
   for (const auto& frame : frames) {
     if (frame.at("profiles").is_null()) continue;
     ++profiled;
     const auto& profiles = frame.at("profiles");
     const auto table = asperity::app::CsvTable::read(dir / profiles.at("table").get<std::string>());
     for (const char* axis : {"x", "y"}) {
-      std::vector<double> position, tau;
+      std::vector<double> position, tau, offset;
+      std::vector<bool> in_contact;
       for (std::size_t i = 0; i < table.rows(); ++i) {
         if (table.text(i, "axis") != axis) continue;
+        offset.push_back(table.number(i, "offset"));
+        in_contact.push_back(table.integer(i, "in_contact") != 0);
         const double tau_max = table.number(i, "tau_max");
         const double tau_x = table.number(i, "tau_x");
         EXPECT_LE(std::abs(tau_x), tau_max * (1 + 1e-12) + 1e-300) << axis << " row " << i;
@@ -132,6 +150,34 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
         EXPECT_LE(tau[k - 1] * tau[k], 0.0)
             << "core at " << at << " along " << axis << " between sites with tau_x " << tau[k - 1]
             << " and " << tau[k];
+        // The stress it holds, from the profile's own columns.
+        const double tau_max = core.at("tau_max").get<double>();
+        const double nearest = std::abs(position[k - 1] - at) <= std::abs(position[k] - at)
+                                   ? table_tau_max(table, axis, k - 1)
+                                   : table_tau_max(table, axis, k);
+        EXPECT_EQ(tau_max, nearest);
+        double h = 4.0 / tau_max;
+        const auto& all = profiles.at(axis).at("cores");
+        for (const auto& other : all) {
+          const double gap = std::abs(other.at("position").get<double>() - at);
+          if (gap > 0.0) h = std::min(h, 0.5 * gap);
+        }
+        EXPECT_NEAR(core.at("half_width").get<double>(), h, 1e-12 * h);
+        double slip = 0.0, weighted = 0.0;
+        for (std::size_t j = 0; j + 1 < position.size(); ++j) {
+          if (position[j] < at - h || position[j + 1] > at + h) continue;
+          if (!in_contact[j] || !in_contact[j + 1]) continue;
+          const double rho = offset[j + 1] - offset[j];
+          slip += rho;
+          weighted += rho * 0.5 * (tau[j] + tau[j + 1]);
+        }
+        EXPECT_NEAR(core.at("slip").get<double>(), slip, 1e-9);
+        EXPECT_NEAR(core.at("stress").get<double>(), weighted / slip,
+                    1e-9 * std::abs(weighted / slip) + 1e-15);
+        EXPECT_GT(std::abs(slip), 0.5) << "core at " << at << " along " << axis;
+        EXPECT_NEAR(core.at("tau_P_edge").get<double>(), law(fits.at("edge"), tau_max), 1e-14);
+        EXPECT_NEAR(core.at("tau_P_screw").get<double>(), law(fits.at("screw"), tau_max), 1e-14);
+        ++held_cores;
       }
     }
   }
@@ -148,6 +194,7 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
   }
   // The slip's loop crosses the profiles in most of its frames.
   EXPECT_GT(cores, 4);
+  EXPECT_EQ(held_cores, cores);
 }
 
 }  // namespace

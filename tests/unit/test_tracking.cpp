@@ -334,6 +334,61 @@ TEST(Profile, CrossingsOfAHandMadeLineAreExact) {
   EXPECT_EQ(to_string(ProfileAxis::y), "y");
 }
 
+// core_stress on a hand-made profile: sites at x = -20 ... 20 d, a Peierls-Nabarro core at
+// xi = 0.5 d (offset (1/pi) arctan((x - xi)/zeta), zeta = 2 d) and tau_x = sigma + an odd
+// function of x - xi (the core's own swing, of amplitude 0.4 G). Sites and bonds are symmetric
+// about xi, so the weight rho pairs each bond with its mirror, where the odd part changes sign:
+// the average is sigma to round-off.
+TEST(Profile, CoreStressWeighsOutTheCoresOwnSwing) {
+  const double xi = 0.5, zeta = 2.0, sigma = 0.037, pi = std::acos(-1.0);
+  StressProfile p;
+  for (int k = -20; k <= 21; ++k) {
+    const double x = k;
+    p.position.push_back(x);
+    p.offset.push_back(std::atan((x - xi) / zeta) / pi);
+    p.tau_x.push_back(sigma - 0.8 * zeta * (x - xi) / ((x - xi) * (x - xi) + zeta * zeta));
+    p.in_contact.push_back(1);
+  }
+  const CoreStress whole = core_stress(p, -20.0, 21.0);
+  EXPECT_EQ(whole.bonds, 41);
+  EXPECT_NEAR(whole.tau, sigma, 1e-14);
+  EXPECT_NEAR(whole.slip, (std::atan(20.5 / zeta) - std::atan(-20.5 / zeta)) / pi, 1e-14);
+  EXPECT_GT(whole.slip, 0.9);  // most of the core's period d lies in the window
+  // A window symmetric about xi, narrower: still sigma, less of the slip.
+  const CoreStress narrow = core_stress(p, -3.0, 4.0);
+  EXPECT_EQ(narrow.bonds, 7);
+  EXPECT_NEAR(narrow.tau, sigma, 1e-14);
+  EXPECT_LT(narrow.slip, whole.slip);
+  // An off-centre window keeps more of one side of the swing: the weighting is not a plain
+  // mean that hides it. The bonds x in [2, 6] alone lie on the negative side of the swing.
+  EXPECT_LT(core_stress(p, 2.0, 6.0).tau, sigma - 0.05);
+  // Bonds with an end outside the contact are left out; with no bond left there is no stress.
+  p.in_contact[20] = 0;  // x = 0: the bonds [-1, 0] and [0, 1]
+  EXPECT_EQ(core_stress(p, -20.0, 21.0).bonds, 39);
+  EXPECT_TRUE(std::isnan(core_stress(p, -0.5, 0.5).tau));
+  EXPECT_THROW(core_stress(p, 1.0, 0.0), std::invalid_argument);
+  p.offset.clear();
+  EXPECT_THROW(core_stress(p, -20.0, 21.0), std::invalid_argument);
+}
+
+// The profile carries the snapshot's registry offset s_x - X, site for site.
+TEST(Profile, CarriesTheRegistryOffset) {
+  SyntheticOptions o;
+  o.contact_radius = 24.0;
+  const SyntheticField f = synthetic_field(o, {{0, 0, 12, 8}});
+  slide::Snapshot s = snapshot_of(f, 2.6);
+  s.sx.resize(s.tau_x.size());
+  for (std::size_t i = 0; i < s.sx.size(); ++i)
+    s.sx[i] = 0.001 * static_cast<double>(i);
+  const StressProfile px = stress_profile(s, ProfileAxis::x);
+  // Site X = 5 (block index 37), Y = 0 (index 32).
+  EXPECT_DOUBLE_EQ(px.offset[37], 0.001 * (37 * 64 + 32) - 5.0);
+  const StressProfile py = stress_profile(s, ProfileAxis::y);  // column X = 3 (index 35)
+  EXPECT_DOUBLE_EQ(py.offset[10], 0.001 * (35 * 64 + 10) - 3.0);
+  s.sx.clear();
+  EXPECT_TRUE(stress_profile(s, ProfileAxis::x).offset.empty());
+}
+
 TEST(Tracker, FirstFrameLinesGetIdsWithoutEvents) {
   Tracker t;
   const FrameLines f = find_lines(synthetic_field(SyntheticOptions{}, {{0, 0, 12, 8}}).view());
