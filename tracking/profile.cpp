@@ -67,8 +67,14 @@ std::vector<CoreCrossing> core_crossings(const FrameLines& f, const StressProfil
       const Point& a = l.points[k];
       const Point& b = l.points[(k + 1) % m];
       const double ca = across(a) - p.through, cb = across(b) - p.through;
-      // Half-open at the far end, so that a vertex on the row belongs to one segment only.
-      if (!((ca <= 0.0 && cb > 0.0) || (cb <= 0.0 && ca > 0.0))) continue;
+      // Half-open: a segment counts if one end lies strictly above the row and the other on or
+      // below it, so that a vertex on the row belongs to one segment only. An open line's end
+      // on the row has one segment, which counts whichever side it comes from.
+      const bool crosses = (ca <= 0.0 && cb > 0.0) || (cb <= 0.0 && ca > 0.0);
+      const bool open_end =
+          l.kind == LineKind::open &&
+          ((k == 0 && ca == 0.0 && cb < 0.0) || (k + 1 == segments && cb == 0.0 && ca < 0.0));
+      if (!crosses && !open_end) continue;
       const double t = ca / (ca - cb);
       out.push_back({.position = along(a) + t * (along(b) - along(a)) - p.centre,
                      .angle_deg = l.angle_deg[k],

@@ -269,6 +269,24 @@ TEST(Sequence, ShrinkingLoopNucleatesAndAnnihilates) {
     ASSERT_EQ(ids[static_cast<std::size_t>(k)].size(), 1u);
     EXPECT_EQ(ids[static_cast<std::size_t>(k)][0], ids[1][0]);
   }
+  // Its slipped inside loses 1.6 pi (r^2 - (r - 2)^2) >= 50 d^2 a frame, far above arrest_area:
+  // one retreat event when the shrinking starts (frame 2), none after while it goes on.
+  ASSERT_EQ(count(events, EventType::retreat), 1);
+  EXPECT_EQ(count(events, EventType::growth) + count(events, EventType::arrest), 0);
+  for (const Event& e : events) {
+    if (e.type != EventType::retreat) continue;
+    EXPECT_EQ(e.frame, 2);
+    EXPECT_LT(e.slipped_area_change, -50.0);
+  }
+  // The same frames backwards: a loop growing from the centre, one growth event.
+  std::reverse(frames.begin(), frames.end());
+  const auto backwards = run(frames);
+  ASSERT_EQ(count(backwards, EventType::growth), 1);
+  EXPECT_EQ(count(backwards, EventType::retreat) + count(backwards, EventType::arrest), 0);
+  for (const Event& e : backwards) {
+    if (e.type != EventType::growth) continue;
+    EXPECT_GT(e.slipped_area_change, 50.0);
+  }
 }
 
 TEST(Sequence, TwoLoopsMergeAndSplit) {

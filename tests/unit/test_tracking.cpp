@@ -76,6 +76,14 @@ TEST(Lines, LoopSenseAndOrientation) {
   EXPECT_EQ(l.kind, LineKind::loop);
   EXPECT_EQ(l.burgers, -1);
   EXPECT_GT(l.area, 0.0);
+  // Counter-clockwise: the signed (shoelace) area of the vertices is positive, and it is the area.
+  double signed_area = 0.0;
+  for (std::size_t k = 0; k < l.points.size(); ++k) {
+    const Point& p = l.points[k];
+    const Point& q = l.points[(k + 1) % l.points.size()];
+    signed_area += 0.5 * (p.x * q.y - q.x * p.y);
+  }
+  EXPECT_NEAR(signed_area, l.area, 1e-9 * l.area);
   ASSERT_GE(l.slipped_region, 0);
   // The slipped region is the inside: about pi 12 8 sites.
   EXPECT_NEAR(static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()),
@@ -124,6 +132,22 @@ TEST(Lines, LoopInTheFrameOfARotatedTip) {
     EXPECT_NEAR(lr.points[k].y, la.points[k].y, 1e-9);
   }
   EXPECT_NEAR(lr.area, la.area, 1e-6);
+  // The character is measured against b, along the tip's axis 3 degrees off x. The segments'
+  // directions are the aligned field's (same vertices), so each angle to b is the aligned
+  // angle turned by 3 degrees one way or the other (by the segment's sense of turn), folded
+  // into [0, 90]: a segment along x is 3 degrees off screw, one along y 3 degrees off edge.
+  ASSERT_EQ(lr.angle_deg.size(), la.angle_deg.size());
+  const auto fold = [](double t) { return t < 0.0 ? -t : (t > 90.0 ? 180.0 - t : t); };
+  int turned = 0;
+  for (std::size_t k = 0; k < la.angle_deg.size(); ++k) {
+    const double aligned = la.angle_deg[k], rotated = lr.angle_deg[k];
+    EXPECT_NEAR(
+        std::min(std::abs(rotated - fold(aligned + 3.0)), std::abs(rotated - fold(aligned - 3.0))),
+        0.0, 1e-9)
+        << k << ": " << aligned << " -> " << rotated;
+    if (std::abs(rotated - aligned) > 2.0) ++turned;
+  }
+  EXPECT_GT(turned, static_cast<int>(la.angle_deg.size()) / 2);
   // Without sy and tau_y a rotated tip's view is refused.
   v.sy = {};
   EXPECT_THROW((void)find_lines(v), std::invalid_argument);
@@ -310,7 +334,7 @@ TEST(Profile, CoresCrossTheAxesWhereTheLoopIs) {
 
 TEST(Profile, CrossingsOfAHandMadeLineAreExact) {
   // A square loop with vertices on the row y = 0: each vertex on the row counts once, and an
-  // open line ending on the row is crossed there once.
+  // open line through the row is crossed once.
   FrameLines f;
   Line loop;
   loop.kind = LineKind::loop;
@@ -332,6 +356,21 @@ TEST(Profile, CrossingsOfAHandMadeLineAreExact) {
   EXPECT_EQ(c[2].line, 1u);
   EXPECT_EQ(c[2].kind, LineKind::open);
   EXPECT_EQ(to_string(ProfileAxis::y), "y");
+  // Open lines that end on the row, arriving from above, from below, and leaving it either way:
+  // each is crossed there once.
+  for (const auto& [from, to] : {std::pair{Point{9, 2}, Point{9, 0}},
+                                 {Point{9, -2}, Point{9, 0}},
+                                 {Point{9, 0}, Point{9, 2}},
+                                 {Point{9, 0}, Point{9, -2}}}) {
+    Line end;
+    end.kind = LineKind::open;
+    end.points = {from, to};
+    end.angle_deg = {90};
+    f.lines = {end};
+    const auto e = core_crossings(f, p);
+    ASSERT_EQ(e.size(), 1u) << from.y << " -> " << to.y;
+    EXPECT_DOUBLE_EQ(e[0].position, 8.5);
+  }
 }
 
 // core_stress on a hand-made profile: sites at x = -20 ... 20 d, a Peierls-Nabarro core at
