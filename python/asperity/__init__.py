@@ -6,7 +6,7 @@ module turns its results into Python objects.
     import asperity
     scene = asperity.Scene({"contact": {"a": 30, "R": 535}})    # or Scene.from_toml(path)
     result = asperity.slide(scene, progress=print)
-    result.mu_over_alpha, result.trace["Fx"], result.summary["cost"]
+    result.mu_over_alpha, result.trace["Fx"], result.summary["gf_applications"]
     peak = result.snapshots["peak"]          # an xarray.Dataset, as snapshots/peak.nc
     asperity.find_lines(result.snapshots["slip_001_before"])["lines"]
     asperity.slide({"contact": {"a": 10, "envelope": "adhesive", "tau0": 0.05}}).tau_fric
@@ -145,8 +145,12 @@ class SlideResult:
             groups = {}
             for f in self._frames:
                 groups.setdefault(f["label"], []).append(f)
-            self._snapshots = {label: snapshot_dataset(frames, self._attributes)
-                               for label, frames in groups.items()}
+            self._frames = None  # the groups hold them until each is a dataset
+            self._snapshots = {}
+            for label in list(groups):
+                # A path's frames are stacked into one array (a copy): release them as it is
+                # made, so that the result holds each field once.
+                self._snapshots[label] = snapshot_dataset(groups.pop(label), self._attributes)
         return self._snapshots
 
     @property

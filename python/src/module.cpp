@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include <toml++/toml.h>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -137,6 +138,10 @@ py::dict trace_columns(const std::vector<slide::TraceRow>& trace) {
   c["Dx"] = column([](const slide::TraceRow& r) { return r.Dx; });
   c["Fx"] = column([](const slide::TraceRow& r) { return r.Fx; });
   c["Fz"] = column([](const slide::TraceRow& r) { return r.Fz; });
+  // As trace.csv: nan where there is no load (adhesive envelope) or no contact area.
+  c["Fx_over_Fz"] = column([](const slide::TraceRow& r) {
+    return r.Fz > 0.0 ? r.Fx / r.Fz : std::numeric_limits<double>::quiet_NaN();
+  });
   c["energy"] = column([](const slide::TraceRow& r) { return r.energy; });
   c["iterations"] =
       column([](const slide::TraceRow& r) { return static_cast<long long>(r.iterations); });
@@ -148,6 +153,9 @@ py::dict trace_columns(const std::vector<slide::TraceRow>& trace) {
       column([](const slide::TraceRow& r) { return static_cast<long long>(r.slipped_sites); });
   c["replayed"] = column([](const slide::TraceRow& r) { return r.replayed; });
   c["area"] = column([](const slide::TraceRow& r) { return r.area; });
+  c["Fx_over_A"] = column([](const slide::TraceRow& r) {
+    return r.area > 0.0 ? r.Fx / r.area : std::numeric_limits<double>::quiet_NaN();
+  });
   return c;
 }
 
