@@ -11,6 +11,7 @@
 // Only the tracking/ library: plain fields in, plain structs out.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -72,6 +73,14 @@ struct CoreStress {
   double tau = 0.0;   // (G); NaN if no bond of the window has a slip
   double slip = 0.0;  // sum of rho_k over the window (d)
   int bonds = 0;      // bonds in the window
+
+  // Whether the window holds most of one core: |slip| >= min_slip d. A core cut by the contact's
+  // edge holds about half (its stress is then that of its inner side, not the one driving it);
+  // two cores in one window hold about 0 or 2.
+  [[nodiscard]] bool resolved(double min_slip = 0.75) const {
+    const double s = std::abs(slip);
+    return std::isfinite(tau) && s >= min_slip && s <= 2.0 - min_slip;
+  }
 };
 // Throws std::invalid_argument if the profile has no registry offset or from > to.
 CoreStress core_stress(const StressProfile& profile, double from, double to);

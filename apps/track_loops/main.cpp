@@ -179,8 +179,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
                        "offset"});
   // Per core crossing: the stress it holds and the local Peierls stresses (cores_NNNN.csv).
   app::CsvTable cores_table({"axis", "position", "angle_deg", "line_id", "kind", "stress", "slip",
-                             "half_width", "tau_max", "tau_P_edge", "tau_P_screw", "tau_P_weakest",
-                             "weakest_theta_deg"});
+                             "resolved", "half_width", "tau_max", "tau_P_edge", "tau_P_screw",
+                             "tau_P_weakest", "weakest_theta_deg"});
   nlohmann::json record = nlohmann::json::object();
   const auto local = [](const std::optional<nucleation::PeierlsLaw>& law, double tau_max) {
     return law ? nucleation::local_peierls_stress(tau_max, *law) : std::nan("");
@@ -227,6 +227,7 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
         core["stress"] = number(h.stress.tau);
         core["slip"] = h.stress.slip;
+        core["resolved"] = h.stress.resolved();
         core["half_width"] = h.half_width;
         core["tau_max"] = h.tau_max;
         core["tau_P_edge"] = number(local(peierls.edge, h.tau_max));
@@ -235,7 +236,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         core["weakest_theta_deg"] = number(weakest_theta);
         cores_table.add_row({tracking::to_string(axis), c.position, c.angle_deg,
                              static_cast<long long>(ids.at(c.line)), tracking::to_string(c.kind),
-                             h.stress.tau, h.stress.slip, h.half_width, h.tau_max,
+                             h.stress.tau, h.stress.slip,
+                             static_cast<long long>(h.stress.resolved()), h.half_width, h.tau_max,
                              local(peierls.edge, h.tau_max), local(peierls.screw, h.tau_max),
                              tau_p_weakest, weakest_theta});
       }
@@ -265,7 +267,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
     }
     series.push_back({.x = x, .y = tau, .title = "tau_x", .style = "lines lw 1 lc rgb 'black'"});
     // Cores by character as in the maps (screw < 30 deg < mixed < 60 deg < edge), drawn at the
-    // stress they hold (their slip-weighted tau_x), or on the axis where that is not known.
+    // stress they hold (their slip-weighted tau_x), or on the axis where their window does not
+    // resolve it (a core cut by the contact's edge).
     const std::array<std::string, 3> titles = {"core: screw (at the stress it holds)",
                                                "core: mixed (at the stress it holds)",
                                                "core: edge (at the stress it holds)"};
@@ -278,9 +281,9 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         const tracking::CoreCrossing& core = cores[j];
         const int cc = core.angle_deg < 30.0 ? 0 : (core.angle_deg > 60.0 ? 2 : 1);
         if (cc != c) continue;
-        const double held_tau = held.empty() ? std::nan("") : held[j].stress.tau;
+        const bool known = !held.empty() && held[j].stress.resolved();
         marks.x.push_back(core.position);
-        marks.y.push_back(std::isfinite(held_tau) ? held_tau / scale : 0.0);
+        marks.y.push_back(known ? held[j].stress.tau / scale : 0.0);
       }
       if (!marks.x.empty()) series.push_back(std::move(marks));
     }

@@ -175,6 +175,8 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
         EXPECT_NEAR(core.at("stress").get<double>(), weighted / slip,
                     1e-9 * std::abs(weighted / slip) + 1e-15);
         EXPECT_GT(std::abs(slip), 0.5) << "core at " << at << " along " << axis;
+        EXPECT_EQ(core.at("resolved").get<bool>(),
+                  std::abs(slip) >= 0.75 && std::abs(slip) <= 1.25);
         EXPECT_NEAR(core.at("tau_P_edge").get<double>(), law(fits.at("edge"), tau_max), 1e-14);
         EXPECT_NEAR(core.at("tau_P_screw").get<double>(), law(fits.at("screw"), tau_max), 1e-14);
         ++held_cores;

@@ -393,6 +393,8 @@ TEST(Profile, CoreStressWeighsOutTheCoresOwnSwing) {
   EXPECT_NEAR(whole.tau, sigma, 1e-14);
   EXPECT_NEAR(whole.slip, (std::atan(20.5 / zeta) - std::atan(-20.5 / zeta)) / pi, 1e-14);
   EXPECT_GT(whole.slip, 0.9);  // most of the core's period d lies in the window
+  EXPECT_TRUE(whole.resolved());
+  EXPECT_FALSE(core_stress(p, 0.0, 21.0).resolved());  // half of the core: its inner side
   // A window symmetric about xi, narrower: still sigma, less of the slip.
   const CoreStress narrow = core_stress(p, -3.0, 4.0);
   EXPECT_EQ(narrow.bonds, 7);
