@@ -135,4 +135,33 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
   return out;
 }
 
+std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
+                                               const FrameLines& lines) {
+  std::array<LoopCoreStress, 2> out;
+  if (snapshot.sx.size() != snapshot.block.shape.count()) return out;
+  for (const ProfileAxis axis : {ProfileAxis::x, ProfileAxis::y}) {
+    StressProfile p;
+    try {
+      p = stress_profile(snapshot, axis);
+    } catch (const std::invalid_argument&) {
+      continue;  // the row or column lies outside the block: no crossing
+    }
+    const std::vector<CoreCrossing> cores = core_crossings(lines, p);
+    const std::vector<CrossingStress> held = crossing_stresses(p, cores);
+    LoopCoreStress& o = out[axis == ProfileAxis::x ? 0 : 1];
+    double stress = 0.0, tau_max = 0.0;
+    for (std::size_t j = 0; j < cores.size(); ++j) {
+      if (cores[j].kind != LineKind::loop || !held[j].stress.resolved()) continue;
+      stress += held[j].stress.tau;
+      tau_max += held[j].tau_max;
+      ++o.crossings;
+    }
+    if (o.crossings > 0) {
+      o.stress = stress / o.crossings;
+      o.tau_max = tau_max / o.crossings;
+    }
+  }
+  return out;
+}
+
 }  // namespace asperity::tracking

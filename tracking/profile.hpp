@@ -11,8 +11,10 @@
 // Only the tracking/ library: plain fields in, plain structs out.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -102,5 +104,20 @@ struct CrossingStress {
 std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
                                               const std::vector<CoreCrossing>& cores,
                                               double widths = 4.0);
+
+// What the closed loops of a frame hold where they cross the row through the tip centre (along
+// x: a loop's edge ends) and the column (along y: its screw sides): the mean stress of the
+// resolved crossings (crossing_stresses, default window) and the mean tau_max there, from which
+// any Peierls law gives the local Peierls stress (MODEL.md 3, 6). A run's slips.csv keeps these
+// per slip, so that whether a held loop creeps at its threshold can be read from the table.
+struct LoopCoreStress {
+  double stress = std::numeric_limits<double>::quiet_NaN();   // (G); NaN without a crossing
+  double tau_max = std::numeric_limits<double>::quiet_NaN();  // (G)
+  int crossings = 0;
+};
+// [0] along x, [1] along y. A profile outside the snapshot's block or a snapshot without s_x
+// gives no crossings there.
+std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
+                                               const FrameLines& lines);
 
 }  // namespace asperity::tracking

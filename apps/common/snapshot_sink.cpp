@@ -16,6 +16,7 @@
 #include "asperity/apps/common/xyz_io.hpp"
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
 
 namespace asperity::app {
 
@@ -224,8 +225,11 @@ namespace {
 // slips.csv's last columns, in the order they were added: the slide's cost when it accepted the
 // slip (Snapshot), where the slip's step began (the "before" state's Dx), and the slip event a
 // replayed slip repeats (0: computed).
-constexpr std::array<const char*, 4> kLastColumns = {"gf_applications", "wall_s", "Dx_before",
-                                                     "replay_of"};
+// Then what the closed loops hold where they cross the row (x) and column (y) through the tip
+// centre (tracking::loop_core_stress): the stress their cores hold and tau_max there (G).
+constexpr std::array<const char*, 8> kLastColumns = {
+    "gf_applications", "wall_s",         "Dx_before",     "replay_of",
+    "loop_stress_x",   "loop_tau_max_x", "loop_stress_y", "loop_tau_max_y"};
 }  // namespace
 
 // The slip's place in the slide, then the census (lines_json.hpp, one description with Python),
@@ -372,8 +376,11 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   std::vector<CsvTable::Cell> row = {
       slip, after.Dx, before.Fx, after.Fx, after.Fz, static_cast<long long>(after.slipped_sites)};
   std::vector<std::pair<std::string, nlohmann::json>> fields;
+  std::array<tracking::LoopCoreStress, 2> held;
   try {
-    fields = census_fields(tracking::census(tracking::find_lines(tracking::view_of(after))));
+    const tracking::FrameLines lines = tracking::find_lines(tracking::view_of(after));
+    fields = census_fields(tracking::census(lines));
+    held = tracking::loop_core_stress(after, lines);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "largest_slip: no census of %s (%s): its row in slips.csv is empty\n",
                  after.label.c_str(), e.what());
@@ -391,6 +398,10 @@ void LargestSlipSink::add_census_row(const slide::Snapshot& before, const slide:
   row.emplace_back(after.wall_s);
   row.emplace_back(before.Dx);
   row.emplace_back(static_cast<long long>(after.replay_of));
+  for (const tracking::LoopCoreStress& h : held) {
+    row.emplace_back(h.stress);
+    row.emplace_back(h.tau_max);
+  }
   census_.add_row(std::move(row));
   write_census();
 }

@@ -13,6 +13,7 @@
 #include "asperity/apps/common/snapshot_io.hpp"
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
 
 namespace {
 
@@ -154,11 +155,38 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
   };
   same(largest_k, census_of(point / "largest_slip" / "largest_slip_after.nc"));
   same(k - 1, census_of(point / "largest_slip" / "latest_slip_after.nc"));
+  // The stress the held loop's cores hold where they cross the profiles (its edge ends along x,
+  // its screw sides along y), as tracking finds it in the kept frame. The float32 frame moves
+  // tau_x by 6e-8 of tau_max and each bond's slip by about 4e-6 of its size: 1e-4 relative
+  // with room.
+  const auto held_in = [&](std::size_t row, const fs::path& nc) {
+    const auto frames = asperity::app::read_snapshots(nc);
+    const auto held = asperity::tracking::loop_core_stress(
+        frames.at(0), asperity::tracking::find_lines(asperity::tracking::view_of(frames.at(0))));
+    for (int a = 0; a < 2; ++a) {
+      const std::string axis = a == 0 ? "x" : "y";
+      ASSERT_EQ(held[a].crossings, 2) << axis;  // both ends (sides) of the one loop, resolved
+      EXPECT_NEAR(slips.number(row, "loop_stress_" + axis), held[a].stress,
+                  1e-4 * std::abs(held[a].stress) + 1e-7)
+          << axis;
+      EXPECT_NEAR(slips.number(row, "loop_tau_max_" + axis), held[a].tau_max,
+                  1e-6 * held[a].tau_max)
+          << axis;
+    }
+  };
+  held_in(largest_k, point / "largest_slip" / "largest_slip_after.nc");
+  held_in(k - 1, point / "largest_slip" / "latest_slip_after.nc");
 
   // The arrested loop of Regime III (the fixture's scene comment: the first slip is the largest).
   EXPECT_EQ(largest_k, 0u);
   for (std::size_t r = 0; r < slips.rows(); ++r) {
     EXPECT_EQ(slips.integer(r, "loops"), 1) << "row " << r;
+    // A held loop's cores hold less than the lattice's bound tau_max where they are.
+    for (const char* axis : {"x", "y"}) {
+      const double held = slips.number(r, std::string("loop_stress_") + axis);
+      EXPECT_TRUE(std::isfinite(held)) << "row " << r << " " << axis;
+      EXPECT_LT(std::abs(held), slips.number(r, std::string("loop_tau_max_") + axis));
+    }
     EXPECT_GT(slips.number(r, "slipped_area"), 0.0) << "row " << r;
     if (r > 0) {
       EXPECT_LE(slips.number(r, "loop_area"), slips.number(r - 1, "loop_area")) << "row " << r;

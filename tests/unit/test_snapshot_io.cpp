@@ -25,6 +25,7 @@
 #include "asperity/apps/common/snapshot_sink.hpp"
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
 #include "asperity/tracking/synthetic.hpp"
 
 namespace asperity::app {
@@ -708,10 +709,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   };
   const auto label_of = [](const fs::path& nc) { return read_snapshots(nc).at(0).label; };
   // A state with one dislocation loop (tracking's synthetic field: a slipped disk of radius 5 d
-  // on a 24 x 24 block in contact everywhere), so that its census has something to count.
+  // on a 24 x 24 block in contact everywhere), so that its census has something to count. Its
+  // cores are 1 d wide, so that each holds most of its slip within 5 d (half the loop's width)
+  // and the stress they hold is resolved.
   const auto loop_state = [&](std::string label, double Dx, int sites) {
     tracking::SyntheticOptions o;
     o.block = LatticeBlock{.shape = {24, 24}, .origin0 = -12, .origin1 = -12};
+    o.core_width = 1.0;
     const tracking::SyntheticField field = tracking::synthetic_field(o, {{0.0, 0.0, 5.0, 5.0}});
     Snapshot f;
     f.label = std::move(label);
@@ -790,11 +794,28 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
       EXPECT_EQ(rows.number(i, "wall_s"), 0.5 * static_cast<double>(i + 1));
       EXPECT_EQ(rows.number(i, "Dx_before"), static_cast<double>(i + 1));  // the "before" frame's
       EXPECT_EQ(rows.integer(i, "replay_of"), i == 2 ? 2 : 0);
+      // What the loops hold where they cross the profiles through the tip centre: tracking's.
+      const auto held =
+          tracking::loop_core_stress(afters[i], tracking::find_lines(tracking::view_of(afters[i])));
+      const auto same = [](double a, double b) {
+        return a == b || (std::isnan(a) && std::isnan(b));
+      };
+      EXPECT_TRUE(same(rows.number(i, "loop_stress_x"), held[0].stress)) << i;
+      EXPECT_TRUE(same(rows.number(i, "loop_tau_max_x"), held[0].tau_max)) << i;
+      EXPECT_TRUE(same(rows.number(i, "loop_stress_y"), held[1].stress)) << i;
+      EXPECT_TRUE(same(rows.number(i, "loop_tau_max_y"), held[1].tau_max)) << i;
+      // The loop's row: both ends and both sides resolved; the others have no loop.
+      EXPECT_EQ(held[0].crossings, i == 1 ? 2 : 0) << i;
+      EXPECT_EQ(held[1].crossings, i == 1 ? 2 : 0) << i;
+      EXPECT_EQ(std::isfinite(rows.number(i, "loop_stress_x")), i == 1) << i;
     }
-    // The cost columns, the step's start and the replay's source come last, after the census.
+    // The cost columns, the step's start, the replay's source and the loops' held stress come
+    // last, after the census.
     const std::vector<std::string>& columns = rows.columns();
-    EXPECT_EQ(std::vector<std::string>(columns.end() - 4, columns.end()),
-              (std::vector<std::string>{"gf_applications", "wall_s", "Dx_before", "replay_of"}));
+    EXPECT_EQ(std::vector<std::string>(columns.end() - 8, columns.end()),
+              (std::vector<std::string>{"gf_applications", "wall_s", "Dx_before", "replay_of",
+                                        "loop_stress_x", "loop_tau_max_x", "loop_stress_y",
+                                        "loop_tau_max_y"}));
     // The loop's row: one loop of about pi 5^2 d^2 (5 %, as tracking's analytic tests allow).
     EXPECT_EQ(rows.integer(1, "loops"), 1);
     EXPECT_NEAR(rows.number(1, "loop_area"), 25.0 * std::numbers::pi, 1.25 * std::numbers::pi);
