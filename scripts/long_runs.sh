@@ -12,8 +12,9 @@
 #                                          each point's latest slip (slips.csv, --largest-slip),
 #                                          the pace of its last 10 slips (slips computed and d
 #                                          of Dx an hour, GF a computed slip; replayed slips are
-#                                          not counted) and where its figures are (slips.png,
-#                                          slips_loops.png)
+#                                          not counted), the stress the held loops' cores hold
+#                                          on the axes (loop_stress_x, _y) and where its figures
+#                                          are (slips.png, slips_loops.png)
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
 #                                          slip (friction_sweep --peek), and the lines of its
@@ -162,6 +163,18 @@ status() {
         if ("gf_applications" in col && f[col["gf_applications"]] != "")
           printf ", at %s GF, %.2f h", f[col["gf_applications"]], f[col["wall_s"]] / 3600
         printf "\n"
+        # What the cores of the held loops hold on the axes through the tip centre (tracking.md),
+        # against tau_max there: compare with the local Peierls stress of a scan.
+        if ("loop_stress_x" in col) {
+          s = ""
+          for (a = 1; a <= 2; ++a) {
+            ax = a == 1 ? "x" : "y"
+            v = f[col["loop_stress_" ax]]; t = f[col["loop_tau_max_" ax]]
+            if (v != "" && v != "nan")
+              s = s sprintf("%s%s: %.4g G at tau_max %.4g G", s == "" ? "" : ", ", ax, v, t)
+          }
+          if (s != "") printf "    held loop cores (%s)\n", s
+        }
         # The pace of the last slips (up to 10 cycles, from their cost columns): what planning a
         # run of days needs. Across a restart the wall time holds the set-up (docs/tracking.md).
         k = n - 1 < 10 ? n - 1 : 10

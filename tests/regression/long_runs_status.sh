@@ -48,6 +48,20 @@ run_status
 grep -q "^    pace over slips 2-3: 1 slips/h, 1.02 d of Dx/h (1 replayed slips left out of the count; their Dx is in), 10000 GF a slip$" "$work/out" ||
   fail "the pace of a table with a replayed slip"
 mv "$work/keep.csv" "$dir/slips.csv"
+# The stress the held loop's cores hold on the axes, where the table has it; none where the last
+# row has no loop crossing (nan), nor from a table without the columns (above).
+cp "$dir/slips.csv" "$work/keep.csv"
+cat >"$dir/slips.csv" <<'CSV'
+slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area,gf_applications,wall_s,Dx_before,replay_of,loop_stress_x,loop_tau_max_x,loop_stress_y,loop_tau_max_y
+1,4.19375,6587.06,5266.85,179999,207953,1,74290.6,208409,100000,20000,4.1875,0,0.014260,0.5538,0.026688,0.5827
+CSV
+run_status
+grep -q "^    held loop cores (x: 0.01426 G at tau_max 0.5538 G, y: 0.02669 G at tau_max 0.5827 G)$" "$work/out" ||
+  fail "the loops' held stress"
+sed -i 's/0.014260,0.5538,0.026688,0.5827/nan,nan,nan,nan/' "$dir/slips.csv"
+run_status
+grep -q "held loop cores" "$work/out" && fail "a held stress where no loop crosses"
+mv "$work/keep.csv" "$dir/slips.csv"
 touch "$dir/slips.png"
 run_status
 grep -q "^    figures: $dir/slips.png$" "$work/out" || fail "the one figure there is"
