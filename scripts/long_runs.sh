@@ -152,9 +152,10 @@ status() {
         last = $0; n = NR - 1
         dx[n] = $col["Dx"]
         if ("wall_s" in col) { wall[n] = $col["wall_s"]; gf[n] = $col["gf_applications"] }
-        # A replayed slip (replay_of > 0) repeats an earlier cycle at no cost: counted in the pace
-        # as a slip, it would make a point that replays look fast (docs/tracking.md).
-        replayed[n] = ("replay_of" in col && $col["replay_of"] + 0 > 0)
+        # A replayed slip (replay_of not 0: the slip it repeats, or -1 where an earlier build did
+        # not say) repeats an earlier cycle at no cost: counted in the pace as a slip, it would
+        # make a point that replays look fast (docs/tracking.md).
+        replayed[n] = ("replay_of" in col && $col["replay_of"] + 0 != 0)
       }
       END {
         if (n == 0) { printf "  %s: no slip yet\n", point; exit }

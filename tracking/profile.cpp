@@ -46,7 +46,8 @@ StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
     p.tau_y.push_back(s.tau_y[i]);
     p.tau_max.push_back(s.tau_max[i]);
     p.pressure.push_back(s.pressure[i]);
-    if (s.sx.size() == n) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
+    // Under a tip out of registry the registry runs along the tip's axis, not s_x: no offset.
+    if (s.sx.size() == n && s.tip.aligned()) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
     p.in_contact.push_back(s.in_contact.empty() ? std::uint8_t(s.tau_max[i] > 0.0)
                                                 : s.in_contact[i]);
   }
@@ -95,11 +96,15 @@ CoreStress core_stress(const StressProfile& p, double from, double to) {
   CoreStress c;
   double weighted = 0.0;
   for (std::size_t k = 0; k + 1 < p.position.size(); ++k) {
+    // Positions grow with k, so rho keeps one sign across a core. A bond cut by the window's
+    // end counts by the fraction of it inside, so that the window is where it is said to be,
+    // not rounded to whole bonds (up to d/2 off-centre, which weighs one side of the core's
+    // swing more).
     const double a = p.position[k], b = p.position[k + 1];
-    if (std::min(a, b) < from || std::max(a, b) > to) continue;
+    const double inside = (std::min(b, to) - std::max(a, from)) / (b - a);
+    if (!(inside > 0.0)) continue;
     if (!p.in_contact[k] || !p.in_contact[k + 1]) continue;
-    // Positions grow with k, so rho keeps one sign across a core.
-    const double rho = p.offset[k + 1] - p.offset[k];
+    const double rho = std::min(inside, 1.0) * (p.offset[k + 1] - p.offset[k]);
     c.slip += rho;
     weighted += rho * 0.5 * (p.tau_x[k] + p.tau_x[k + 1]);
     ++c.bonds;
@@ -125,10 +130,17 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
       c.tau_max = p.tau_max[static_cast<std::size_t>(nearest - p.position.begin())];
     }
     // b_core = d G / tau_max with tau in G and lengths in d; no envelope, no core width.
-    double h = c.tau_max > 0.0 ? widths / c.tau_max : 0.0;
+    const double full = c.tau_max > 0.0 ? widths / c.tau_max : 0.0;
+    double h = full;
     if (j > 0) h = std::min(h, 0.5 * (x - cores[j - 1].position));
     if (j + 1 < cores.size()) h = std::min(h, 0.5 * (cores[j + 1].position - x));
+    // The first site out of the contact on either side ends the window (the contact's edge, or
+    // a hole in it).
+    for (std::size_t k = 0; k < p.position.size(); ++k) {
+      if (!p.in_contact[k]) h = std::min(h, std::abs(p.position[k] - x));
+    }
     c.half_width = h;
+    c.cut = !(h >= full);
     c.stress = core_stress(p, x - h, x + h);
     out.push_back(c);
   }
@@ -138,7 +150,7 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
 std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
                                                const FrameLines& lines) {
   std::array<LoopCoreStress, 2> out;
-  if (snapshot.sx.size() != snapshot.block.shape.count()) return out;
+  if (snapshot.sx.size() != snapshot.block.shape.count() || !snapshot.tip.aligned()) return out;
   for (const ProfileAxis axis : {ProfileAxis::x, ProfileAxis::y}) {
     StressProfile p;
     try {
@@ -151,7 +163,7 @@ std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
     LoopCoreStress& o = out[axis == ProfileAxis::x ? 0 : 1];
     double stress = 0.0, tau_max = 0.0;
     for (std::size_t j = 0; j < cores.size(); ++j) {
-      if (cores[j].kind != LineKind::loop || !held[j].stress.resolved()) continue;
+      if (cores[j].kind != LineKind::loop || !held[j].resolved()) continue;
       stress += held[j].stress.tau;
       tau_max += held[j].tau_max;
       ++o.crossings;

@@ -35,7 +35,9 @@ struct StressProfile {
   std::vector<double> position;  // site coordinate along the axis minus `centre` (d)
   std::vector<double> tau_x, tau_y, tau_max, pressure;  // per site (G)
   // Registry offset s_x - X per site (d): it changes by one period d across a core and hardly
-  // elsewhere (the interface is held in registry). Empty if the snapshot has no s_x.
+  // elsewhere (the interface is held in registry). Empty if the snapshot has no s_x, or under a
+  // tip out of registry (angle or mismatch: its registry runs along the tip's axis, and s_x - X
+  // then drifts at every bond), where the stress a core holds is not measured.
   std::vector<double> offset;
   std::vector<std::uint8_t> in_contact;
   double tau_max_peak = 0.0;  // largest tau_max of the frame (G): alpha p0 of a Hertz contact
@@ -61,10 +63,11 @@ std::vector<CoreCrossing> core_crossings(const FrameLines& lines, const StressPr
 //
 //   tau_core = sum_k rho_k tau_k / sum_k rho_k,
 //
-// over the bonds k between neighbouring profile sites that lie in [from, to] (profile
-// coordinates, d) and in the contact, rho_k the change of the registry offset s_x - X over the
-// bond and tau_k the mean tau_x of its two sites. Why this weight: the core's own stress is
-// K * rho with an odd kernel K (a straight line, a translation-invariant elastic medium), and
+// over the bonds k between neighbouring profile sites in [from, to] (profile coordinates, d; a
+// bond cut by an end counts by its fraction inside) whose sites are in the contact, rho_k the
+// change of the registry offset s_x - X over the bond and tau_k the mean tau_x of its two
+// sites. Why this weight: the core's own stress is K * rho with an odd kernel K (a straight
+// line, a translation-invariant elastic medium), and
 // sum rho (K * rho) = 0 for any rho, so the core's own +-tau_max swing drops out, whatever the
 // core's shape, and what is left is the stress of everything else (the load, other lines, the
 // line's curvature). At equilibrium that is what the lattice holds the core against, so
@@ -89,16 +92,21 @@ CoreStress core_stress(const StressProfile& profile, double from, double to);
 
 // core_stress of each crossing in a window centred on it: `widths` local core widths either side
 // (b_core = d G / tau_max at the profile site nearest the crossing, MODEL.md 3; tau in G, lengths
-// in d), cut at halfway to the neighbouring crossings so that no window holds two cores. The
-// window leaves out the core's tail, which decays only as 1/x^2: in a loaded Peierls cell (tests/
-// analytic/test_core_stress.cpp) a centred window of 4 b_core either side missed the load by
-// 3e-4 tau_max at b_core = 2 d, 1.3 b_core by 3e-3 tau_max at 6 d. A site outside the contact
-// ends the window too (core_stress skips its bonds), so a core at the contact's edge weighs only
-// its inner side: `slip` says how much of it.
+// in d), cut at halfway to the neighbouring crossings, so that no window holds two cores, and at
+// the first site out of the contact on either side. The window leaves out the core's tail, which
+// decays only as 1/x^2. In a loaded Peierls cell (tests/analytic/test_core_stress.cpp) a centred
+// window of 4 b_core either side missed the load by 9e-5 tau_max at b_core = 2 d (0.15% of that
+// core's tau_P) and 1.7e-6 tau_max at 6 d (3% of its tiny tau_P); one cut to 1.3 b_core at 6 d
+// missed it by 8e-5 tau_max, 1.6 times tau_P. So a cut window is not resolved, whatever slip it
+// holds, and for wide cores (b_core > 5 d or so, tau_P < 1e-4 tau_max) even the full window's
+// error is a sizeable part of tau_P.
 struct CrossingStress {
   CoreStress stress;
   double half_width = 0.0;  // of the window (d)
   double tau_max = 0.0;     // at the site nearest the crossing (G)
+  bool cut = false;         // the window is narrower than `widths` b_core
+
+  [[nodiscard]] bool resolved() const { return !cut && stress.resolved(); }
 };
 // Throws std::invalid_argument if widths <= 0 or the profile has no registry offset.
 std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,

@@ -331,8 +331,9 @@ std::string LargestSlipSink::start(std::optional<Resume> resume) {
                 cell = std::move(value);
             };
             fill("Dx_before", std::isfinite(slip.Dx_before), slip.Dx_before);
-            // A computed slip repeats none (0); a replayed one's source is not in the trace.
-            fill("replay_of", !slip.replayed, 0LL);
+            // A computed slip repeats none (0); a replayed one's source is not in the trace (-1:
+            // replayed, source unknown), so that the row still says it was not computed.
+            fill("replay_of", true, slip.replayed ? -1LL : 0LL);
             census_.add_row(std::move(row));
             ++kept;
           }

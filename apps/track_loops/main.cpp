@@ -227,7 +227,7 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
         core["stress"] = number(h.stress.tau);
         core["slip"] = h.stress.slip;
-        core["resolved"] = h.stress.resolved();
+        core["resolved"] = h.resolved();
         core["half_width"] = h.half_width;
         core["tau_max"] = h.tau_max;
         core["tau_P_edge"] = number(local(peierls.edge, h.tau_max));
@@ -236,10 +236,9 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         core["weakest_theta_deg"] = number(weakest_theta);
         cores_table.add_row({tracking::to_string(axis), c.position, c.angle_deg,
                              static_cast<long long>(ids.at(c.line)), tracking::to_string(c.kind),
-                             h.stress.tau, h.stress.slip,
-                             static_cast<long long>(h.stress.resolved()), h.half_width, h.tau_max,
-                             local(peierls.edge, h.tau_max), local(peierls.screw, h.tau_max),
-                             tau_p_weakest, weakest_theta});
+                             h.stress.tau, h.stress.slip, static_cast<long long>(h.resolved()),
+                             h.half_width, h.tau_max, local(peierls.edge, h.tau_max),
+                             local(peierls.screw, h.tau_max), tau_p_weakest, weakest_theta});
       }
       cores_json.push_back(std::move(core));
     }
@@ -281,7 +280,7 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         const tracking::CoreCrossing& core = cores[j];
         const int cc = core.angle_deg < 30.0 ? 0 : (core.angle_deg > 60.0 ? 2 : 1);
         if (cc != c) continue;
-        const bool known = !held.empty() && held[j].stress.resolved();
+        const bool known = !held.empty() && held[j].resolved();
         marks.x.push_back(core.position);
         marks.y.push_back(known ? held[j].stress.tau / scale : 0.0);
       }

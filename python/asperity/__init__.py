@@ -145,12 +145,13 @@ class SlideResult:
             groups = {}
             for f in self._frames:
                 groups.setdefault(f["label"], []).append(f)
-            self._frames = None  # the groups hold them until each is a dataset
-            self._snapshots = {}
-            for label in list(groups):
-                # A path's frames are stacked into one array (a copy): release them as it is
-                # made, so that the result holds each field once.
-                self._snapshots[label] = snapshot_dataset(groups.pop(label), self._attributes)
+            # A path's frames are stacked into one array per field (a copy); once every label
+            # is made the frames are dropped, so that the result holds each field once. Until
+            # then they are kept, so that a failure leaves the result as it was.
+            snapshots = {label: snapshot_dataset(frames, self._attributes)
+                         for label, frames in groups.items()}
+            self._frames = None
+            self._snapshots = snapshots
         return self._snapshots
 
     @property

@@ -34,7 +34,7 @@ grep -q "a300_R800: 2 slips; last: slip 2 at Dx = 4.2138 d, Fx 5282.6 -> 5298.1,
 grep -q "^    pace over slips 2-2: 1.82 slips/h, 0.0364 d of Dx/h, 8767 GF a slip$" "$work/out" ||
   fail "the pace of a300_R800"
 grep -q "figures:" "$work/out" && fail "figures named where there are none"
-# A replayed slip (replay_of > 0) is not a slip computed: slips 2-3 took 3 600 s and 10 000 GF
+# A replayed slip (replay_of not 0) is not a slip computed: slips 2-3 took 3 600 s and 10 000 GF
 # (4 of them the replay's), so the pace is 1 slip and 1.02 d an hour, 10 000 GF a slip. (Counted,
 # the replay would double the slips an hour and halve the GF a slip.)
 cp "$dir/slips.csv" "$work/keep.csv"
@@ -47,6 +47,11 @@ CSV
 run_status
 grep -q "^    pace over slips 2-3: 1 slips/h, 1.02 d of Dx/h (1 replayed slips left out of the count; their Dx is in), 10000 GF a slip$" "$work/out" ||
   fail "the pace of a table with a replayed slip"
+# A replayed row of an earlier build (replay_of -1: replayed, source unknown) counts as replayed.
+sed -i '$ s/,2$/,-1/' "$dir/slips.csv"
+run_status
+grep -q "^    pace over slips 2-3: 1 slips/h, 1.02 d of Dx/h (1 replayed slips" "$work/out" ||
+  fail "the pace of a table with a replayed slip of unknown source"
 mv "$work/keep.csv" "$dir/slips.csv"
 # The stress the held loop's cores hold on the axes, where the table has it; none where the last
 # row has no loop crossing (nan), nor from a table without the columns (above).

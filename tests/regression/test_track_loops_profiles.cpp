@@ -12,8 +12,8 @@
 //   core is such a sign change, MODEL.md 7), and frames with a loop crossing the row show it;
 // - the stress each core holds (cores_NNNN.csv and lines.json) is its slip-weighted tau_x,
 //   recomputed here from the profile's tau_x and registry offset over a window of 4 local core
-//   widths either side (cut at halfway to the next core), with the local Peierls stresses at
-//   the core's tau_max; the window holds most of the core's slip of one period.
+//   widths either side (cut at halfway to the next core and at the contact's edge), with the
+//   local Peierls stresses at the core's tau_max, and whether it is resolved.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,7 +91,8 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
            std::min(1.0, std::exp((1 - t) * std::log(lo->second) + t * std::log(hi->second)));
   };
   const auto frames = read_json(dir / "lines.json").at("frames");
-  int profiled = 0, cores = 0, weakest_rows = 0, mixed_rows = 0, sampled_rows = 0, held_cores = 0;
+  int profiled = 0, cores = 0, weakest_rows = 0, mixed_rows = 0, sampled_rows = 0, held_cores = 0,
+      resolved_cores = 0;
   for (const auto& frame : frames) {
     if (frame.at("profiles").is_null()) continue;
     ++profiled;
@@ -156,27 +157,33 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
                                    ? table_tau_max(table, axis, k - 1)
                                    : table_tau_max(table, axis, k);
         EXPECT_EQ(tau_max, nearest);
-        double h = 4.0 / tau_max;
+        const double full = 4.0 / tau_max;
+        double h = full;
         const auto& all = profiles.at(axis).at("cores");
         for (const auto& other : all) {
           const double gap = std::abs(other.at("position").get<double>() - at);
           if (gap > 0.0) h = std::min(h, 0.5 * gap);
         }
+        for (std::size_t j = 0; j < position.size(); ++j) {
+          if (!in_contact[j]) h = std::min(h, std::abs(position[j] - at));
+        }
         EXPECT_NEAR(core.at("half_width").get<double>(), h, 1e-12 * h);
         double slip = 0.0, weighted = 0.0;
         for (std::size_t j = 0; j + 1 < position.size(); ++j) {
-          if (position[j] < at - h || position[j + 1] > at + h) continue;
-          if (!in_contact[j] || !in_contact[j + 1]) continue;
-          const double rho = offset[j + 1] - offset[j];
+          const double inside =
+              (std::min(position[j + 1], at + h) - std::max(position[j], at - h)) /
+              (position[j + 1] - position[j]);
+          if (!(inside > 0.0) || !in_contact[j] || !in_contact[j + 1]) continue;
+          const double rho = std::min(inside, 1.0) * (offset[j + 1] - offset[j]);
           slip += rho;
           weighted += rho * 0.5 * (tau[j] + tau[j + 1]);
         }
         EXPECT_NEAR(core.at("slip").get<double>(), slip, 1e-9);
         EXPECT_NEAR(core.at("stress").get<double>(), weighted / slip,
                     1e-9 * std::abs(weighted / slip) + 1e-15);
-        EXPECT_GT(std::abs(slip), 0.5) << "core at " << at << " along " << axis;
         EXPECT_EQ(core.at("resolved").get<bool>(),
-                  std::abs(slip) >= 0.75 && std::abs(slip) <= 1.25);
+                  h >= full && std::abs(slip) >= 0.75 && std::abs(slip) <= 1.25);
+        resolved_cores += core.at("resolved").get<bool>() ? 1 : 0;
         EXPECT_NEAR(core.at("tau_P_edge").get<double>(), law(fits.at("edge"), tau_max), 1e-14);
         EXPECT_NEAR(core.at("tau_P_screw").get<double>(), law(fits.at("screw"), tau_max), 1e-14);
         ++held_cores;
@@ -197,6 +204,11 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
   // The slip's loop crosses the profiles in most of its frames.
   EXPECT_GT(cores, 4);
   EXPECT_EQ(held_cores, cores);
+  // This contact is small for its cores (a/b_core^0 = 6.2: b_core 7-19 d against a = 43 d), so
+  // every window of 4 b_core either side is cut by the contact's edge or the next core: none is
+  // resolved. Resolved cores are checked in a larger contact (test_sweep_largest_slip.cpp) and
+  // against a loaded Peierls cell (tests/analytic/test_core_stress.cpp).
+  EXPECT_EQ(resolved_cores, 0);
 }
 
 }  // namespace

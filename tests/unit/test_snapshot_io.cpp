@@ -710,12 +710,13 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   const auto label_of = [](const fs::path& nc) { return read_snapshots(nc).at(0).label; };
   // A state with one dislocation loop (tracking's synthetic field: a slipped disk of radius 5 d
   // on a 24 x 24 block in contact everywhere), so that its census has something to count. Its
-  // cores are 1 d wide, so that each holds most of its slip within 5 d (half the loop's width)
-  // and the stress they hold is resolved.
+  // cores are 1 d wide and tau_max is G (b_core = d), so that the window of the stress they hold
+  // (4 b_core either side) fits within half the loop's width and holds most of each core's slip.
   const auto loop_state = [&](std::string label, double Dx, int sites) {
     tracking::SyntheticOptions o;
     o.block = LatticeBlock{.shape = {24, 24}, .origin0 = -12, .origin1 = -12};
     o.core_width = 1.0;
+    o.tau_peak = 1.0;
     const tracking::SyntheticField field = tracking::synthetic_field(o, {{0.0, 0.0, 5.0, 5.0}});
     Snapshot f;
     f.label = std::move(label);
@@ -877,12 +878,14 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
   }
   {
     // A table of an earlier build, whose columns are the first of today's (before the cost
-    // columns, Dx_before and replay_of): its rows are kept with the new columns empty, but for
-    // Dx_before and a computed slip's replay_of (0), which the checkpoint's trace gives (a
-    // replayed slip's source it does not), and the next slip's row is full. A table with a column
-    // today's do not have in its place is set aside.
+    // columns, Dx_before, replay_of and the loops' held stress): its rows are kept with the new
+    // columns empty, but for Dx_before and replay_of, which the checkpoint's trace gives (0 for
+    // a computed slip; -1 for a replayed one, whose source the trace does not give), and the
+    // next slip's row is full. A table with a column today's do not have in its place is set
+    // aside.
     std::vector<std::string> columns = LargestSlipSink::census_columns();
-    columns.resize(columns.size() - 4);
+    columns.resize(columns.size() - 8);
+    ASSERT_EQ(columns.back(), "slipped_area");
     CsvTable earlier(columns);
     for (int k = 1; k <= 2; ++k) {
       std::vector<CsvTable::Cell> row = {static_cast<long long>(k),
@@ -908,8 +911,10 @@ TEST_F(SnapshotIo, LargestSlipSinkKeepsTheLargestAndTheLatestSlipsPairs) {
     EXPECT_EQ(rows.number(0, "Dx_before"), 0.75);
     EXPECT_EQ(rows.number(1, "Dx_before"), 1.5);
     EXPECT_EQ(rows.integer(0, "replay_of"), 0);
-    EXPECT_EQ(rows.text(1, "replay_of"), "");
+    EXPECT_EQ(rows.integer(1, "replay_of"), -1);
     EXPECT_EQ(rows.integer(2, "replay_of"), 0);
+    EXPECT_EQ(rows.text(1, "loop_stress_x"), "");
+    EXPECT_EQ(rows.text(1, "loop_tau_max_y"), "");
     EXPECT_EQ(rows.integer(2, "gf_applications"), 300);
     EXPECT_EQ(rows.number(2, "wall_s"), 1.5);
     columns.emplace_back("not_ours");
