@@ -150,7 +150,6 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
 std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
                                                const FrameLines& lines) {
   std::array<LoopCoreStress, 2> out;
-  if (snapshot.sx.size() != snapshot.block.shape.count() || !snapshot.tip.aligned()) return out;
   for (const ProfileAxis axis : {ProfileAxis::x, ProfileAxis::y}) {
     StressProfile p;
     try {
@@ -158,6 +157,7 @@ std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
     } catch (const std::invalid_argument&) {
       continue;  // the row or column lies outside the block: no crossing
     }
+    if (p.offset.empty()) continue;  // no s_x, or a tip out of registry (stress_profile)
     const std::vector<CoreCrossing> cores = core_crossings(lines, p);
     const std::vector<CrossingStress> held = crossing_stresses(p, cores);
     LoopCoreStress& o = out[axis == ProfileAxis::x ? 0 : 1];

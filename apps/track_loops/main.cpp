@@ -222,6 +222,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
                              {"kind", tracking::to_string(c.kind)}};
       if (!held.empty()) {
         const tracking::CrossingStress& h = held[j];
+        const double tau_p_edge = local(peierls.edge, h.tau_max);
+        const double tau_p_screw = local(peierls.screw, h.tau_max);
         const auto [tau_p_weakest, weakest_theta] =
             nucleation::weakest_local_peierls_stress(h.tau_max, peierls.angles);
         const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
@@ -230,15 +232,15 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
         core["resolved"] = h.resolved();
         core["half_width"] = h.half_width;
         core["tau_max"] = h.tau_max;
-        core["tau_P_edge"] = number(local(peierls.edge, h.tau_max));
-        core["tau_P_screw"] = number(local(peierls.screw, h.tau_max));
+        core["tau_P_edge"] = number(tau_p_edge);
+        core["tau_P_screw"] = number(tau_p_screw);
         core["tau_P_weakest"] = number(tau_p_weakest);
         core["weakest_theta_deg"] = number(weakest_theta);
         cores_table.add_row({tracking::to_string(axis), c.position, c.angle_deg,
                              static_cast<long long>(ids.at(c.line)), tracking::to_string(c.kind),
                              h.stress.tau, h.stress.slip, static_cast<long long>(h.resolved()),
-                             h.half_width, h.tau_max, local(peierls.edge, h.tau_max),
-                             local(peierls.screw, h.tau_max), tau_p_weakest, weakest_theta});
+                             h.half_width, h.tau_max, tau_p_edge, tau_p_screw, tau_p_weakest,
+                             weakest_theta});
       }
       cores_json.push_back(std::move(core));
     }
