@@ -93,6 +93,16 @@ struct WeakestSegment {
 };
 WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const AngleLaw> angles);
 
+// The local Peierls stress of the scanned angle nearest a segment's angle theta_deg (folded
+// into [0, 90]; ties: the first in `angles`), and that angle: the straight line a piece of a
+// curved front is compared with (tracking::front_stresses). No interpolation between angles:
+// at narrow cores tau_P jumps between neighbouring directions (a high-index direction can be
+// several times weaker than its neighbours, data/reference/peierls_narrow_cores.md), so what
+// lies between two scanned angles is not known from them. {NaN, NaN} without angles or with no
+// value at tau_max at the nearest angle; outside the contact {0, NaN}.
+WeakestSegment nearest_angle_local_peierls_stress(double tau_max, std::span<const AngleLaw> angles,
+                                                  double theta_deg);
+
 // mu / alpha of the two forms at beta = b_core^0 / d.
 double regime_three_central(double beta, const PeierlsLaw& law);
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace asperity::tracking {
@@ -10,32 +11,25 @@ std::string to_string(ProfileAxis axis) {
   return axis == ProfileAxis::x ? "x" : "y";
 }
 
-StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
+namespace {
+
+// The profile along `axis` through block index `fixed` (i1 of a row along x, i0 of a column
+// along y), which the caller has checked lies inside the block.
+StressProfile profile_at(const slide::Snapshot& s, ProfileAxis axis, int fixed) {
   const LatticeBlock& blk = s.block;
   const std::size_t n = blk.shape.count();
-  for (const auto* f : {&s.tau_x, &s.tau_y, &s.tau_max, &s.pressure}) {
-    if (f->size() != n)
-      throw std::invalid_argument("stress_profile: a field's size differs from the block's " +
-                                  std::to_string(n) + " sites");
-  }
-  if (!s.in_contact.empty() && s.in_contact.size() != n)
-    throw std::invalid_argument("stress_profile: in_contact's size differs from the block's");
   StressProfile p;
   p.axis = axis;
   p.tau_max_peak = n > 0 ? *std::max_element(s.tau_max.begin(), s.tau_max.end()) : 0.0;
   // d = 1: the snapshot's unit of length (slide::Snapshot).
-  const int fixed =
-      axis == ProfileAxis::x ? -blk.origin1 : static_cast<int>(std::lround(s.Dx)) - blk.origin0;
-  const int fixed_size = axis == ProfileAxis::x ? blk.shape.n1 : blk.shape.n0;
-  if (fixed < 0 || fixed >= fixed_size) {
-    throw std::invalid_argument(
-        "stress_profile: the " +
-        std::string(axis == ProfileAxis::x ? "row Y = 0" : "column through Dx") +
-        " lies outside the snapshot's block");
-  }
-  p.through = axis == ProfileAxis::x ? 0.0 : blk.x(fixed, 1.0);
+  p.through = axis == ProfileAxis::x ? blk.y(fixed, 1.0) : blk.x(fixed, 1.0);
   p.centre = axis == ProfileAxis::x ? s.Dx : 0.0;
   const int along = axis == ProfileAxis::x ? blk.shape.n0 : blk.shape.n1;
+  const bool offsets = s.sx.size() == n && s.tip.aligned();
+  // The displacement across b: u_y, which is s_y - Y in a contact's snapshot (a cell's keeps
+  // s_y = u_y, the same registry, so s_y - Y would step by d between rows).
+  const bool offsets_y = offsets && (s.uy.size() == n || s.sy.size() == n);
+  p.position.reserve(static_cast<std::size_t>(along));
   for (int k = 0; k < along; ++k) {
     const int i0 = axis == ProfileAxis::x ? k : fixed;
     const int i1 = axis == ProfileAxis::x ? fixed : k;
@@ -47,11 +41,40 @@ StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
     p.tau_max.push_back(s.tau_max[i]);
     p.pressure.push_back(s.pressure[i]);
     // Under a tip out of registry the registry runs along the tip's axis, not s_x: no offset.
-    if (s.sx.size() == n && s.tip.aligned()) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
+    if (offsets) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
+    if (offsets_y) p.offset_y.push_back(s.uy.size() == n ? s.uy[i] : s.sy[i] - blk.y(i1, 1.0));
     p.in_contact.push_back(s.in_contact.empty() ? std::uint8_t(s.tau_max[i] > 0.0)
                                                 : s.in_contact[i]);
   }
   return p;
+}
+
+void check_fields(const slide::Snapshot& s, const char* who) {
+  const std::size_t n = s.block.shape.count();
+  for (const auto* f : {&s.tau_x, &s.tau_y, &s.tau_max, &s.pressure}) {
+    if (f->size() != n)
+      throw std::invalid_argument(std::string(who) + ": a field's size differs from the block's " +
+                                  std::to_string(n) + " sites");
+  }
+  if (!s.in_contact.empty() && s.in_contact.size() != n)
+    throw std::invalid_argument(std::string(who) + ": in_contact's size differs from the block's");
+}
+
+}  // namespace
+
+StressProfile stress_profile(const slide::Snapshot& s, ProfileAxis axis) {
+  check_fields(s, "stress_profile");
+  const LatticeBlock& blk = s.block;
+  const int fixed =
+      axis == ProfileAxis::x ? -blk.origin1 : static_cast<int>(std::lround(s.Dx)) - blk.origin0;
+  const int fixed_size = axis == ProfileAxis::x ? blk.shape.n1 : blk.shape.n0;
+  if (fixed < 0 || fixed >= fixed_size) {
+    throw std::invalid_argument(
+        "stress_profile: the " +
+        std::string(axis == ProfileAxis::x ? "row Y = 0" : "column through Dx") +
+        " lies outside the snapshot's block");
+  }
+  return profile_at(s, axis, fixed);
 }
 
 std::vector<CoreCrossing> core_crossings(const FrameLines& f, const StressProfile& p) {
@@ -93,6 +116,7 @@ CoreStress core_stress(const StressProfile& p, double from, double to) {
     throw std::invalid_argument("core_stress: the profile has no registry offset (s_x)");
   if (!(from <= to))
     throw std::invalid_argument("core_stress: the window's ends are out of order (from > to)");
+  const bool with_y = p.offset_y.size() == p.position.size() && p.tau_y.size() == p.position.size();
   CoreStress c;
   double weighted = 0.0;
   for (std::size_t k = 0; k + 1 < p.position.size(); ++k) {
@@ -104,9 +128,12 @@ CoreStress core_stress(const StressProfile& p, double from, double to) {
     const double inside = (std::min(b, to) - std::max(a, from)) / (b - a);
     if (!(inside > 0.0)) continue;
     if (!p.in_contact[k] || !p.in_contact[k + 1]) continue;
-    const double rho = std::min(inside, 1.0) * (p.offset[k + 1] - p.offset[k]);
+    const double share = std::min(inside, 1.0);
+    const double rho = share * (p.offset[k + 1] - p.offset[k]);
     c.slip += rho;
     weighted += rho * 0.5 * (p.tau_x[k] + p.tau_x[k + 1]);
+    if (with_y)
+      weighted += share * (p.offset_y[k + 1] - p.offset_y[k]) * 0.5 * (p.tau_y[k] + p.tau_y[k + 1]);
     ++c.bonds;
   }
   c.tau = c.slip != 0.0 ? weighted / c.slip : std::nan("");
@@ -135,14 +162,345 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
     if (j > 0) h = std::min(h, 0.5 * (x - cores[j - 1].position));
     if (j + 1 < cores.size()) h = std::min(h, 0.5 * (cores[j + 1].position - x));
     // The first site out of the contact on either side ends the window (the contact's edge, or
-    // a hole in it).
+    // a hole in it), and so do the profile's ends (the block's: a core near them has no sites
+    // on its far side, which would weigh the window as if it held all of it).
     for (std::size_t k = 0; k < p.position.size(); ++k) {
       if (!p.in_contact[k]) h = std::min(h, std::abs(p.position[k] - x));
     }
+    if (!p.position.empty()) h = std::min({h, x - p.position.front(), p.position.back() - x});
+    h = std::max(h, 0.0);
     c.half_width = h;
     c.cut = !(h >= full);
     c.stress = core_stress(p, x - h, x + h);
     out.push_back(c);
+  }
+  return out;
+}
+
+void FrontOptions::validate() const {
+  if (!(widths > 0.0))
+    throw std::invalid_argument("FrontOptions: widths must be > 0 (core widths either side)");
+  if (!(span > 0.0) || !std::isfinite(span))
+    throw std::invalid_argument("FrontOptions: span must be finite and > 0 (d)");
+  if (!(step > 0.0) || !std::isfinite(step))
+    throw std::invalid_argument("FrontOptions: step must be finite and > 0 (d)");
+  if (!(max_half_width > 0.0) || !std::isfinite(max_half_width))
+    throw std::invalid_argument("FrontOptions: max_half_width must be finite and > 0 (d)");
+}
+
+namespace {
+
+// Solves the 3 x 3 system m[.][0..2] x = m[.][3] by Gaussian elimination with partial pivoting;
+// false if it is singular.
+bool solve3(double m[3][4], double x[3]) {
+  for (int c = 0; c < 3; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < 3; ++r) {
+      if (std::abs(m[r][c]) > std::abs(m[pivot][c])) pivot = r;
+    }
+    if (!(std::abs(m[pivot][c]) > 1e-12)) return false;
+    for (int k = 0; k < 4; ++k)
+      std::swap(m[c][k], m[pivot][k]);
+    for (int r = c + 1; r < 3; ++r) {
+      const double f = m[r][c] / m[c][c];
+      for (int k = c; k < 4; ++k)
+        m[r][k] -= f * m[c][k];
+    }
+  }
+  for (int r = 2; r >= 0; --r) {
+    double v = m[r][3];
+    for (int k = r + 1; k < 3; ++k)
+      v -= m[r][k] * x[k];
+    x[r] = v / m[r][r];
+  }
+  return true;
+}
+
+// A stretch's mean curve: n = c0 + c1 u + c2 u^2 in the frame of its principal axis t (normal
+// n = (-t_y, t_x)) about its centroid, u the coordinate along t over `half` (d).
+struct MeanCurve {
+  double cx = 0.0, cy = 0.0, tx = 1.0, ty = 0.0, half = 1.0;
+  double c[3] = {0.0, 0.0, 0.0};
+
+  [[nodiscard]] double u(double x, double y) const {
+    return ((x - cx) * tx + (y - cy) * ty) / half;
+  }
+  // dn / ds at the point's u.
+  [[nodiscard]] double slope(double x, double y) const {
+    return (c[1] + 2.0 * c[2] * u(x, y)) / half;
+  }
+  // Signed distance of (x, y) from the curve (to first order in its slope).
+  [[nodiscard]] double across(double x, double y) const {
+    const double uu = u(x, y);
+    const double v = (x - cx) * -ty + (y - cy) * tx;
+    return (v - (c[0] + c[1] * uu + c[2] * uu * uu)) / std::hypot(1.0, slope(x, y));
+  }
+};
+
+// A site's nearest point on the lines of a frame.
+struct Nearest {
+  double distance = std::numeric_limits<double>::infinity();
+  double across = 0.0;  // signed distance: > 0 on the line's left
+  double arc = 0.0;     // arc length of the nearest point along its line (d)
+  int line = -1;
+};
+
+}  // namespace
+
+std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLines& f,
+                                        const FrontOptions& options) {
+  options.validate();
+  check_fields(s, "front_stresses");
+  std::vector<FrontStress> out;
+  const LatticeBlock& blk = s.block;
+  const std::size_t n = blk.shape.count();
+  if (s.sx.size() != n || !s.tip.aligned() || f.lines.empty()) return out;
+  const bool with_y = s.uy.size() == n || s.sy.size() == n;  // as in profile_at
+  const auto site = [&](int i0, int i1) {
+    return static_cast<std::size_t>(i0) * static_cast<std::size_t>(blk.shape.n1) +
+           static_cast<std::size_t>(i1);
+  };
+  const auto contact = [&](std::size_t i) {
+    return s.in_contact.empty() ? s.tau_max[i] > 0.0 : s.in_contact[i] != 0;
+  };
+  // Arc length to each vertex and each line's whole length (a loop's with its closing segment).
+  std::vector<std::vector<double>> arc(f.lines.size());
+  std::vector<double> total(f.lines.size(), 0.0);
+  for (std::size_t li = 0; li < f.lines.size(); ++li) {
+    const Line& l = f.lines[li];
+    const auto step = [&](std::size_t a, std::size_t b) {
+      return std::hypot(l.points[b].x - l.points[a].x, l.points[b].y - l.points[a].y);
+    };
+    arc[li].assign(l.points.size(), 0.0);
+    for (std::size_t k = 1; k < l.points.size(); ++k)
+      arc[li][k] = arc[li][k - 1] + step(k - 1, k);
+    total[li] = l.points.empty() ? 0.0 : arc[li].back();
+    if (l.kind == LineKind::loop && l.points.size() > 1) total[li] += step(l.points.size() - 1, 0);
+  }
+  // Every site within reach of a line, with its nearest point on the nearest line: each site
+  // belongs to one line's windows (the other lines cut them halfway, as on a profile). A
+  // line's reach is its widest window (at its vertex of least tau_max, at most max_half_width)
+  // and a site more, so that a window's side can be seen to reach its half-width.
+  std::vector<Nearest> nearest(n);
+  for (std::size_t li = 0; li < f.lines.size(); ++li) {
+    const Line& l = f.lines[li];
+    double widest = 0.0;
+    for (const Point& q : l.points) {
+      const int i0 = static_cast<int>(std::lround(q.x)) - blk.origin0;
+      const int i1 = static_cast<int>(std::lround(q.y)) - blk.origin1;
+      const double t = i0 >= 0 && i0 < blk.shape.n0 && i1 >= 0 && i1 < blk.shape.n1
+                           ? s.tau_max[site(i0, i1)]
+                           : 0.0;
+      widest = std::max(widest, t > 0.0 ? options.widths / t : options.max_half_width);
+    }
+    const double reach = std::min(widest, options.max_half_width) + 2.0;
+    const std::size_t m = l.points.size();
+    const std::size_t segments = l.kind == LineKind::loop ? m : (m > 0 ? m - 1 : 0);
+    for (std::size_t k = 0; k < segments; ++k) {
+      const Point& a = l.points[k];
+      const Point& b = l.points[(k + 1) % m];
+      const double ex = b.x - a.x, ey = b.y - a.y, e2 = ex * ex + ey * ey;
+      const int x0 =
+          std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - reach)) - blk.origin0);
+      const int x1 = std::min(
+          blk.shape.n0 - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + reach)) - blk.origin0);
+      const int y0 =
+          std::max(0, static_cast<int>(std::floor(std::min(a.y, b.y) - reach)) - blk.origin1);
+      const int y1 = std::min(
+          blk.shape.n1 - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + reach)) - blk.origin1);
+      for (int i0 = x0; i0 <= x1; ++i0) {
+        for (int i1 = y0; i1 <= y1; ++i1) {
+          const double px = blk.x(i0, 1.0) - a.x, py = blk.y(i1, 1.0) - a.y;
+          const double t = e2 > 0.0 ? std::clamp((px * ex + py * ey) / e2, 0.0, 1.0) : 0.0;
+          const double qx = px - t * ex, qy = py - t * ey;
+          const double dist = std::hypot(qx, qy);
+          Nearest& near = nearest[site(i0, i1)];
+          if (dist >= near.distance) continue;
+          near.distance = dist;
+          near.across = (ex * py - ey * px) >= 0.0 ? dist : -dist;
+          near.arc = arc[li][k] + t * std::sqrt(e2);
+          near.line = static_cast<int>(li);
+        }
+      }
+    }
+  }
+  // Sites by line and by arc bin of width `step`, to gather a stretch quickly.
+  std::vector<std::vector<std::vector<std::size_t>>> bins(f.lines.size());
+  for (std::size_t li = 0; li < f.lines.size(); ++li)
+    bins[li].resize(static_cast<std::size_t>(std::floor(total[li] / options.step)) + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Nearest& near = nearest[i];
+    if (near.line < 0) continue;
+    auto& b = bins[static_cast<std::size_t>(near.line)];
+    const auto bin = std::min(b.size() - 1, static_cast<std::size_t>(near.arc / options.step));
+    b[bin].push_back(i);
+  }
+  // The point at arc length `at` along line li (a loop's taken around its closure).
+  const auto point_at = [&](std::size_t li, double at) {
+    const Line& l = f.lines[li];
+    const bool closed = l.kind == LineKind::loop;
+    if (closed && total[li] > 0.0) at -= std::floor(at / total[li]) * total[li];
+    // (An open line's last point is its last segment's end.)
+    const std::size_t last_segment = closed ? l.points.size() - 1 : l.points.size() - 2;
+    std::size_t k = 0;
+    while (k < last_segment && arc[li][k + 1] <= at)
+      ++k;
+    const Point& a = l.points[k];
+    const Point& b = l.points[(k + 1) % l.points.size()];
+    const double seg = std::hypot(b.x - a.x, b.y - a.y);
+    const double t = seg > 0.0 ? std::clamp((at - arc[li][k]) / seg, 0.0, 1.0) : 0.0;
+    return Point{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+  };
+  std::vector<Point> fit_points;
+  struct Pooled {
+    double across, ox, oy, tx, ty;
+  };
+  std::vector<Pooled> pool;
+  for (std::size_t li = 0; li < f.lines.size(); ++li) {
+    const Line& l = f.lines[li];
+    if (l.points.size() < 2) continue;  // no stretch to sample
+    const bool closed = l.kind == LineKind::loop;
+    const double length = total[li];
+    const auto count =
+        static_cast<std::size_t>(std::floor(length / options.step)) + (closed ? 0 : 1);
+    const auto nbins = static_cast<long long>(bins[li].size());
+    const auto reach_bins =
+        static_cast<long long>(std::ceil(0.5 * options.span / options.step)) + 1;
+    for (std::size_t j = 0; j < count; ++j) {
+      const double centre = std::min(static_cast<double>(j) * options.step, length);
+      // The point of the line at `centre` and its segment.
+      FrontStress fs;
+      fs.at = point_at(li, centre);
+      // The stretch's mean curve: the least-squares parabola through its points (every quarter
+      // site along it) in the frame of their principal axis. The window across the line is
+      // measured from it (the polyline's vertices zigzag at the grid scale and step at
+      // kinks), and its direction at the point is the stretch's character. A parabola, not a
+      // line: over 32 d of a loop of radius 160 d a chord is 0.8 d off the line at its middle.
+      const double from =
+          closed ? centre - 0.5 * options.span : std::max(0.0, centre - 0.5 * options.span);
+      const double to =
+          closed ? centre + 0.5 * options.span : std::min(length, centre + 0.5 * options.span);
+      const int samples = std::max(3, static_cast<int>(std::ceil((to - from) / 0.25)) + 1);
+      std::vector<Point>& fit = fit_points;
+      fit.clear();
+      double cx = 0.0, cy = 0.0;
+      for (int q = 0; q < samples; ++q) {
+        fit.push_back(point_at(li, from + (to - from) * q / (samples - 1)));
+        cx += fit.back().x;
+        cy += fit.back().y;
+      }
+      cx /= samples;
+      cy /= samples;
+      double sxx = 0.0, sxy = 0.0, syy = 0.0;
+      for (const Point& q : fit) {
+        sxx += (q.x - cx) * (q.x - cx);
+        sxy += (q.x - cx) * (q.y - cy);
+        syy += (q.y - cy) * (q.y - cy);
+      }
+      const double direction = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // principal axis
+      const double tx = std::cos(direction), ty = std::sin(direction);
+      const double nx = -ty, ny = tx;
+      // n = c0 + c1 s + c2 s^2 by least squares (normal equations, s scaled to [-1, 1]).
+      double half = 0.0;
+      for (const Point& q : fit)
+        half = std::max(half, std::abs((q.x - cx) * tx + (q.y - cy) * ty));
+      half = std::max(half, 1e-9);
+      double m[3][4] = {};
+      for (const Point& q : fit) {
+        const double u = ((q.x - cx) * tx + (q.y - cy) * ty) / half;
+        const double v = (q.x - cx) * nx + (q.y - cy) * ny;
+        const double basis[3] = {1.0, u, u * u};
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c)
+            m[r][c] += basis[r] * basis[c];
+          m[r][3] += basis[r] * v;
+        }
+      }
+      MeanCurve curve{.cx = cx, .cy = cy, .tx = tx, .ty = ty, .half = half};
+      const bool fitted = solve3(m, curve.c);
+      if (fitted) {
+        for (const Point& q : fit)
+          fs.bend = std::max(fs.bend, std::abs(curve.across(q.x, q.y)));
+        const double slope = curve.slope(fs.at.x, fs.at.y);
+        const double dx = tx + slope * nx, dy = ty + slope * ny;
+        fs.angle_deg = std::atan2(std::abs(dy), std::abs(dx)) * 180.0 / std::acos(-1.0);
+      } else {
+        fs.bend = std::numeric_limits<double>::infinity();  // a degenerate stretch: not resolved
+        fs.angle_deg = std::nan("");
+      }
+      // An open line's stretch cut by its end is not the span asked for.
+      const bool clipped = ((to - from) < options.span * (1.0 - 1e-9) && !closed) || !fitted;
+      fs.line = li;
+      fs.kind = l.kind;
+      fs.arc = centre;
+      const int n0 = static_cast<int>(std::lround(fs.at.x)) - blk.origin0;
+      const int n1 = static_cast<int>(std::lround(fs.at.y)) - blk.origin1;
+      if (n0 >= 0 && n0 < blk.shape.n0 && n1 >= 0 && n1 < blk.shape.n1)
+        fs.tau_max = s.tau_max[site(n0, n1)];
+      // b_core = d G / tau_max (tau in G, lengths in d).
+      const double full =
+          fs.tau_max > 0.0 ? options.widths / fs.tau_max : std::numeric_limits<double>::infinity();
+      double h = std::min(full, options.max_half_width);
+      // The stretch's sites, and how far they reach on either side: a window that does not
+      // reach h on a side is cut there (another line's sites, the block's edge).
+      pool.clear();
+      double reach_left = 0.0, reach_right = 0.0;
+      const auto bin0 = static_cast<long long>(centre / options.step);
+      for (long long bb = bin0 - reach_bins; bb <= bin0 + reach_bins; ++bb) {
+        long long wrapped = bb;
+        if (closed) {
+          wrapped = ((bb % nbins) + nbins) % nbins;
+        } else if (bb < 0 || bb >= nbins) {
+          continue;
+        }
+        if (closed && bb != wrapped && std::abs(bb - bin0) > nbins / 2) continue;
+        for (const std::size_t i : bins[li][static_cast<std::size_t>(wrapped)]) {
+          const Nearest& near = nearest[i];
+          double gap = std::abs(near.arc - centre);
+          if (closed) gap = std::min(gap, length - gap);
+          if (gap > 0.5 * options.span) continue;
+          if (near.across > 0.0) reach_left = std::max(reach_left, near.across);
+          if (near.across < 0.0) reach_right = std::max(reach_right, -near.across);
+          // A site out of the contact ends the window at its distance (the contact's edge).
+          if (!contact(i)) {
+            h = std::min(h, near.distance);
+            continue;
+          }
+          const double X =
+              s.block.x(static_cast<int>(i / static_cast<std::size_t>(blk.shape.n1)), 1.0);
+          const double Y =
+              s.block.y(static_cast<int>(i % static_cast<std::size_t>(blk.shape.n1)), 1.0);
+          const double oy = !with_y ? 0.0 : (s.uy.size() == n ? s.uy[i] : s.sy[i] - Y);
+          pool.push_back(
+              {curve.across(X, Y), s.sx[i] - X, oy, s.tau_x[i], with_y ? s.tau_y[i] : 0.0});
+        }
+      }
+      // Sites lie every d or closer across the line along a stretch of a few d: a side whose
+      // farthest site is more than a site short of h is cut there.
+      h = std::min({h, reach_left + 1.0, reach_right + 1.0});
+      fs.half_width = h;
+      fs.cut = !(h >= full) || clipped;
+      // The pooled sites in order of their registry offset s_x - X, which falls monotonically
+      // across a core: for a straight line that is the order of the chain (tracking/
+      // profile.hpp), copies together; where the stretch holds kinks or a piece one row ahead
+      // of the rest, each site still sits in order of its place across its own piece of core,
+      // which an order by distance from one mean curve mixes (at the edge ends of the held
+      // loop at R = 800 d that gave 0.0016 G between neighbours holding 0.0169). Where the
+      // offset is flat (far from the core) the order is arbitrary and the steps are ~1e-3 d.
+      std::erase_if(pool, [h](const Pooled& q) { return std::abs(q.across) > h; });
+      std::sort(pool.begin(), pool.end(),
+                [](const Pooled& u, const Pooled& v) { return u.ox < v.ox; });
+      double weighted = 0.0;
+      for (std::size_t q = 0; q + 1 < pool.size(); ++q) {
+        const double rho = pool[q + 1].ox - pool[q].ox;
+        fs.held.slip += rho;
+        weighted += rho * 0.5 * (pool[q].tx + pool[q + 1].tx) +
+                    (pool[q + 1].oy - pool[q].oy) * 0.5 * (pool[q].ty + pool[q + 1].ty);
+        ++fs.held.bonds;
+      }
+      fs.held.tau = fs.held.slip != 0.0 ? weighted / fs.held.slip : std::nan("");
+      out.push_back(fs);
+    }
   }
   return out;
 }

@@ -39,6 +39,9 @@ struct StressProfile {
   // tip out of registry (angle or mismatch: its registry runs along the tip's axis, and s_x - X
   // then drifts at every bond), where the stress a core holds is not measured.
   std::vector<double> offset;
+  // u_y per site (d; s_y - Y in a contact), where the snapshot has it (and `offset`): a mixed
+  // line's core has a displacement across b too, and core_stress weighs tau_y by its change.
+  std::vector<double> offset_y;
   std::vector<std::uint8_t> in_contact;
   double tau_max_peak = 0.0;  // largest tau_max of the frame (G): alpha p0 of a Hertz contact
 };
@@ -105,6 +108,8 @@ struct CrossingStress {
   double half_width = 0.0;  // of the window (d)
   double tau_max = 0.0;     // at the site nearest the crossing (G)
   bool cut = false;         // the window is narrower than `widths` b_core
+  double bend = 0.0;        // largest distance of the stretch's points from its mean curve (d): the
+                      // zigzag and kinks of the trace, about 0.2-0.6 d; infinite if degenerate
 
   [[nodiscard]] bool resolved() const { return !cut && stress.resolved(); }
 };
@@ -112,6 +117,60 @@ struct CrossingStress {
 std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
                                               const std::vector<CoreCrossing>& cores,
                                               double widths = 4.0);
+
+// The stress held along the whole of every line, not only where it crosses the two axes: at
+// points `step` apart along each line, the sites of a stretch `span` long around the point
+// (each site belongs to its nearest line) within `widths` local core widths of the stretch's
+// mean curve, in order of their registry offset s_x - X, make one profile across it, and
+// core_stress' weight over it (tau_x by the change of s_x - X, tau_y by that of u_y, over the
+// neighbouring pairs) is the stress that stretch holds: the Peierls-Nabarro force on it per
+// Burgers vector and length. As on a profile the window is cut halfway to another line, at the
+// first site out of the contact and at the block's edge, and a cut window is not resolved.
+//
+// Why pool a stretch rather than take a row: a straight line normal to (m_x, m_y) is a chain of
+// sites d / |m| apart along its normal, each site of the lattice a copy of one of them. The
+// whole chain's sum is the exact weight of core_stress (the core's own stress cancels). One row
+// across the line steps m_x sites of the chain and samples one of m_x cosets, for which it does
+// not: in a loaded cell at b_core = 2 d single rows or columns across (2, 1) and (1, 3) lines
+// miss the load by up to 2 and 6 times tau_P (tests/analytic/test_core_stress.cpp). A
+// stretch at least |m| d long holds every site of the chain; the offset falls monotonically
+// across the core, so in its order the sites are the chain in order, copies side by side, and
+// pairs of copies add nothing: the sum is the chain's, for any direction whose period |m| d
+// fits in the span. Across a curved line it is that of its local direction, and where the
+// stretch holds kinks each site still falls in order across its own piece of core. The default
+// span of 32 d holds every direction up to |m| = 32 (within 1.8 degrees of screw or edge the
+// period is longer; a stretch then lies on a pure screw or edge piece, and its kinks weigh by
+// their share of it). Beside the local Peierls stress at the stretch's angle (MODEL.md 6) it
+// says which parts of a held front are at threshold and which are below it.
+struct FrontOptions {
+  double widths = 4.0;           // window across the line, in local core widths either side
+  double span = 32.0;            // length of the stretch pooled (d): >= |m| d of a direction m
+  double step = 4.0;             // spacing of the points along each line (d)
+  double max_half_width = 32.0;  // windows longer than this are cut to it (d)
+
+  void validate() const;  // throws std::invalid_argument naming the violated constraint
+};
+
+struct FrontStress {
+  Point at;                // on the line (d, lattice coordinates)
+  double angle_deg = 0.0;  // character of the stretch (its chord's angle to b): 0 screw, 90 edge
+  std::size_t line = 0;    // index in FrameLines::lines
+  LineKind kind = LineKind::open;
+  double arc = 0.0;         // along the line from its first vertex to `at` (d)
+  double tau_max = 0.0;     // at the site nearest `at` (G; 0 outside the block)
+  double half_width = 0.0;  // of the window across the line (d)
+  bool cut = false;         // the window is narrower than `widths` b_core
+  double bend = 0.0;        // largest distance of the stretch's points from its mean curve (d): the
+                      // zigzag and kinks of the trace, about 0.2-0.6 d; infinite if degenerate
+  CoreStress held;  // bonds: neighbouring pairs of pooled sites
+
+  [[nodiscard]] bool resolved() const { return !cut && held.resolved(); }
+};
+// In order of line, then arc. Empty without s_x or under a tip out of registry (as the stress
+// profiles). Throws std::invalid_argument if the options are invalid or the snapshot's fields
+// do not match its block.
+std::vector<FrontStress> front_stresses(const slide::Snapshot& snapshot, const FrameLines& lines,
+                                        const FrontOptions& options = {});
 
 // What the closed loops of a frame hold where they cross the row through the tip centre (along
 // x: a loop's edge ends) and the column (along y: its screw sides): the mean stress of the

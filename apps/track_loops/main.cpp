@@ -175,8 +175,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
                               const tracking::FrameLines& f, const std::vector<int>& ids,
                               const LocalPeierls& peierls, const std::string& title) {
   app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
-                       "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg",
-                       "offset"});
+                       "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg", "offset",
+                       "offset_y"});
   // Per core crossing: the stress it holds and the local Peierls stresses (cores_NNNN.csv).
   app::CsvTable cores_table({"axis", "position", "angle_deg", "line_id", "kind", "stress", "slip",
                              "resolved", "half_width", "tau_max", "tau_P_edge", "tau_P_screw",
@@ -199,7 +199,8 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
       table.add_row({tracking::to_string(axis), p.position[k], p.tau_x[k], p.tau_y[k], p.tau_max[k],
                      p.pressure[k], static_cast<long long>(p.in_contact[k]), tau_p_edge,
                      tau_p_screw, tau_p_weakest, weakest_theta,
-                     p.offset.empty() ? std::nan("") : p.offset[k]});
+                     p.offset.empty() ? std::nan("") : p.offset[k],
+                     p.offset_y.empty() ? std::nan("") : p.offset_y[k]});
       if (!p.in_contact[k] || !(p.tau_max[k] > 0.0)) continue;
       x.push_back(p.position[k]);
       tau.push_back(p.tau_x[k] / scale);
@@ -314,12 +315,118 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   return record;
 }
 
+// The stress held all along every line (tracking::front_stresses): front_NNNN.csv and, for the
+// loops, front_NNNN.png: the stress held around each loop against the local Peierls stress of
+// the scanned angle nearest the line's (and of the weakest), which says which parts of the
+// front are at threshold. Returns the frame's record for lines.json.
+nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot& s,
+                           const tracking::FrameLines& f, const std::vector<int>& ids,
+                           const LocalPeierls& peierls, const tracking::FrontOptions& options,
+                           const std::string& title) {
+  const std::vector<tracking::FrontStress> front = tracking::front_stresses(s, f, options);
+  nlohmann::json record = {{"span", options.span},
+                           {"step", options.step},
+                           {"widths", options.widths},
+                           {"points", front.size()}};
+  if (front.empty()) return record;  // no s_x, a tip out of registry, or no line
+  app::CsvTable table({"line_id", "kind", "arc", "x", "y", "polar_deg", "angle_deg", "stress",
+                       "slip", "resolved", "half_width", "bend", "tau_max", "tau_P_angle",
+                       "angle_theta_deg", "tau_P_weakest", "weakest_theta_deg"});
+  const bool laws = !peierls.angles.empty();
+  const double pi = std::acos(-1.0);
+  const double scale =
+      s.tau_max.empty() ? 1.0 : *std::max_element(s.tau_max.begin(), s.tau_max.end());
+  // Per line: the ratios of the resolved points (to tau_P at the nearest angle with --peierls).
+  std::map<std::size_t, std::vector<double>> ratios;
+  const std::array<std::string, 3> titles = {"screw (< 30 deg)", "mixed", "edge (> 60 deg)"};
+  const std::array<std::string, 3> colours = {"#1f77b4", "#ff9900", "#d62728"};
+  std::array<app::Series, 3> marks;
+  for (int c = 0; c < 3; ++c) {
+    marks[static_cast<std::size_t>(c)] = {
+        .title = "held / tau_P at its angle: " + titles[static_cast<std::size_t>(c)],
+        .style = "points pt 7 ps 0.8 lc rgb '" + colours[static_cast<std::size_t>(c)] + "'"};
+    if (!laws)
+      marks[static_cast<std::size_t>(c)].title =
+          "held / (alpha p0): " + titles[static_cast<std::size_t>(c)];
+  }
+  app::Series weakest{.title = "held / tau_P of the weakest angle",
+                      .style = "points pt 6 ps 0.6 lc rgb '#777777'"};
+  for (const tracking::FrontStress& p : front) {
+    const tracking::Line& l = f.lines[p.line];
+    const double polar = std::atan2(p.at.y - l.centroid.y, p.at.x - l.centroid.x) * 180.0 / pi;
+    const auto at_angle =
+        nucleation::nearest_angle_local_peierls_stress(p.tau_max, peierls.angles, p.angle_deg);
+    const auto weak = nucleation::weakest_local_peierls_stress(p.tau_max, peierls.angles);
+    table.add_row({static_cast<long long>(ids.at(p.line)), tracking::to_string(p.kind), p.arc,
+                   p.at.x, p.at.y, polar, p.angle_deg, p.held.tau, p.held.slip,
+                   static_cast<long long>(p.resolved()), p.half_width, p.bend, p.tau_max,
+                   at_angle.tau_P, at_angle.theta_deg, weak.tau_P, weak.theta_deg});
+    if (!p.resolved()) continue;
+    // The stress held has tau_x's sign; the Peierls stress bounds its magnitude.
+    const double held = std::abs(p.held.tau);
+    const double ratio = laws ? held / at_angle.tau_P : held / scale;
+    if (std::isfinite(ratio)) ratios[p.line].push_back(ratio);
+    if (l.kind != tracking::LineKind::loop) continue;
+    const int c = p.angle_deg < 30.0 ? 0 : (p.angle_deg > 60.0 ? 2 : 1);
+    marks[static_cast<std::size_t>(c)].x.push_back(polar);
+    marks[static_cast<std::size_t>(c)].y.push_back(ratio);
+    if (laws) {
+      weakest.x.push_back(polar);
+      weakest.y.push_back(held / weak.tau_P);
+    }
+  }
+  char name[40];
+  std::snprintf(name, sizeof name, "front_%04d.csv", index);
+  table.write(dir / name);
+  record["table"] = name;
+  nlohmann::json lines = nlohmann::json::array();
+  for (auto& [line, r] : ratios) {
+    std::sort(r.begin(), r.end());
+    const auto q = [&r](double p) {
+      return r[static_cast<std::size_t>(std::lround(p * static_cast<double>(r.size() - 1)))];
+    };
+    lines.push_back({{"line_id", ids.at(line)},
+                     {"kind", tracking::to_string(f.lines[line].kind)},
+                     {"resolved_points", r.size()},
+                     {"ratio_median", q(0.5)},
+                     {"ratio_p90", q(0.9)},
+                     {"ratio_max", r.back()}});
+  }
+  record["ratio_to"] = laws ? "tau_P at the nearest scanned angle" : "alpha p0";
+  record["lines"] = lines;
+  std::vector<app::Series> series;
+  for (auto& m : marks) {
+    if (!m.x.empty()) series.push_back(std::move(m));
+  }
+  if (series.empty()) return record;  // no resolved point on a loop
+  if (!weakest.x.empty()) series.push_back(std::move(weakest));
+  if (laws)
+    series.push_back({.x = {-180.0, 180.0},
+                      .y = {1.0, 1.0},
+                      .title = "tau_P",
+                      .style = "lines lw 1 dt 2 lc rgb 'black'"});
+  std::snprintf(name, sizeof name, "front_%04d.png", index);
+  app::plot_png(
+      dir / name, series,
+      {.title = title + ": the stress held around each loop",
+       .xlabel = "position around the loop: polar angle about its centroid (deg; 0 = +x)",
+       .ylabel = laws ? "|stress held| / local tau_P" : "|stress held| / (alpha p0)",
+       .width = 1000,
+       .height = 640,
+       .xrange = std::pair{-180.0, 180.0},
+       .extra_commands = {"set key outside below maxrows 3", "set grid", "set xtics 45"}});
+  record["figure"] = name;
+  return record;
+}
+
 // What the tool does with each frame, besides the options of the libraries.
 struct FrameOptions {
   tracking::DetectOptions detect;
   tracking::TrackOptions track;
   int plot_every = 1;
   bool profiles = false;
+  bool front = false;
+  tracking::FrontOptions front_options;
   LocalPeierls peierls;
 };
 
@@ -390,7 +497,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
   char name[32];
   std::snprintf(name, sizeof name, "frame_%04d.png", index);
   const bool plot = o.plot_every > 0 && index % o.plot_every == 0;
-  nlohmann::json profile = nullptr;
+  nlohmann::json profile = nullptr, front = nullptr;
   if (plot) {
     std::ostringstream title;
     // A state (not a frame of a relaxation path) has iteration -1: no iteration to name.
@@ -403,6 +510,11 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
       std::ostringstream short_title;
       short_title << s.label << " (Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
       profile = write_profiles(dir, index, s, f, ids, o.peierls, short_title.str());
+    }
+    if (o.front) {
+      std::ostringstream short_title;
+      short_title << s.label << " (Dx = " << s.Dx << " d)";
+      front = write_front(dir, index, s, f, ids, o.peierls, o.front_options, short_title.str());
     }
   }
   return {{"frame", index},
@@ -423,6 +535,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
           {"joined_pieces", f.joined_pieces},
           {"figure", plot ? nlohmann::json(name) : nullptr},
           {"profiles", profile},
+          {"front", front},
           {"lines", lines}};
 }
 
@@ -593,10 +706,23 @@ int main(int argc, char** argv) {
                  "Per plotted frame also the stress along x and along y through the tip centre "
                  "(profile_NNNN.csv, profile_x/y_NNNN.png): tau_x / (alpha p0), +-alpha p and the "
                  "cores (the seed's Fig. 9)");
+    cli.add_flag("--front", o.front,
+                 "Per plotted frame also the stress held all along every line, from stretches "
+                 "of it (front_NNNN.csv, front_NNNN.png: around each loop, against the local "
+                 "Peierls stress at its angle with --peierls)");
+    cli.add_option("--front-span", o.front_options.span,
+                   "Length of line pooled per point of --front (d)")
+        ->check(app::positive())
+        ->capture_default_str();
+    cli.add_option("--front-step", o.front_options.step,
+                   "Spacing of the points of --front along each line (d)")
+        ->check(app::positive())
+        ->capture_default_str();
     std::string peierls_path;
     cli.add_option("--peierls", peierls_path,
                    "peierls_scan summary.json or its folder: with --profiles, draw the local "
-                   "Peierls stress of its edge and screw fits at the local pressure")
+                   "Peierls stress of its edge and screw fits at the local pressure; with "
+                   "--front, compare every point with its angle's")
         ->check(CLI::ExistingPath);
     cli.add_flag("--periodic", force_periodic,
                  "Treat every block as a whole periodic cell (default: the file's `periodic` "
@@ -604,9 +730,11 @@ int main(int argc, char** argv) {
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     detect.validate();
     track.validate();
+    o.front_options.validate();
     nlohmann::json peierls_json = nullptr;
     if (!peierls_path.empty()) {
-      if (!profiles) throw std::invalid_argument("--peierls is drawn beside --profiles: add it");
+      if (!profiles && !o.front)
+        throw std::invalid_argument("--peierls is drawn beside --profiles or --front: add one");
       peierls_json = read_local_peierls(peierls_path, o.peierls);
     }
 

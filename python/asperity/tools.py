@@ -133,7 +133,7 @@ def fit_scaling(sweeps, out=None, **options):
 def track_loops(files, out=None, **options):
     """Dislocation lines and loops through the frames of snapshot files (MODEL.md 7):
     result.json("lines.json"), tables["events"], lines_NNNN.vtk. options: label, slip, peierls,
-    profiles, plot_every, ..."""
+    profiles, front (the stress held all along each line, front_NNNN.csv), plot_every, ..."""
     return run("track_loops", *[str(f) for f in files], out=out, **options)
 
 

@@ -39,6 +39,7 @@
 
 #include "asperity/peierls/peierls_stress.hpp"
 #include "asperity/peierls/scan.hpp"
+#include "asperity/tracking/lines.hpp"
 #include "asperity/tracking/profile.hpp"
 
 using namespace asperity;
@@ -149,5 +150,99 @@ TEST(CoreStress, ARelaxedCoreHoldsTheLoadOfItsCell) {
         b_core, c.crossing.half_width, c.crossing.stress.tau, c.tau_ext,
         std::abs(c.crossing.stress.tau + c.tau_ext),
         std::abs(c.crossing.stress.tau + c.tau_ext) / c.tau_max, c.crossing_bound);
+  }
+}
+
+// The whole front (tracking::front_stresses): a straight line of any direction in a loaded cell
+// holds the load all along it. Answer: -tau_ext, as above. The sites of a stretch of a straight
+// line normal to m = (m_x, m_y) are copies of the cell's chain, v = m_x X + m_y Y, d / |m|
+// apart along the normal (tracking/profile.hpp); the default stretch of 32 d holds every chain
+// site for these directions (|m| <= 8.1), and in order of s_x - X they are the chain in order,
+// so the weight is the chain's, whose whole period is exact (above). Tolerance: the
+// relaxation's residual (2e-3 tau_ext, above) plus what the window leaves out of the chain,
+// bounded as above from the state, over the chain's bonds farther than h - 1 d from the point
+// (the traced line lies within a site of the core's centre). Directions up to (8, 1) and (1, 8),
+// 7.1 degrees from edge and screw; a stretch of 8 d (a part of their period) misses (8, 1) by
+// 2.2 tau_P and (1, 8) by 3.6, and single rows or columns miss (2, 1) by 2 tau_P, (1, 3) by 6.
+TEST(CoreStress, AStraightFrontOfAnyDirectionHoldsTheLoadAllAlong) {
+  struct Case {
+    int mx, my;
+  };
+  for (const Case& k :
+       {Case{1, 0}, Case{0, 1}, Case{1, 1}, Case{2, 1}, Case{1, 2}, Case{3, 1}, Case{3, 2},
+        Case{1, 3}, Case{4, 1}, Case{5, 1}, Case{1, 5}, Case{8, 1}, Case{1, 8}}) {
+    // Line images L / |m| apart: at least 25 d, so that a window of 8 d either side holds one.
+    const int L = std::hypot(k.mx, k.my) > 5.0 ? 256 : 128;
+    peierls::PeierlsOptions o;
+    o.cell.L = L;
+    o.cell.b_core = 2.0;
+    o.cell.mx = k.mx;
+    o.cell.my = k.my;
+    o.both_signs = false;
+    const peierls::PeierlsResult r = peierls::peierls_stress(o);
+    ASSERT_TRUE(r.positive.resolved) << k.mx << "," << k.my;
+    const peierls::PeierlsCell cell(o.cell);
+    const slide::Snapshot s = peierls::cell_snapshot(cell, r.u_loaded, "cell", r.tau_loaded);
+    const tracking::FrameLines lines = tracking::find_lines(tracking::view_of(s, true));
+    ASSERT_FALSE(lines.lines.empty());
+    const std::vector<tracking::FrontStress> front = tracking::front_stresses(s, lines);
+    const double norm = std::hypot(k.mx, k.my);
+    // The chain around a value v0 of v: one site per v in [v0 - L/2, v0 + L/2), its offset
+    // s_x - X continuous there (the frustration winds by whole periods only across the cell).
+    struct Site {
+      double xi, offset, tau;
+    };
+    const auto chain = [&](double v0) {
+      std::vector<Site> c;
+      const int first = static_cast<int>(std::lround(v0)) - L / 2;
+      for (int v = first; v < first + L; ++v) {
+        for (int X = 0; X < L; ++X) {
+          const int rest = v - k.mx * X;
+          const int Y = k.my == 0 ? 0 : rest / k.my;
+          if ((k.my == 0 && rest != 0) || (k.my != 0 && (rest % k.my != 0 || Y < 0 || Y >= L)))
+            continue;
+          const std::size_t i = static_cast<std::size_t>(X) * static_cast<std::size_t>(L) +
+                                static_cast<std::size_t>(Y);
+          c.push_back({v / norm, s.sx[i] - X, s.tau_x[i]});
+          break;
+        }
+      }
+      return c;
+    };
+    int resolved = 0, checked = 0;
+    double worst = 0.0, angle = 0.0;
+    for (const tracking::FrontStress& f : front) {
+      angle += f.angle_deg;
+      if (!f.resolved()) continue;
+      ++resolved;
+      const double v0 = k.mx * f.at.x + k.my * f.at.y;
+      const std::vector<Site> c = chain(v0);
+      // Values of v that no site of the block takes (near its corner) merge two bonds of the
+      // chain into one, which the bound still counts; a chain short of more than a few leaves
+      // the block on the window's side.
+      if (c.size() + 8 < static_cast<std::size_t>(L)) continue;
+      ++checked;
+      double out = 0.0;
+      for (std::size_t j = 0; j + 1 < c.size(); ++j) {
+        const double mid = 0.5 * (c[j].xi + c[j + 1].xi) - v0 / norm;
+        if (std::abs(mid) <= f.half_width - 1.0) continue;
+        out += std::abs(c[j + 1].offset - c[j].offset) *
+               (0.5 * std::abs(c[j].tau + c[j + 1].tau) + r.tau_loaded);
+      }
+      const double bound = out / std::abs(f.held.slip) + 2e-3 * r.tau_loaded;
+      const double e = std::abs(f.held.tau + r.tau_loaded);
+      worst = std::max(worst, e / r.positive.tau_P);
+      EXPECT_LE(e, bound) << "m = (" << k.mx << ", " << k.my << ") at (" << f.at.x << ", " << f.at.y
+                          << ")";
+      EXPECT_NEAR(f.half_width, 4.0 * o.cell.b_core, 1e-9);
+    }
+    // The block does not wrap: windows near its sides are cut; the others resolve.
+    EXPECT_GE(checked, 2) << "m = (" << k.mx << ", " << k.my << ")";
+    EXPECT_NEAR(angle / static_cast<double>(front.size()), r.theta_deg, 2.0);
+    std::printf(
+        "m = (%d, %d), theta %.1f deg (mean %.2f): %zu points, %d resolved, %d checked; "
+        "worst %.2e of tau_P (tau_P %.3e tau_max)\n",
+        k.mx, k.my, r.theta_deg, angle / static_cast<double>(front.size()), front.size(), resolved,
+        checked, worst, r.positive.tau_P / r.tau_max);
   }
 }

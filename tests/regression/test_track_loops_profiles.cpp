@@ -11,9 +11,10 @@
 // - every core on a profile lies where tau_x changes sign between its neighbouring sites (a
 //   core is such a sign change, MODEL.md 7), and frames with a loop crossing the row show it;
 // - the stress each core holds (cores_NNNN.csv and lines.json) is its slip-weighted tau_x,
-//   recomputed here from the profile's tau_x and registry offset over a window of 4 local core
-//   widths either side (cut at halfway to the next core and at the contact's edge), with the
-//   local Peierls stresses at the core's tau_max, and whether it is resolved.
+//   recomputed here from the profile's tau_x and registry offset (and tau_y by the change of u_y,
+//   offset_y) over a window of 4 local core widths either side (cut at halfway to the next core and
+//   at the contact's edge), with the local Peierls stresses at the core's tau_max, and whether it
+//   is resolved.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -99,11 +100,13 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
     const auto& profiles = frame.at("profiles");
     const auto table = asperity::app::CsvTable::read(dir / profiles.at("table").get<std::string>());
     for (const char* axis : {"x", "y"}) {
-      std::vector<double> position, tau, offset;
+      std::vector<double> position, tau, offset, tau_y, offset_y;
       std::vector<bool> in_contact;
       for (std::size_t i = 0; i < table.rows(); ++i) {
         if (table.text(i, "axis") != axis) continue;
         offset.push_back(table.number(i, "offset"));
+        offset_y.push_back(table.number(i, "offset_y"));
+        tau_y.push_back(table.number(i, "tau_y"));
         in_contact.push_back(table.integer(i, "in_contact") != 0);
         const double tau_max = table.number(i, "tau_max");
         const double tau_x = table.number(i, "tau_x");
@@ -176,7 +179,9 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
           if (!(inside > 0.0) || !in_contact[j] || !in_contact[j + 1]) continue;
           const double rho = std::min(inside, 1.0) * (offset[j + 1] - offset[j]);
           slip += rho;
-          weighted += rho * 0.5 * (tau[j] + tau[j + 1]);
+          weighted += rho * 0.5 * (tau[j] + tau[j + 1]) + std::min(inside, 1.0) *
+                                                              (offset_y[j + 1] - offset_y[j]) *
+                                                              0.5 * (tau_y[j] + tau_y[j + 1]);
         }
         EXPECT_NEAR(core.at("slip").get<double>(), slip, 1e-9);
         EXPECT_NEAR(core.at("stress").get<double>(), weighted / slip,

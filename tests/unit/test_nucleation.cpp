@@ -224,6 +224,27 @@ TEST(RegimeThree, WeakestSegmentIsTheLeastLawAtTheLocalCoreWidth) {
   EXPECT_TRUE(std::isnan(weakest_local_peierls_stress(0.5, {}).theta_deg));
 }
 
+TEST(RegimeThree, ASegmentIsComparedWithTheNearestScannedAngle) {
+  const std::array<AngleLaw, 3> laws{AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}},
+                                     AngleLaw{63.4, PeierlsLaw{.k1 = 9.2, .k2 = 3.6}},
+                                     AngleLaw{0.0, PeierlsLaw{.k1 = 1.5, .k2 = 0.8}}};
+  // 80 degrees lies nearer 90 than 63.4: the edge law at b_core = 2 d, no interpolation.
+  const WeakestSegment near_edge = nearest_angle_local_peierls_stress(0.5, laws, 80.0);
+  EXPECT_EQ(near_edge.theta_deg, 90.0);
+  EXPECT_NEAR(near_edge.tau_P, 0.5 * 2.3 * std::exp(-3.2), 1e-15);
+  const WeakestSegment mixed = nearest_angle_local_peierls_stress(0.5, laws, 70.0);
+  EXPECT_EQ(mixed.theta_deg, 63.4);
+  EXPECT_NEAR(mixed.tau_P, 0.5 * 9.2 * std::exp(-7.2), 1e-15);
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, laws, 10.0).theta_deg, 0.0);
+  // Ties go to the first listed: 45 is 45 from 90 and from 0.
+  const std::array<AngleLaw, 2> two{AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}},
+                                    AngleLaw{0.0, PeierlsLaw{.k1 = 1.5, .k2 = 0.8}}};
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, two, 45.0).theta_deg, 90.0);
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.0, laws, 45.0).tau_P, 0.0);
+  EXPECT_TRUE(std::isnan(nearest_angle_local_peierls_stress(0.5, {}, 45.0).tau_P));
+  EXPECT_TRUE(std::isnan(nearest_angle_local_peierls_stress(0.5, laws, std::nan("")).tau_P));
+}
+
 TEST(RegimeThree, SampledPeierlsStressIsInterpolatedInsideAndTheLawOutside) {
   // Samples of the cell at b_core = 2, 3, 4 d (tau_P / tau_max 0.02, 8e-4, 2e-5); the law
   // k1 e^(-k2 b) with k1 = 3, k2 = 2.5 beyond them.

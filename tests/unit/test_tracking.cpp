@@ -450,3 +450,56 @@ TEST(Tracker, FirstFrameLinesGetIdsWithoutEvents) {
 }
 
 }  // namespace
+
+// The stress held along a whole loop (front_stresses) on a synthetic elliptical loop in a
+// uniform envelope: every point of the loop is sampled, in order along it, on the line, with the
+// character of the ellipse's tangent there (the stretch's parabola, 32 d of a loop 318 d
+// round), and resolved away from the block's edge. The synthetic tau_x is the core's own swing
+// alone (no load, no other line), odd across the core: what the weight leaves of it is the
+// lattice's sampling of the profile, which must lie well below the Peierls stresses it is
+// compared with (0.06 tau_max for the edge line at b_core = 2 d, 0.01 for (8, 1),
+// tests/analytic/test_core_stress.cpp): held to 2e-3 tau_max.
+TEST(Profile, FrontSamplesAWholeLoopInOrder) {
+  SyntheticOptions o;
+  o.block = {.shape = {192, 192}, .origin0 = -96, .origin1 = -96};
+  o.tau_peak = 0.5;  // uniform (no contact disk): b_core = 2 d, windows of 8 d
+  o.core_width = 1.0;
+  const SyntheticField f = synthetic_field(o, {{0, 0, 60, 40}});
+  const slide::Snapshot s = snapshot_of(f, 0.0);
+  const FrameLines lines = find_lines(f.view());
+  ASSERT_EQ(lines.lines.size(), 1u);
+  const Line& loop = lines.lines[0];
+  ASSERT_EQ(loop.kind, LineKind::loop);
+  const std::vector<FrontStress> front = front_stresses(s, lines);
+  const FrontOptions defaults;
+  EXPECT_EQ(front.size(), static_cast<std::size_t>(std::floor(loop.length / defaults.step)));
+  double worst = 0.0, worst_angle = 0.0;
+  for (std::size_t j = 0; j < front.size(); ++j) {
+    const FrontStress& p = front[j];
+    EXPECT_EQ(p.line, 0u);
+    EXPECT_NEAR(p.arc, defaults.step * static_cast<double>(j), 1e-9);
+    // On the ellipse (x/60)^2 + (y/40)^2 = 1, to the trace's precision.
+    EXPECT_NEAR(std::hypot(p.at.x / 60.0, p.at.y / 40.0), 1.0, 0.015) << p.at.x << ", " << p.at.y;
+    // The tangent's angle to x: (-a sin t, b cos t) at (a cos t, b sin t).
+    const double t = std::atan2(p.at.y / 40.0, p.at.x / 60.0);
+    const double tangent = std::atan2(std::abs(40.0 * std::cos(t)), std::abs(60.0 * std::sin(t))) *
+                           180.0 / std::acos(-1.0);
+    worst_angle = std::max(worst_angle, std::abs(p.angle_deg - tangent));
+    EXPECT_NEAR(p.angle_deg, tangent, 2.0) << p.at.x << ", " << p.at.y;
+    EXPECT_TRUE(p.resolved()) << p.at.x << ", " << p.at.y;
+    EXPECT_NEAR(p.half_width, 8.0, 1e-12);
+    EXPECT_NEAR(std::abs(p.held.slip), 1.0, 0.1);
+    EXPECT_LE(std::abs(p.held.tau), 2e-3 * 0.5) << p.at.x << ", " << p.at.y;
+    worst = std::max(worst, std::abs(p.held.tau) / 0.5);
+  }
+  std::printf("synthetic loop: %zu points, largest |held| %.3e tau_max, angle off by %.2f deg\n",
+              front.size(), worst, worst_angle);
+  // Options are checked.
+  EXPECT_THROW(front_stresses(s, lines, {.span = 0.0}), std::invalid_argument);
+  EXPECT_THROW(front_stresses(s, lines, {.step = -1.0}), std::invalid_argument);
+  EXPECT_THROW(front_stresses(s, lines, {.widths = 0.0}), std::invalid_argument);
+  // No s_x: nothing is measured.
+  slide::Snapshot bare = s;
+  bare.sx.clear();
+  EXPECT_TRUE(front_stresses(bare, lines).empty());
+}
