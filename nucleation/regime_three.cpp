@@ -195,13 +195,12 @@ WeakestSegment nearest_angle_local_peierls_stress(double tau_max, std::span<cons
                                                   double theta_deg) {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   if (angles.empty() || !std::isfinite(theta_deg)) return {nan, nan};
-  if (!(tau_max > 0.0)) return {0.0, nan};  // no segment there
   const AngleLaw* nearest = &angles.front();
   for (const AngleLaw& a : angles) {
     if (std::abs(a.theta_deg - theta_deg) < std::abs(nearest->theta_deg - theta_deg)) nearest = &a;
   }
-  const double t = local_peierls_stress(tau_max, *nearest);
-  return std::isnan(t) ? WeakestSegment{nan, nan} : WeakestSegment{t, nearest->theta_deg};
+  // Outside the contact no registry holds a segment (local_peierls_stress gives 0 there).
+  return {local_peierls_stress(tau_max, *nearest), nearest->theta_deg};
 }
 
 double regime_three_integrated(double beta, const PeierlsLaw& law, double f_P) {

@@ -98,8 +98,9 @@ WeakestSegment weakest_local_peierls_stress(double tau_max, std::span<const Angl
 // curved front is compared with (tracking::front_stresses). No interpolation between angles:
 // at narrow cores tau_P jumps between neighbouring directions (a high-index direction can be
 // several times weaker than its neighbours, data/reference/peierls_narrow_cores.md), so what
-// lies between two scanned angles is not known from them. {NaN, NaN} without angles or with no
-// value at tau_max at the nearest angle; outside the contact {0, NaN}.
+// lies between two scanned angles is not known from them. The angle is always the nearest one;
+// tau_P is NaN where that angle has no value at tau_max and 0 outside the contact (tau_max <=
+// 0). {NaN, NaN} without angles or for a non-finite theta_deg.
 WeakestSegment nearest_angle_local_peierls_stress(double tau_max, std::span<const AngleLaw> angles,
                                                   double theta_deg);
 

@@ -23,6 +23,7 @@
 #include <iterator>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -214,6 +215,77 @@ TEST(TrackLoopsProfiles, ProfilesBoundTheStressAndMarkTheCores) {
   // resolved. Resolved cores are checked in a larger contact (test_sweep_largest_slip.cpp) and
   // against a loaded Peierls cell (tests/analytic/test_core_stress.cpp).
   EXPECT_EQ(resolved_cores, 0);
+}
+
+// --front beside the profiles: per plotted frame a table of the stress held along every line
+// (tracking::front_stresses), its points `step` d apart along each line of lines.json, each
+// compared with the scan's angle nearest its own, the ratios summarised per line.
+TEST(TrackLoopsProfiles, FrontFollowsEveryLineAndItsNearestScannedAngle) {
+  const fs::path dir = profiles_dir;
+  const auto summary = read_json(fs::path(peierls_dir) / "summary.json");
+  std::vector<double> angles;
+  for (const auto& [name, fit] : summary.at("fits").items())
+    angles.push_back(fit.at("theta_deg").get<double>());
+  ASSERT_FALSE(angles.empty());
+  const auto frames = read_json(dir / "lines.json").at("frames");
+  int fronts = 0, rows_seen = 0, resolved = 0;
+  for (const auto& frame : frames) {
+    if (frame.at("front").is_null()) continue;
+    const auto& front = frame.at("front");
+    ++fronts;
+    EXPECT_EQ(front.at("span").get<double>(), 32.0);
+    EXPECT_EQ(front.at("step").get<double>(), 4.0);
+    // One point every 4 d along each line: floor(length / 4) on a loop, one more on an open line.
+    std::map<int, nlohmann::json> lines;
+    std::size_t expected = 0;
+    for (const auto& line : frame.at("lines")) {
+      lines[line.at("id").get<int>()] = line;
+      const double length = line.at("length").get<double>();
+      expected += static_cast<std::size_t>(std::floor(length / 4.0)) +
+                  (line.at("kind").get<std::string>() == "loop" ? 0 : 1);
+    }
+    EXPECT_EQ(front.at("points").get<std::size_t>(), expected);
+    if (expected == 0) continue;
+    const auto t = asperity::app::CsvTable::read(dir / front.at("table").get<std::string>());
+    ASSERT_EQ(t.rows(), expected);
+    std::map<int, int> resolved_by_line;
+    for (std::size_t i = 0; i < t.rows(); ++i) {
+      ++rows_seen;
+      const auto& line = lines.at(static_cast<int>(t.integer(i, "line_id")));
+      EXPECT_EQ(t.text(i, "kind"), line.at("kind").get<std::string>());
+      const double cx = line.at("centroid")[0].get<double>();
+      const double cy = line.at("centroid")[1].get<double>();
+      EXPECT_NEAR(t.number(i, "polar_deg"),
+                  std::atan2(t.number(i, "y") - cy, t.number(i, "x") - cx) * 180.0 / M_PI, 1e-9);
+      // The scanned angle nearest the stretch's own (none between: no interpolation).
+      const double angle = t.number(i, "angle_deg");
+      const double used = t.number(i, "angle_theta_deg");
+      for (const double a : angles)
+        EXPECT_LE(std::abs(used - angle), std::abs(a - angle) + 1e-9) << angle;
+      const double tau_max = t.number(i, "tau_max");
+      const double full = std::min(4.0 / tau_max, 32.0);
+      const bool is_resolved = t.integer(i, "resolved") == 1;
+      if (is_resolved) {
+        ++resolved;
+        ++resolved_by_line[static_cast<int>(t.integer(i, "line_id"))];
+        EXPECT_NEAR(t.number(i, "half_width"), full, 1e-9 * full);
+        EXPECT_GE(std::abs(t.number(i, "slip")), 0.75);
+        EXPECT_LE(std::abs(t.number(i, "slip")), 1.25);
+      } else {
+        EXPECT_TRUE(!(t.number(i, "half_width") >= full) || std::abs(t.number(i, "slip")) < 0.75 ||
+                    std::abs(t.number(i, "slip")) > 1.25 || std::isnan(t.number(i, "stress")) ||
+                    line.at("kind").get<std::string>() != "loop")
+            << "row " << i << " is not resolved without a reason the header gives";
+      }
+    }
+    // lines.json summarises the resolved points of each line.
+    for (const auto& s : front.at("lines"))
+      EXPECT_EQ(s.at("resolved_points").get<int>(), resolved_by_line[s.at("line_id").get<int>()]);
+  }
+  EXPECT_GT(fronts, 3);
+  EXPECT_GT(rows_seen, 50);
+  // As for the crossings, this small contact cuts every window (a/b_core^0 = 6.2).
+  EXPECT_EQ(resolved, 0);
 }
 
 }  // namespace

@@ -240,7 +240,15 @@ TEST(RegimeThree, ASegmentIsComparedWithTheNearestScannedAngle) {
   const std::array<AngleLaw, 2> two{AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}},
                                     AngleLaw{0.0, PeierlsLaw{.k1 = 1.5, .k2 = 0.8}}};
   EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, two, 45.0).theta_deg, 90.0);
+  // Outside the contact: no Peierls stress, and still the angle compared with.
   EXPECT_EQ(nearest_angle_local_peierls_stress(0.0, laws, 45.0).tau_P, 0.0);
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.0, laws, 45.0).theta_deg, 63.4);
+  // An angle with no value at this core width (no law, samples elsewhere): NaN, its angle named.
+  const std::array<AngleLaw, 1> sampled{AngleLaw{
+      .theta_deg = 76.0, .law = std::nullopt, .b_core = {2.0, 3.0}, .ratio = {0.02, 8e-4}}};
+  const WeakestSegment outside = nearest_angle_local_peierls_stress(0.1, sampled, 80.0);
+  EXPECT_TRUE(std::isnan(outside.tau_P));
+  EXPECT_EQ(outside.theta_deg, 76.0);
   EXPECT_TRUE(std::isnan(nearest_angle_local_peierls_stress(0.5, {}, 45.0).tau_P));
   EXPECT_TRUE(std::isnan(nearest_angle_local_peierls_stress(0.5, laws, std::nan("")).tau_P));
 }
