@@ -9,6 +9,7 @@ module turns its results into Python objects.
     result.mu_over_alpha, result.trace["Fx"], result.summary["gf_applications"]
     peak = result.snapshots["peak"]          # an xarray.Dataset, as snapshots/peak.nc
     asperity.find_lines(result.snapshots["slip_001_before"])["lines"]
+    asperity.front_stresses(result.snapshots["slip_001_before"])["stress"]  # held along them
     asperity.slide({"contact": {"a": 10, "envelope": "adhesive", "tau0": 0.05}}).tau_fric
 
 Scenes take the keys of a scene file (data/scenes/default.toml, docs/settings.md), as nested
@@ -30,7 +31,8 @@ from . import _asperity
 from ._asperity import (FreeSurfaceGF, PeriodicSurfaceGF, control_parameter, fit_regime_two,
                         forecast, nucleation_condition, predict, regime_two_law)
 
-__all__ = ["Scene", "SlideResult", "slide", "version", "find_lines", "snapshot_dataset",
+__all__ = ["Scene", "SlideResult", "slide", "version", "find_lines", "front_stresses",
+           "snapshot_dataset",
            "FreeSurfaceGF", "PeriodicSurfaceGF", "regime_two_law", "nucleation_condition",
            "control_parameter", "predict", "forecast", "fit_regime_two", "tools"]
 
@@ -221,6 +223,42 @@ def find_lines(frame, index=0, periodic=None, **options):
     contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
     return _asperity.find_lines(block("sx"), block("tau_x"), block("tau_max"), contact,
                                 **fields, **options)
+
+
+def front_stresses(frame, index=0, periodic=None, **options):
+    """The stress held all along every line of one snapshot frame (MODEL.md 6, 7), as
+    track_loops --front measures it (docs/tracking.md, "The stress held all along a line"):
+    every `step` d of each line, the stress a stretch `span` d long holds, the Peierls-Nabarro
+    force on it per Burgers vector (G), to compare with the local Peierls stress at its angle.
+
+    frame: an xarray Dataset in the snapshot layout; index: the frame in it. options: span
+    (d, default 32), step (d, 4), widths (core widths either side, 4), max_half_width (d, 32),
+    and find_lines' min_length, join_distance, slip_sign, tangent_half_window,
+    screw_angle_deg. Returns a dict of NumPy columns, one row per point: line (index in
+    "lines"), kind, arc, x, y (d), angle_deg (0 screw, 90 edge), stress (G), slip (d),
+    resolved, half_width, bend (d), tau_max (G); and "lines", the lines as find_lines gives
+    them. Under a tip out of registry nothing is measured (ValueError).
+    """
+    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
+    if float(frame.attrs.get("tip_angle", 0.0)) != 0.0 or \
+            float(frame.attrs.get("tip_mismatch", 0.0)) != 0.0:
+        raise ValueError("front_stresses: under a tip out of registry the registry runs along "
+                         "the tip's axis and the stress held is not measured (docs/tracking.md)")
+
+    def block(name):
+        """The field in the tools' block order (x slow), contiguous."""
+        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
+
+    fields = {
+        "origin_x": int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0]),
+        "origin_y": int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0]),
+        "Dx": float(ds["Dx"]) if "Dx" in ds else 0.0,
+        "periodic": bool(frame.attrs.get("periodic", False)) if periodic is None else periodic,
+    }
+    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
+    optional = {name: block(name) for name in ("uy", "tau_y") if name in ds}
+    return _asperity.front_stresses(block("sx"), block("tau_x"), block("tau_max"), contact,
+                                    **optional, **fields, **options)
 
 
 from . import tools  # noqa: E402  (the tools need the names above)

@@ -53,6 +53,15 @@ def find_lines(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLike,
                screw_angle_deg: float = 45.0, centre_fraction: float = 0.5,
                sy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,
                tip_angle: float = 0.0, tip_mismatch: float = 0.0) -> dict: ...
+def front_stresses(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLike,
+                   in_contact: Optional[npt.ArrayLike] = None,
+                   uy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,
+                   origin_x: int = 0, origin_y: int = 0, Dx: float = 0.0,
+                   periodic: bool = False, min_length: float = 2.0,
+                   join_distance: float = 4.0, slip_sign: int = -1,
+                   tangent_half_window: int = 1, screw_angle_deg: float = 45.0,
+                   span: float = 32.0, step: float = 4.0, widths: float = 4.0,
+                   max_half_width: float = 32.0) -> dict: ...
 def regime_two_law(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def nucleation_condition(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def control_parameter(a: npt.ArrayLike, R: npt.ArrayLike, alpha: npt.ArrayLike = 0.7,

@@ -1,9 +1,9 @@
 // The analyses of snapshots and sweeps from Python: dislocation lines in one frame
 // (tracking::find_lines, MODEL.md section 7; records as track_loops' lines.json through
-// app::line_json) and the scaling laws of MODEL.md section 8 (nucleation/: the Regime II law and
-// its fit of c0, the nucleation condition, the prediction across regimes). Whole-run pipelines
-// (track_loops over a run, fit_scaling, peierls_scan) run as the tools themselves
-// (python/asperity/tools.py).
+// app::line_json), the stress held along them (tracking::front_stresses) and the scaling laws of
+// MODEL.md section 8 (nucleation/: the Regime II law and its fit of c0, the nucleation condition,
+// the prediction across regimes). Whole-run pipelines (track_loops over a run, fit_scaling,
+// peierls_scan) run as the tools themselves (python/asperity/tools.py).
 #include "analysis.hpp"
 
 #include <pybind11/numpy.h>
@@ -13,6 +13,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "asperity/apps/common/lines_json.hpp"
@@ -21,6 +22,7 @@
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
 #include "asperity/tracking/lines.hpp"
+#include "asperity/tracking/profile.hpp"
 #include "asperity/tracking/tracker.hpp"
 #include "errors.hpp"
 
@@ -90,6 +92,85 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
       py::arg("core_crossings") = f.core_crossings,
       py::arg("registry_crossings") = f.registry_crossings,
       py::arg("dropped_short") = f.dropped_short, py::arg("joined_pieces") = f.joined_pieces);
+}
+
+// The stress held all along every line of one frame (tracking::front_stresses, as track_loops
+// --front): the lines are found as find_lines finds them, then sampled every `step` d.
+py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
+                        const Array<double>& tau_max, const py::object& in_contact,
+                        const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
+                        double Dx, bool periodic, double min_length, double join_distance,
+                        int slip_sign, int tangent_half_window, double screw_angle_deg, double span,
+                        double step, double widths, double max_half_width) {
+  if (sx.ndim() != 2) throw py::value_error("front_stresses: sx must be 2D, (n0, n1) block-major");
+  const auto n = static_cast<std::size_t>(sx.size());
+  const auto values = [n](const py::object& a, const char* name) {
+    std::vector<double> v;
+    if (a.is_none()) return v;
+    const auto arr = a.cast<Array<double>>();
+    if (static_cast<std::size_t>(arr.size()) != n)
+      throw py::value_error(std::string("front_stresses: ") + name + "'s size differs from sx's");
+    v.assign(arr.data(), arr.data() + arr.size());
+    return v;
+  };
+  slide::Snapshot s;
+  s.Dx = Dx;
+  s.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
+  s.sx = values(sx, "sx");
+  s.tau_x = values(tau_x, "tau_x");
+  s.tau_max = values(tau_max, "tau_max");
+  s.uy = values(uy, "uy");
+  s.tau_y = values(tau_y, "tau_y");
+  if (s.tau_y.empty()) s.tau_y.assign(n, 0.0);
+  s.pressure.assign(n, 0.0);  // not used by the measure
+  if (!in_contact.is_none()) {
+    const auto contact = in_contact.cast<Array<std::uint8_t>>();
+    if (static_cast<std::size_t>(contact.size()) != n)
+      throw py::value_error("front_stresses: in_contact's size differs from sx's");
+    s.in_contact.assign(contact.data(), contact.data() + contact.size());
+  }
+  tracking::DetectOptions o;
+  o.min_length = min_length;
+  o.join_distance = join_distance;
+  o.slip_sign = slip_sign;
+  o.tangent_half_window = tangent_half_window;
+  o.screw_angle_deg = screw_angle_deg;
+  const tracking::FrontOptions fo{
+      .widths = widths, .span = span, .step = step, .max_half_width = max_half_width};
+  const auto [f, front] = value_errors([&] {
+    py::gil_scoped_release release;
+    tracking::FrameLines lines = tracking::find_lines(tracking::view_of(s, periodic), o);
+    std::vector<tracking::FrontStress> points = tracking::front_stresses(s, lines, fo);
+    return std::pair{std::move(lines), std::move(points)};
+  });
+  const auto m = static_cast<py::ssize_t>(front.size());
+  Array<double> arc(m), x(m), y(m), angle(m), stress(m), slip(m), half(m), bend(m), tmax(m);
+  Array<long long> line(m);
+  Array<bool> resolved(m);
+  py::list kind;
+  for (py::ssize_t i = 0; i < m; ++i) {
+    const tracking::FrontStress& p = front[static_cast<std::size_t>(i)];
+    line.mutable_at(i) = static_cast<long long>(p.line);
+    kind.append(tracking::to_string(p.kind));
+    arc.mutable_at(i) = p.arc;
+    x.mutable_at(i) = p.at.x;
+    y.mutable_at(i) = p.at.y;
+    angle.mutable_at(i) = p.angle_deg;
+    stress.mutable_at(i) = p.held.tau;
+    slip.mutable_at(i) = p.held.slip;
+    resolved.mutable_at(i) = p.resolved();
+    half.mutable_at(i) = p.half_width;
+    bend.mutable_at(i) = p.bend;
+    tmax.mutable_at(i) = p.tau_max;
+  }
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t k = 0; k < f.lines.size(); ++k)
+    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, 0.5));
+  return py::dict(
+      py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc, py::arg("x") = x,
+      py::arg("y") = y, py::arg("angle_deg") = angle, py::arg("stress") = stress,
+      py::arg("slip") = slip, py::arg("resolved") = resolved, py::arg("half_width") = half,
+      py::arg("bend") = bend, py::arg("tau_max") = tmax, py::arg("lines") = json_to_python(lines));
 }
 
 nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k1_error,
@@ -176,6 +257,22 @@ void bind_analysis(py::module_& m) {
         "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; a tip out of "
         "registry (tip_angle, tip_mismatch) needs sy and tau_y too; returns the lines as "
         "lines.json records and the frame's counts");
+  const tracking::FrontOptions front{};
+  m.def("front_stresses", &front_stresses, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
+        py::arg("in_contact") = py::none(), py::arg("uy") = py::none(),
+        py::arg("tau_y") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
+        py::arg("Dx") = 0.0, py::arg("periodic") = false,
+        py::arg("min_length") = tracking::DetectOptions{}.min_length,
+        py::arg("join_distance") = tracking::DetectOptions{}.join_distance,
+        py::arg("slip_sign") = tracking::DetectOptions{}.slip_sign,
+        py::arg("tangent_half_window") = tracking::DetectOptions{}.tangent_half_window,
+        py::arg("screw_angle_deg") = tracking::DetectOptions{}.screw_angle_deg,
+        py::arg("span") = front.span, py::arg("step") = front.step,
+        py::arg("widths") = front.widths, py::arg("max_half_width") = front.max_half_width,
+        "The stress held all along every line of one frame (tracking::front_stresses, as "
+        "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
+        "(line: index in lines, kind, arc, x, y, angle_deg, stress, slip, resolved, half_width, "
+        "bend, tau_max) and the lines as lines.json records");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),

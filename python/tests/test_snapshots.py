@@ -2,6 +2,7 @@
 tools write, with the same values, layout, units and attributes as the tools' NetCDF files
 (contact_slide on the same scene, read with xarray); find_lines() finds the lines track_loops
 finds in the same frame."""
+import csv
 import json
 import gc
 import os
@@ -119,6 +120,32 @@ def test_find_lines_finds_what_track_loops_finds(runs, tmp_path):
             for field in ("kind", "burgers_x", "length", "area", "screw_fraction", "location",
                           "points", "angle_deg", "slipped_area", "pieces"):
                 assert a[field] == b[field], field
+
+
+def test_front_stresses_measures_what_track_loops_front_measures(runs, tmp_path):
+    # The stress held along the lines of one frame, from the frame in memory and from the
+    # tool on the file the same slide wrote (double precision): the same points, the same
+    # numbers.
+    result, files = runs
+    label = "slip_001_before"
+    ours = asperity.front_stresses(result.snapshots[label])
+    subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--front", "--out", tmp_path],
+                   check=True, capture_output=True)
+    frame = json.loads((tmp_path / "lines.json").read_text())["frames"][0]
+    assert frame["front"]["points"] == len(ours["x"]) > 0
+    with open(tmp_path / frame["front"]["table"], newline="") as table:
+        rows = list(csv.DictReader(table))
+    for name in ("arc", "x", "y", "angle_deg", "stress", "slip", "half_width", "bend",
+                 "tau_max"):
+        np.testing.assert_allclose(ours[name], [float(r[name]) for r in rows], rtol=1e-12,
+                                   atol=1e-12, equal_nan=True, err_msg=name)
+    assert list(ours["resolved"]) == [r["resolved"] == "1" for r in rows]
+    assert list(ours["kind"]) == [r["kind"] for r in rows]
+    # One point every 4 d of each line (a loop's closing point is its first).
+    expected = sum(int(line["length"] // 4) + (line["kind"] != "loop") for line in ours["lines"])
+    assert len(ours["x"]) == expected
+    with pytest.raises(ValueError, match="span"):
+        asperity.front_stresses(result.snapshots[label], span=0.0)
 
 
 def test_find_lines_joins_the_screw_lines_along_the_contact_edge():
