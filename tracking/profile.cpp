@@ -184,6 +184,8 @@ void FrontOptions::validate() const {
     throw std::invalid_argument("FrontOptions: span must be finite and > 0 (d)");
   if (!(step > 0.0) || !std::isfinite(step))
     throw std::invalid_argument("FrontOptions: step must be finite and > 0 (d)");
+  if (!(stretches >= 1.0) || !std::isfinite(stretches))
+    throw std::invalid_argument("FrontOptions: stretches must be finite and >= 1");
   if (!(max_half_width > 0.0) || !std::isfinite(max_half_width))
     throw std::invalid_argument("FrontOptions: max_half_width must be finite and > 0 (d)");
 }
@@ -363,9 +365,11 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
     const double length = total[li];
     const auto count =
         static_cast<std::size_t>(std::floor(length / options.step)) + (closed ? 0 : 1);
+    // The stretch: `span`, or a `stretches`-th of a shorter line, so that a small loop is not
+    // averaged over a third of its front (at R = 40 d, a = 24 d a loop 100 d round).
+    const double span = std::min(options.span, length / options.stretches);
     const auto nbins = static_cast<long long>(bins[li].size());
-    const auto reach_bins =
-        static_cast<long long>(std::ceil(0.5 * options.span / options.step)) + 1;
+    const auto reach_bins = static_cast<long long>(std::ceil(0.5 * span / options.step)) + 1;
     for (std::size_t j = 0; j < count; ++j) {
       const double centre = std::min(static_cast<double>(j) * options.step, length);
       // The point of the line at `centre` and its segment.
@@ -376,10 +380,8 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
       // measured from it (the polyline's vertices zigzag at the grid scale and step at
       // kinks), and its direction at the point is the stretch's character. A parabola, not a
       // line: over 32 d of a loop of radius 160 d a chord is 0.8 d off the line at its middle.
-      const double from =
-          closed ? centre - 0.5 * options.span : std::max(0.0, centre - 0.5 * options.span);
-      const double to =
-          closed ? centre + 0.5 * options.span : std::min(length, centre + 0.5 * options.span);
+      const double from = closed ? centre - 0.5 * span : std::max(0.0, centre - 0.5 * span);
+      const double to = closed ? centre + 0.5 * span : std::min(length, centre + 0.5 * span);
       const int samples = std::max(3, static_cast<int>(std::ceil((to - from) / 0.25)) + 1);
       std::vector<Point>& fit = fit_points;
       fit.clear();
@@ -429,7 +431,8 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
         fs.angle_deg = std::nan("");
       }
       // An open line's stretch cut by its end is not the span asked for.
-      const bool clipped = ((to - from) < options.span * (1.0 - 1e-9) && !closed) || !fitted;
+      const bool clipped = ((to - from) < span * (1.0 - 1e-9) && !closed) || !fitted;
+      fs.span = span;
       fs.line = li;
       fs.kind = l.kind;
       fs.arc = centre;
@@ -458,7 +461,7 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
           const Nearest& near = nearest[i];
           double gap = std::abs(near.arc - centre);
           if (closed) gap = std::min(gap, length - gap);
-          if (gap > 0.5 * options.span) continue;
+          if (gap > 0.5 * span) continue;
           if (near.across > 0.0) reach_left = std::max(reach_left, near.across);
           if (near.across < 0.0) reach_right = std::max(reach_right, -near.across);
           // A site out of the contact ends the window at its distance (the contact's edge).

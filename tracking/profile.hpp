@@ -140,11 +140,15 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
 // stretch holds kinks each site still falls in order across its own piece of core. The default
 // span of 32 d holds every direction up to |m| = 32 (within 1.8 degrees of screw or edge the
 // period is longer; a stretch then lies on a pure screw or edge piece, and its kinks weigh by
-// their share of it). Beside the local Peierls stress at the stretch's angle (MODEL.md 6) it
-// says which parts of a held front are at threshold and which are below it.
+// their share of it). The value is the stretch's mean, so on a line shorter than `stretches`
+// spans the stretch is shortened to a `stretches`-th of it (a loop 100 d round: 16.7 d),
+// which holds directions only up to |m| about that long. Beside the local Peierls stress at
+// the stretch's angle (MODEL.md 6) it says which parts of a held front are at threshold and
+// which are below it.
 struct FrontOptions {
   double widths = 4.0;           // window across the line, in local core widths either side
   double span = 32.0;            // length of the stretch pooled (d): >= |m| d of a direction m
+  double stretches = 6.0;        // ... and at most the line's length over this many
   double step = 4.0;             // spacing of the points along each line (d)
   double max_half_width = 32.0;  // windows longer than this are cut to it (d)
 
@@ -158,6 +162,7 @@ struct FrontStress {
   LineKind kind = LineKind::open;
   double arc = 0.0;         // along the line from its first vertex to `at` (d)
   double tau_max = 0.0;     // at the site nearest `at` (G; 0 outside the block)
+  double span = 0.0;        // of the stretch pooled (d): FrontOptions::span or less
   double half_width = 0.0;  // of the window across the line (d)
   bool cut = false;         // the window is narrower than `widths` b_core
   double bend = 0.0;        // largest distance of the stretch's points from its mean curve (d): the

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -325,12 +326,13 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
                            const std::string& title) {
   const std::vector<tracking::FrontStress> front = tracking::front_stresses(s, f, options);
   nlohmann::json record = {{"span", options.span},
+                           {"stretches", options.stretches},
                            {"step", options.step},
                            {"widths", options.widths},
                            {"points", front.size()}};
   if (front.empty()) return record;  // no s_x, a tip out of registry, or no line
-  app::CsvTable table({"line_id", "kind", "arc", "x", "y", "polar_deg", "angle_deg", "stress",
-                       "slip", "resolved", "half_width", "bend", "tau_max", "tau_P_angle",
+  app::CsvTable table({"line_id", "kind", "arc", "span", "x", "y", "polar_deg", "angle_deg",
+                       "stress", "slip", "resolved", "half_width", "bend", "tau_max", "tau_P_angle",
                        "angle_theta_deg", "tau_P_weakest", "weakest_theta_deg"});
   const bool laws = !peierls.angles.empty();
   const double pi = std::acos(-1.0);
@@ -358,7 +360,7 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
         nucleation::nearest_angle_local_peierls_stress(p.tau_max, peierls.angles, p.angle_deg);
     const auto weak = nucleation::weakest_local_peierls_stress(p.tau_max, peierls.angles);
     table.add_row({static_cast<long long>(ids.at(p.line)), tracking::to_string(p.kind), p.arc,
-                   p.at.x, p.at.y, polar, p.angle_deg, p.held.tau, p.held.slip,
+                   p.span, p.at.x, p.at.y, polar, p.angle_deg, p.held.tau, p.held.slip,
                    static_cast<long long>(p.resolved()), p.half_width, p.bend, p.tau_max,
                    at_angle.tau_P, at_angle.theta_deg, weak.tau_P, weak.theta_deg});
     if (!p.resolved()) continue;
@@ -627,6 +629,7 @@ nlohmann::json summary_json(const nlohmann::json& inputs, const FrameOptions& o,
             {"plot_every", o.plot_every},
             {"profiles", o.profiles},
             {"front", o.front ? nlohmann::json{{"span", o.front_options.span},
+                                               {"stretches", o.front_options.stretches},
                                                {"step", o.front_options.step},
                                                {"widths", o.front_options.widths},
                                                {"max_half_width", o.front_options.max_half_width}}
@@ -716,8 +719,14 @@ int main(int argc, char** argv) {
                  "of it (front_NNNN.csv, front_NNNN.png: around each loop, against the local "
                  "Peierls stress at its angle with --peierls)");
     cli.add_option("--front-span", o.front_options.span,
-                   "Length of line pooled per point of --front (d)")
+                   "Length of line pooled per point of --front (d): at least the period |m| d "
+                   "of the directions to be measured")
         ->check(app::positive())
+        ->capture_default_str();
+    cli.add_option("--front-stretches", o.front_options.stretches,
+                   "--front pools at most a line's length over this many (a small loop is not "
+                   "averaged over a large part of it)")
+        ->check(app::finite_number(1.0, std::numeric_limits<double>::infinity()))
         ->capture_default_str();
     cli.add_option("--front-step", o.front_options.step,
                    "Spacing of the points of --front along each line (d)")

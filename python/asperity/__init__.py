@@ -232,10 +232,11 @@ def front_stresses(frame, index=0, periodic=None, **options):
     force on it per Burgers vector (G), to compare with the local Peierls stress at its angle.
 
     frame: an xarray Dataset in the snapshot layout; index: the frame in it. options: span
-    (d, default 32), step (d, 4), widths (core widths either side, 4), max_half_width (d, 32),
+    (d, default 32; at most a line's length over `stretches`, 6), step (d, 4), widths (core
+    widths either side, 4), max_half_width (d, 32),
     and find_lines' min_length, join_distance, slip_sign, tangent_half_window,
     screw_angle_deg. Returns a dict of NumPy columns, one row per point: line (index in
-    "lines"), kind, arc, x, y (d), angle_deg (0 screw, 90 edge), stress (G), slip (d),
+    "lines"), kind, arc, span, x, y (d), angle_deg (0 screw, 90 edge), stress (G), slip (d),
     resolved, half_width, bend (d), tau_max (G); and "lines", the lines as find_lines gives
     them. Under a tip out of registry nothing is measured (ValueError).
     """

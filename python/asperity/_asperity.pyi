@@ -60,7 +60,8 @@ def front_stresses(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLi
                    periodic: bool = False, min_length: float = 2.0,
                    join_distance: float = 4.0, slip_sign: int = -1,
                    tangent_half_window: int = 1, screw_angle_deg: float = 45.0,
-                   span: float = 32.0, step: float = 4.0, widths: float = 4.0,
+                   span: float = 32.0, stretches: float = 6.0, step: float = 4.0,
+                   widths: float = 4.0,
                    max_half_width: float = 32.0) -> dict: ...
 def regime_two_law(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def nucleation_condition(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...

@@ -101,7 +101,7 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
                         const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
                         double Dx, bool periodic, double min_length, double join_distance,
                         int slip_sign, int tangent_half_window, double screw_angle_deg, double span,
-                        double step, double widths, double max_half_width) {
+                        double stretches, double step, double widths, double max_half_width) {
   if (sx.ndim() != 2) throw py::value_error("front_stresses: sx must be 2D, (n0, n1) block-major");
   const auto n = static_cast<std::size_t>(sx.size());
   const auto values = [n](const py::object& a, const char* name) {
@@ -135,8 +135,11 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   o.slip_sign = slip_sign;
   o.tangent_half_window = tangent_half_window;
   o.screw_angle_deg = screw_angle_deg;
-  const tracking::FrontOptions fo{
-      .widths = widths, .span = span, .step = step, .max_half_width = max_half_width};
+  const tracking::FrontOptions fo{.widths = widths,
+                                  .span = span,
+                                  .stretches = stretches,
+                                  .step = step,
+                                  .max_half_width = max_half_width};
   const auto [f, front] = value_errors([&] {
     py::gil_scoped_release release;
     tracking::FrameLines lines = tracking::find_lines(tracking::view_of(s, periodic), o);
@@ -144,7 +147,8 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
     return std::pair{std::move(lines), std::move(points)};
   });
   const auto m = static_cast<py::ssize_t>(front.size());
-  Array<double> arc(m), x(m), y(m), angle(m), stress(m), slip(m), half(m), bend(m), tmax(m);
+  Array<double> arc(m), spans(m), x(m), y(m), angle(m), stress(m), slip(m), half(m), bend(m),
+      tmax(m);
   Array<long long> line(m);
   Array<bool> resolved(m);
   py::list kind;
@@ -153,6 +157,7 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
     line.mutable_at(i) = static_cast<long long>(p.line);
     kind.append(tracking::to_string(p.kind));
     arc.mutable_at(i) = p.arc;
+    spans.mutable_at(i) = p.span;
     x.mutable_at(i) = p.at.x;
     y.mutable_at(i) = p.at.y;
     angle.mutable_at(i) = p.angle_deg;
@@ -167,8 +172,8 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   for (std::size_t k = 0; k < f.lines.size(); ++k)
     lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, 0.5));
   return py::dict(
-      py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc, py::arg("x") = x,
-      py::arg("y") = y, py::arg("angle_deg") = angle, py::arg("stress") = stress,
+      py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc, py::arg("span") = spans,
+      py::arg("x") = x, py::arg("y") = y, py::arg("angle_deg") = angle, py::arg("stress") = stress,
       py::arg("slip") = slip, py::arg("resolved") = resolved, py::arg("half_width") = half,
       py::arg("bend") = bend, py::arg("tau_max") = tmax, py::arg("lines") = json_to_python(lines));
 }
@@ -267,11 +272,13 @@ void bind_analysis(py::module_& m) {
         py::arg("slip_sign") = tracking::DetectOptions{}.slip_sign,
         py::arg("tangent_half_window") = tracking::DetectOptions{}.tangent_half_window,
         py::arg("screw_angle_deg") = tracking::DetectOptions{}.screw_angle_deg,
-        py::arg("span") = front.span, py::arg("step") = front.step,
-        py::arg("widths") = front.widths, py::arg("max_half_width") = front.max_half_width,
+        py::arg("span") = front.span, py::arg("stretches") = front.stretches,
+        py::arg("step") = front.step, py::arg("widths") = front.widths,
+        py::arg("max_half_width") = front.max_half_width,
         "The stress held all along every line of one frame (tracking::front_stresses, as "
         "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
-        "(line: index in lines, kind, arc, x, y, angle_deg, stress, slip, resolved, half_width, "
+        "(line: index in lines, kind, arc, span, x, y, angle_deg, stress, slip, resolved, "
+        "half_width, "
         "bend, tau_max) and the lines as lines.json records");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });

@@ -135,7 +135,7 @@ def test_front_stresses_measures_what_track_loops_front_measures(runs, tmp_path)
     assert frame["front"]["points"] == len(ours["x"]) > 0
     with open(tmp_path / frame["front"]["table"], newline="") as table:
         rows = list(csv.DictReader(table))
-    for name in ("arc", "x", "y", "angle_deg", "stress", "slip", "half_width", "bend",
+    for name in ("arc", "span", "x", "y", "angle_deg", "stress", "slip", "half_width", "bend",
                  "tau_max"):
         np.testing.assert_allclose(ours[name], [float(r[name]) for r in rows], rtol=1e-12,
                                    atol=1e-12, equal_nan=True, err_msg=name)

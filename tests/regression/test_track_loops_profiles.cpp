@@ -234,6 +234,7 @@ TEST(TrackLoopsProfiles, FrontFollowsEveryLineAndItsNearestScannedAngle) {
     const auto& front = frame.at("front");
     ++fronts;
     EXPECT_EQ(front.at("span").get<double>(), 32.0);
+    EXPECT_EQ(front.at("stretches").get<double>(), 6.0);
     EXPECT_EQ(front.at("step").get<double>(), 4.0);
     // One point every 4 d along each line: floor(length / 4) on a loop, one more on an open line.
     std::map<int, nlohmann::json> lines;
@@ -253,6 +254,8 @@ TEST(TrackLoopsProfiles, FrontFollowsEveryLineAndItsNearestScannedAngle) {
       ++rows_seen;
       const auto& line = lines.at(static_cast<int>(t.integer(i, "line_id")));
       EXPECT_EQ(t.text(i, "kind"), line.at("kind").get<std::string>());
+      // The stretch: 32 d, or a sixth of a shorter line.
+      EXPECT_NEAR(t.number(i, "span"), std::min(32.0, line.at("length").get<double>() / 6.0), 1e-9);
       const double cx = line.at("centroid")[0].get<double>();
       const double cy = line.at("centroid")[1].get<double>();
       EXPECT_NEAR(t.number(i, "polar_deg"),

@@ -494,7 +494,25 @@ TEST(Profile, FrontSamplesAWholeLoopInOrder) {
   }
   std::printf("synthetic loop: %zu points, largest |held| %.3e tau_max, angle off by %.2f deg\n",
               front.size(), worst, worst_angle);
+  for (const FrontStress& p : front)
+    EXPECT_EQ(p.span, 32.0);  // the loop is 318 d round: more than 6 spans
+  // A loop 100 d round (radius 16 d) is pooled over a sixth of it, 16.7 d.
+  const SyntheticField small = synthetic_field(o, {{0, 0, 16, 16}});
+  const FrameLines small_lines = find_lines(small.view());
+  ASSERT_EQ(small_lines.lines.size(), 1u);
+  const std::vector<FrontStress> small_front = front_stresses(snapshot_of(small, 0.0), small_lines);
+  ASSERT_FALSE(small_front.empty());
+  for (const FrontStress& p : small_front) {
+    EXPECT_NEAR(p.span, small_lines.lines[0].length / 6.0, 1e-9);
+    const double t = std::atan2(p.at.y, p.at.x);  // the tangent is normal to the radius
+    const double tangent =
+        std::atan2(std::abs(std::cos(t)), std::abs(std::sin(t))) * 180.0 / std::acos(-1.0);
+    EXPECT_NEAR(p.angle_deg, tangent, 2.0) << p.at.x << ", " << p.at.y;
+    EXPECT_TRUE(p.resolved());
+    EXPECT_LE(std::abs(p.held.tau), 2e-3 * 0.5) << p.at.x << ", " << p.at.y;
+  }
   // Options are checked.
+  EXPECT_THROW(front_stresses(s, lines, {.stretches = 0.5}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.span = 0.0}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.step = -1.0}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.widths = 0.0}), std::invalid_argument);
