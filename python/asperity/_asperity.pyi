@@ -57,12 +57,9 @@ def front_stresses(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLi
                    in_contact: Optional[npt.ArrayLike] = None,
                    uy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,
                    origin_x: int = 0, origin_y: int = 0, Dx: float = 0.0,
-                   periodic: bool = False, min_length: float = 2.0,
-                   join_distance: float = 4.0, slip_sign: int = -1,
-                   tangent_half_window: int = 1, screw_angle_deg: float = 45.0,
-                   span: float = 32.0, stretches: float = 6.0, step: float = 4.0,
-                   widths: float = 4.0,
-                   max_half_width: float = 32.0) -> dict: ...
+                   periodic: bool = False, span: float = 32.0, stretches: float = 6.0,
+                   step: float = 4.0, widths: float = 4.0, max_half_width: float = 32.0,
+                   **lines_options: Any) -> dict: ...
 def regime_two_law(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def nucleation_condition(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def control_parameter(a: npt.ArrayLike, R: npt.ArrayLike, alpha: npt.ArrayLike = 0.7,

@@ -96,12 +96,36 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
 
 // The stress held all along every line of one frame (tracking::front_stresses, as track_loops
 // --front): the lines are found as find_lines finds them, then sampled every `step` d.
+// find_lines' detection options as keywords (the names of its arguments), the others
+// refused by name.
+tracking::DetectOptions detect_options(const py::kwargs& kwargs) {
+  tracking::DetectOptions o;
+  for (const auto& [key, value] : kwargs) {
+    const auto name = key.cast<std::string>();
+    if (name == "min_length") {
+      o.min_length = value.cast<double>();
+    } else if (name == "join_distance") {
+      o.join_distance = value.cast<double>();
+    } else if (name == "slip_sign") {
+      o.slip_sign = value.cast<int>();
+    } else if (name == "tangent_half_window") {
+      o.tangent_half_window = value.cast<int>();
+    } else if (name == "screw_angle_deg") {
+      o.screw_angle_deg = value.cast<double>();
+    } else {
+      throw py::type_error("front_stresses: unexpected keyword '" + name +
+                           "' (the lines' options: min_length, join_distance, slip_sign, "
+                           "tangent_half_window, screw_angle_deg)");
+    }
+  }
+  return o;
+}
+
 py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
                         const Array<double>& tau_max, const py::object& in_contact,
                         const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
-                        double Dx, bool periodic, double min_length, double join_distance,
-                        int slip_sign, int tangent_half_window, double screw_angle_deg, double span,
-                        double stretches, double step, double widths, double max_half_width) {
+                        double Dx, bool periodic, double span, double stretches, double step,
+                        double widths, double max_half_width, const py::kwargs& kwargs) {
   if (sx.ndim() != 2) throw py::value_error("front_stresses: sx must be 2D, (n0, n1) block-major");
   const auto n = static_cast<std::size_t>(sx.size());
   const auto values = [n](const py::object& a, const char* name) {
@@ -129,12 +153,7 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
       throw py::value_error("front_stresses: in_contact's size differs from sx's");
     s.in_contact.assign(contact.data(), contact.data() + contact.size());
   }
-  tracking::DetectOptions o;
-  o.min_length = min_length;
-  o.join_distance = join_distance;
-  o.slip_sign = slip_sign;
-  o.tangent_half_window = tangent_half_window;
-  o.screw_angle_deg = screw_angle_deg;
+  const tracking::DetectOptions o = detect_options(kwargs);
   const tracking::FrontOptions fo{.widths = widths,
                                   .span = span,
                                   .stretches = stretches,
@@ -266,20 +285,15 @@ void bind_analysis(py::module_& m) {
   m.def("front_stresses", &front_stresses, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
         py::arg("in_contact") = py::none(), py::arg("uy") = py::none(),
         py::arg("tau_y") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
-        py::arg("Dx") = 0.0, py::arg("periodic") = false,
-        py::arg("min_length") = tracking::DetectOptions{}.min_length,
-        py::arg("join_distance") = tracking::DetectOptions{}.join_distance,
-        py::arg("slip_sign") = tracking::DetectOptions{}.slip_sign,
-        py::arg("tangent_half_window") = tracking::DetectOptions{}.tangent_half_window,
-        py::arg("screw_angle_deg") = tracking::DetectOptions{}.screw_angle_deg,
-        py::arg("span") = front.span, py::arg("stretches") = front.stretches,
-        py::arg("step") = front.step, py::arg("widths") = front.widths,
-        py::arg("max_half_width") = front.max_half_width,
+        py::arg("Dx") = 0.0, py::arg("periodic") = false, py::arg("span") = front.span,
+        py::arg("stretches") = front.stretches, py::arg("step") = front.step,
+        py::arg("widths") = front.widths, py::arg("max_half_width") = front.max_half_width,
         "The stress held all along every line of one frame (tracking::front_stresses, as "
         "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
         "(line: index in lines, kind, arc, span, x, y, angle_deg, stress, slip, resolved, "
-        "half_width, "
-        "bend, tau_max) and the lines as lines.json records");
+        "half_width, bend, tau_max) and the lines as lines.json records; the lines' options "
+        "(min_length, join_distance, slip_sign, tangent_half_window, screw_angle_deg) as "
+        "keywords, as find_lines takes them");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),

@@ -146,6 +146,11 @@ def test_front_stresses_measures_what_track_loops_front_measures(runs, tmp_path)
     assert len(ours["x"]) == expected
     with pytest.raises(ValueError, match="span"):
         asperity.front_stresses(result.snapshots[label], span=0.0)
+    with pytest.raises(TypeError, match="min_lenght"):
+        asperity.front_stresses(result.snapshots[label], min_lenght=3.0)
+    # The lines' options reach the lines: none shorter than min_length is sampled.
+    fewer = asperity.front_stresses(result.snapshots[label], min_length=1e6)
+    assert len(fewer["x"]) == 0 and fewer["lines"] == []
 
 
 def test_find_lines_joins_the_screw_lines_along_the_contact_edge():
