@@ -508,6 +508,61 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
   return out;
 }
 
+RegistryIndices registry_indices(const slide::Snapshot& s) {
+  const std::size_t n = s.block.shape.count();
+  if (s.sx.size() != n)
+    throw std::invalid_argument("registry_indices: the snapshot has no s_x for its block");
+  RegistryIndices r{.block = s.block, .index = {}};
+  r.index.reserve(n);
+  for (const double v : s.sx)
+    r.index.push_back(static_cast<std::int32_t>(std::lround(v)));  // d = 1 (slide::Snapshot)
+  return r;
+}
+
+FrontMoves front_moves(const RegistryIndices& before, const slide::Snapshot& after,
+                       const std::vector<FrontStress>& front) {
+  const LatticeBlock& blk = after.block;
+  const std::size_t n = blk.shape.count();
+  if (after.sx.size() != n)
+    throw std::invalid_argument("front_moves: the later snapshot has no s_x for its block");
+  FrontMoves out;
+  out.sites.assign(front.size(), 0);
+  for (int i0 = 0; i0 < blk.shape.n0; ++i0) {
+    for (int i1 = 0; i1 < blk.shape.n1; ++i1) {
+      const auto i = static_cast<std::size_t>(i0) * static_cast<std::size_t>(blk.shape.n1) +
+                     static_cast<std::size_t>(i1);
+      const bool contact =
+          after.in_contact.empty() ? after.tau_max[i] > 0.0 : after.in_contact[i] != 0;
+      if (!contact) continue;
+      // The same lattice site in the earlier block.
+      const int j0 = blk.origin0 + i0 - before.block.origin0;
+      const int j1 = blk.origin1 + i1 - before.block.origin1;
+      if (j0 < 0 || j0 >= before.block.shape.n0 || j1 < 0 || j1 >= before.block.shape.n1) continue;
+      const auto j =
+          static_cast<std::size_t>(j0) * static_cast<std::size_t>(before.block.shape.n1) +
+          static_cast<std::size_t>(j1);
+      if (static_cast<std::int32_t>(std::lround(after.sx[i])) == before.index[j]) continue;
+      ++out.moved;
+      const double x = blk.x(i0, 1.0), y = blk.y(i1, 1.0);
+      std::size_t best = front.size();
+      double best_distance = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < front.size(); ++k) {
+        const double dist = std::hypot(front[k].at.x - x, front[k].at.y - y);
+        if (dist < best_distance && dist <= 0.5 * front[k].span + front[k].half_width) {
+          best = k;
+          best_distance = dist;
+        }
+      }
+      if (best < front.size()) {
+        ++out.sites[best];
+      } else {
+        ++out.elsewhere;
+      }
+    }
+  }
+  return out;
+}
+
 std::array<LoopCoreStress, 2> loop_core_stress(const slide::Snapshot& snapshot,
                                                const FrameLines& lines) {
   std::array<LoopCoreStress, 2> out;

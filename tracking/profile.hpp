@@ -177,6 +177,28 @@ struct FrontStress {
 std::vector<FrontStress> front_stresses(const slide::Snapshot& snapshot, const FrameLines& lines,
                                         const FrontOptions& options = {});
 
+// Where a front moved between two states of one contact: the contact sites of `after` whose
+// registry index round(s_x / d) differs from the earlier state's at the same lattice site (the
+// sites a slip moves, as friction_sweep's slips.csv counts them), each given to the nearest
+// point of `front` (front_stresses of the earlier state) whose stretch covers it: within half
+// its span plus its window's half-width. Beside each point's stress just before, it says at
+// what stress each part of a held front gave way.
+struct RegistryIndices {
+  LatticeBlock block;
+  std::vector<std::int32_t> index;  // round(s_x / d) per site, block-major
+};
+// Throws std::invalid_argument if the snapshot has no s_x.
+RegistryIndices registry_indices(const slide::Snapshot& snapshot);
+
+struct FrontMoves {
+  std::vector<int> sites;     // per point of `front`: the moved sites given to it
+  std::size_t moved = 0;      // every moved contact site (on both blocks)
+  std::size_t elsewhere = 0;  // of those, covered by no point's stretch (a new line, say)
+};
+// Throws std::invalid_argument if `after` has no s_x.
+FrontMoves front_moves(const RegistryIndices& before, const slide::Snapshot& after,
+                       const std::vector<FrontStress>& front);
+
 // What the closed loops of a frame hold where they cross the row through the tip centre (along
 // x: a loop's edge ends) and the column (along y: its screw sides): the mean stress of the
 // resolved crossings (crossing_stresses, default window) and the mean tau_max there, from which

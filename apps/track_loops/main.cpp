@@ -320,17 +320,79 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
 // loops, front_NNNN.png: the stress held around each loop against the local Peierls stress of
 // the scanned angle nearest the line's (and of the weakest), which says which parts of the
 // front are at threshold. Returns the frame's record for lines.json.
+// The previous plotted frame's front, to find where the front moved since (front_moves).
+struct FrontPoint {
+  long long line_id = 0;
+  std::string kind;
+  double arc = 0, x = 0, y = 0, polar = 0, angle = 0, stress = 0, tau_P_angle = 0, angle_theta = 0,
+         tau_P_weakest = 0;
+  bool resolved = false;
+};
+struct FrontHistory {
+  int frame = -1;  // -1: none
+  tracking::RegistryIndices indices;
+  std::vector<tracking::FrontStress> front;
+  std::vector<FrontPoint> points;
+};
+
+// front_moves_NNNN.csv: the points of the previous frame's front to which the sites this frame
+// moved are given, with the stress they held in it; its record for lines.json.
+nlohmann::json write_moves(const fs::path& dir, int index, const slide::Snapshot& s,
+                           const FrontHistory& before) {
+  const tracking::FrontMoves m = tracking::front_moves(before.indices, s, before.front);
+  app::CsvTable table({"line_id", "kind", "arc", "x", "y", "polar_deg", "angle_deg", "stress",
+                       "resolved", "tau_P_angle", "angle_theta_deg", "tau_P_weakest", "sites"});
+  // held / weakest tau_P over the resolved points that moved, mixed and edge apart from near
+  // screw (the line's angle below 30 degrees).
+  std::array<std::pair<double, double>, 2> range = {
+      std::pair{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
+      std::pair{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
+  int points = 0;
+  for (std::size_t k = 0; k < before.points.size(); ++k) {
+    if (m.sites[k] == 0) continue;
+    const FrontPoint& p = before.points[k];
+    ++points;
+    table.add_row({p.line_id, p.kind, p.arc, p.x, p.y, p.polar, p.angle, p.stress,
+                   static_cast<long long>(p.resolved), p.tau_P_angle, p.angle_theta,
+                   p.tau_P_weakest, static_cast<long long>(m.sites[k])});
+    const double ratio = std::abs(p.stress) / p.tau_P_weakest;
+    if (!p.resolved || !std::isfinite(ratio)) continue;
+    auto& r = range[p.angle < 30.0 ? 1 : 0];
+    r = {std::min(r.first, ratio), std::max(r.second, ratio)};
+  }
+  char name[48];
+  std::snprintf(name, sizeof name, "front_moves_%04d.csv", index);
+  table.write(dir / name);
+  const auto span = [](const std::pair<double, double>& r) {
+    return r.first <= r.second ? nlohmann::json::array({r.first, r.second}) : nlohmann::json();
+  };
+  return {{"since_frame", before.frame},
+          {"table", name},
+          {"moved_sites", m.moved},
+          {"elsewhere", m.elsewhere},
+          {"points", points},
+          {"held_over_weakest_mixed_edge", span(range[0])},
+          {"held_over_weakest_near_screw", span(range[1])}};
+}
+
 nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot& s,
                            const tracking::FrameLines& f, const std::vector<int>& ids,
                            const LocalPeierls& peierls, const tracking::FrontOptions& options,
-                           const std::string& title) {
+                           const std::string& title, FrontHistory& history) {
   const std::vector<tracking::FrontStress> front = tracking::front_stresses(s, f, options);
   nlohmann::json record = {{"span", options.span},
                            {"stretches", options.stretches},
                            {"step", options.step},
                            {"widths", options.widths},
                            {"points", front.size()}};
+  // Where the front moved since the previous frame (plotted, with a front of its own).
+  if (history.frame >= 0 && s.sx.size() == s.block.shape.count())
+    record["moves"] = write_moves(dir, index, s, history);
+  history = {};
   if (front.empty()) return record;  // no s_x, a tip out of registry, or no line
+  history.frame = index;
+  history.indices = tracking::registry_indices(s);
+  history.front = front;
   app::CsvTable table({"line_id", "kind", "arc", "span", "x", "y", "polar_deg", "angle_deg",
                        "stress", "slip", "resolved", "half_width", "bend", "tau_max", "tau_P_angle",
                        "angle_theta_deg", "tau_P_weakest", "weakest_theta_deg"});
@@ -339,7 +401,7 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
   const double scale =
       s.tau_max.empty() ? 1.0 : *std::max_element(s.tau_max.begin(), s.tau_max.end());
   // Per line: the ratios of the resolved points (to tau_P at the nearest angle with --peierls).
-  std::map<std::size_t, std::vector<double>> ratios;
+  std::map<std::size_t, std::vector<double>> ratios, weakest_ratios;
   const std::array<std::string, 3> titles = {"screw (< 30 deg)", "mixed", "edge (> 60 deg)"};
   const std::array<std::string, 3> colours = {"#1f77b4", "#ff9900", "#d62728"};
   std::array<app::Series, 3> marks;
@@ -363,11 +425,25 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
                    p.span, p.at.x, p.at.y, polar, p.angle_deg, p.held.tau, p.held.slip,
                    static_cast<long long>(p.resolved()), p.half_width, p.bend, p.tau_max,
                    at_angle.tau_P, at_angle.theta_deg, weak.tau_P, weak.theta_deg});
+    history.points.push_back({.line_id = ids.at(p.line),
+                              .kind = tracking::to_string(p.kind),
+                              .arc = p.arc,
+                              .x = p.at.x,
+                              .y = p.at.y,
+                              .polar = polar,
+                              .angle = p.angle_deg,
+                              .stress = p.held.tau,
+                              .tau_P_angle = at_angle.tau_P,
+                              .angle_theta = at_angle.theta_deg,
+                              .tau_P_weakest = weak.tau_P,
+                              .resolved = p.resolved()});
     if (!p.resolved()) continue;
     // The stress held has tau_x's sign; the Peierls stress bounds its magnitude.
     const double held = std::abs(p.held.tau);
     const double ratio = laws ? held / at_angle.tau_P : held / scale;
     if (std::isfinite(ratio)) ratios[p.line].push_back(ratio);
+    if (laws && std::isfinite(held / weak.tau_P))
+      weakest_ratios[p.line].push_back(held / weak.tau_P);
     if (l.kind != tracking::LineKind::loop) continue;
     const int c = p.angle_deg < 30.0 ? 0 : (p.angle_deg > 60.0 ? 2 : 1);
     marks[static_cast<std::size_t>(c)].x.push_back(polar);
@@ -382,17 +458,22 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
   table.write(dir / name);
   record["table"] = name;
   nlohmann::json lines = nlohmann::json::array();
-  for (auto& [line, r] : ratios) {
+  // Quantiles by nearest rank.
+  const auto quantile = [](std::vector<double>& r, double p) {
     std::sort(r.begin(), r.end());
-    const auto q = [&r](double p) {
-      return r[static_cast<std::size_t>(std::lround(p * static_cast<double>(r.size() - 1)))];
-    };
-    lines.push_back({{"line_id", ids.at(line)},
-                     {"kind", tracking::to_string(f.lines[line].kind)},
-                     {"resolved_points", r.size()},
-                     {"ratio_median", q(0.5)},
-                     {"ratio_p90", q(0.9)},
-                     {"ratio_max", r.back()}});
+    return r[static_cast<std::size_t>(std::lround(p * static_cast<double>(r.size() - 1)))];
+  };
+  for (auto& [line, r] : ratios) {
+    nlohmann::json summary = {
+        {"line_id", ids.at(line)},       {"kind", tracking::to_string(f.lines[line].kind)},
+        {"resolved_points", r.size()},   {"ratio_median", quantile(r, 0.5)},
+        {"ratio_p90", quantile(r, 0.9)}, {"ratio_max", quantile(r, 1.0)}};
+    if (auto w = weakest_ratios.find(line); w != weakest_ratios.end()) {
+      summary["weakest_ratio_median"] = quantile(w->second, 0.5);
+      summary["weakest_ratio_p90"] = quantile(w->second, 0.9);
+      summary["weakest_ratio_max"] = quantile(w->second, 1.0);
+    }
+    lines.push_back(summary);
   }
   record["ratio_to"] = laws ? "tau_P at the nearest scanned angle" : "alpha p0";
   record["lines"] = lines;
@@ -482,7 +563,7 @@ void write_vtk(const fs::path& dir, const slide::Snapshot& s, int index,
 // lines.json.
 nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int index,
                            const FrameInfo& where, bool periodic, const FrameOptions& o,
-                           tracking::Tracker& tracker, Tally& tally) {
+                           tracking::Tracker& tracker, Tally& tally, FrontHistory& history) {
   const auto t0 = std::chrono::steady_clock::now();
   const tracking::FrameLines f = tracking::find_lines(tracking::view_of(s, periodic), o.detect);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -516,7 +597,8 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
     if (o.front) {
       std::ostringstream short_title;
       short_title << s.label << " (Dx = " << s.Dx << " d)";
-      front = write_front(dir, index, s, f, ids, o.peierls, o.front_options, short_title.str());
+      front = write_front(dir, index, s, f, ids, o.peierls, o.front_options, short_title.str(),
+                          history);
     }
   }
   return {{"frame", index},
@@ -717,7 +799,8 @@ int main(int argc, char** argv) {
     cli.add_flag("--front", o.front,
                  "Per plotted frame also the stress held all along every line, from stretches "
                  "of it (front_NNNN.csv, front_NNNN.png: around each loop, against the local "
-                 "Peierls stress at its angle with --peierls)");
+                 "Peierls stress at its angle with --peierls), and where the front moved since "
+                 "the previous frame, with what it held there (front_moves_NNNN.csv)");
     cli.add_option("--front-span", o.front_options.span,
                    "Length of line pooled per point of --front (d): at least the period |m| d "
                    "of the directions to be measured")
@@ -764,6 +847,7 @@ int main(int argc, char** argv) {
     for (const auto& file : stale)
       fs::remove(file);
     tracking::Tracker tracker(track);
+    FrontHistory front_history;  // --front: the previous frame's, for the moves since
     nlohmann::json frames_json = nlohmann::json::array(), inputs = nlohmann::json::array();
     std::vector<FrameInfo> info;
     Tally tally;
@@ -782,7 +866,7 @@ int main(int argc, char** argv) {
         info.push_back({fs::path(file).filename().string(), snaps[k].label, static_cast<int>(k),
                         snaps[k].iteration, snaps[k].Dx});
         frames_json.push_back(track_frame(dir, snaps[k], static_cast<int>(info.size()) - 1,
-                                          info.back(), periodic, o, tracker, tally));
+                                          info.back(), periodic, o, tracker, tally, front_history));
       }
     }
     if (info.empty()) {

@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/snapshot_io.hpp"
 
 namespace {
 
@@ -287,6 +288,33 @@ TEST(TrackLoopsProfiles, FrontFollowsEveryLineAndItsNearestScannedAngle) {
   }
   EXPECT_GT(fronts, 3);
   EXPECT_GT(rows_seen, 50);
+  // Where the front moved between consecutive fronts: the contact sites whose registry index
+  // round(s_x) changed, recounted here from the snapshots, each given to a point of the earlier
+  // front or counted elsewhere.
+  const std::string input = frames.at(0).at("file").get<std::string>();
+  const auto snaps = asperity::app::read_snapshots(fs::path(SNAPSHOTS) / input);
+  int moves = 0;
+  for (const auto& frame : frames) {
+    if (frame.at("front").is_null() || !frame.at("front").contains("moves")) continue;
+    const auto& m = frame.at("front").at("moves");
+    const auto& now = snaps.at(frame.at("frame_in_file").get<std::size_t>());
+    const auto& then = snaps.at(
+        frames.at(m.at("since_frame").get<std::size_t>()).at("frame_in_file").get<std::size_t>());
+    ASSERT_EQ(now.block.origin0, then.block.origin0);
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < now.sx.size(); ++i) {
+      if (now.in_contact[i] != 0 && std::lround(now.sx[i]) != std::lround(then.sx[i])) ++changed;
+    }
+    EXPECT_EQ(m.at("moved_sites").get<std::size_t>(), changed);
+    const auto t = asperity::app::CsvTable::read(dir / m.at("table").get<std::string>());
+    long long given = 0;
+    for (std::size_t i = 0; i < t.rows(); ++i)
+      given += t.integer(i, "sites");
+    EXPECT_EQ(static_cast<std::size_t>(given) + m.at("elsewhere").get<std::size_t>(), changed);
+    EXPECT_EQ(m.at("points").get<std::size_t>(), t.rows());
+    moves += changed > 0 ? 1 : 0;
+  }
+  EXPECT_GT(moves, 0);  // the slip's path moves the loop's front
   // As for the crossings, this small contact cuts every window (a/b_core^0 = 6.2).
   EXPECT_EQ(resolved, 0);
 }

@@ -511,6 +511,30 @@ TEST(Profile, FrontSamplesAWholeLoopInOrder) {
     EXPECT_TRUE(p.resolved());
     EXPECT_LE(std::abs(p.held.tau), 2e-3 * 0.5) << p.at.x << ", " << p.at.y;
   }
+  // The loop's +x end bulges out (a disk of radius 4 d on it): the sites whose registry index
+  // changes lie there, and each is given to a point of the front's +x end.
+  const SyntheticField moved = synthetic_field(o, {{0, 0, 60, 40}, {60, 0, 4, 4}});
+  const slide::Snapshot later = snapshot_of(moved, 0.0);
+  const FrontMoves m = front_moves(registry_indices(s), later, front);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < s.sx.size(); ++i)
+    changed += std::lround(s.sx[i]) != std::lround(later.sx[i]) ? 1 : 0;
+  EXPECT_GT(changed, 20u);
+  EXPECT_EQ(m.moved, changed);
+  EXPECT_EQ(m.elsewhere, 0u);
+  std::size_t given = 0;
+  for (std::size_t k = 0; k < front.size(); ++k) {
+    given += static_cast<std::size_t>(m.sites[k]);
+    if (m.sites[k] > 0) {
+      EXPECT_GT(front[k].at.x, 40.0) << front[k].at.y;
+    }
+  }
+  EXPECT_EQ(given, changed);
+  // A slip far from every line (a new loop) is elsewhere.
+  const slide::Snapshot apart =
+      snapshot_of(synthetic_field(o, {{0, 0, 60, 40}, {0, 75, 6, 6}}), 0.0);
+  EXPECT_GT(front_moves(registry_indices(s), apart, front).elsewhere, 50u);
+  EXPECT_EQ(front_moves(registry_indices(s), s, front).moved, 0u);
   // Options are checked.
   EXPECT_THROW(front_stresses(s, lines, {.stretches = 0.5}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.span = 0.0}), std::invalid_argument);
