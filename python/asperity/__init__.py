@@ -225,7 +225,7 @@ def find_lines(frame, index=0, periodic=None, **options):
                                 **fields, **options)
 
 
-def front_stresses(frame, index=0, periodic=None, **options):
+def front_stresses(frame, index=0, periodic=None, later=None, later_index=0, **options):
     """The stress held all along every line of one snapshot frame (MODEL.md 6, 7), as
     track_loops --front measures it (docs/tracking.md, "The stress held all along a line"):
     every `step` d of each line, the stress a stretch `span` d long holds, the Peierls-Nabarro
@@ -239,6 +239,12 @@ def front_stresses(frame, index=0, periodic=None, **options):
     "lines"), kind, arc, span, x, y (d), angle_deg (0 screw, 90 edge), stress (G), slip (d),
     resolved, half_width, bend (d), tau_max (G); and "lines", the lines as find_lines gives
     them. Under a tip out of registry nothing is measured (ValueError).
+
+    later: a later state of the same contact (later_index: its frame): the result then also
+    says where the front moved by then, as track_loops' front_moves_NNNN.csv: the contact
+    sites whose registry index round(s_x) changed, given to the points whose stretch covers
+    them ("moved_sites" per point), all of them ("moved") and those no point covers
+    ("elsewhere").
     """
     ds = frame.isel(frame=index) if "frame" in frame.dims else frame
     if float(frame.attrs.get("tip_angle", 0.0)) != 0.0 or \
@@ -258,6 +264,21 @@ def front_stresses(frame, index=0, periodic=None, **options):
     }
     contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
     optional = {name: block(name) for name in ("uy", "tau_y") if name in ds}
+    if later is not None:
+        ls = later.isel(frame=later_index) if "frame" in later.dims else later
+
+        def later_block(name):
+            return np.ascontiguousarray(ls[name].transpose("x", "y").values)
+
+        optional["later_sx"] = later_block("sx")
+        if "in_contact" in ls:
+            optional["later_in_contact"] = later_block("in_contact").astype(np.uint8)
+        else:
+            optional["later_tau_max"] = later_block("tau_max")
+        optional["later_origin_x"] = (int(ls["origin_x"]) if "origin_x" in ls
+                                      else int(ls["x"].values[0]))
+        optional["later_origin_y"] = (int(ls["origin_y"]) if "origin_y" in ls
+                                      else int(ls["y"].values[0]))
     return _asperity.front_stresses(block("sx"), block("tau_x"), block("tau_max"), contact,
                                     **optional, **fields, **options)
 

@@ -125,7 +125,9 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
                         const Array<double>& tau_max, const py::object& in_contact,
                         const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
                         double Dx, bool periodic, double span, double stretches, double step,
-                        double widths, double max_half_width, const py::kwargs& kwargs) {
+                        double widths, double max_half_width, const py::object& later_sx,
+                        const py::object& later_tau_max, const py::object& later_in_contact,
+                        int later_origin_x, int later_origin_y, const py::kwargs& kwargs) {
   if (sx.ndim() != 2) throw py::value_error("front_stresses: sx must be 2D, (n0, n1) block-major");
   const auto n = static_cast<std::size_t>(sx.size());
   const auto values = [n](const py::object& a, const char* name) {
@@ -190,11 +192,45 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k = 0; k < f.lines.size(); ++k)
     lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, 0.5));
-  return py::dict(
-      py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc, py::arg("span") = spans,
-      py::arg("x") = x, py::arg("y") = y, py::arg("angle_deg") = angle, py::arg("stress") = stress,
-      py::arg("slip") = slip, py::arg("resolved") = resolved, py::arg("half_width") = half,
-      py::arg("bend") = bend, py::arg("tau_max") = tmax, py::arg("lines") = json_to_python(lines));
+  py::dict out(py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc,
+               py::arg("span") = spans, py::arg("x") = x, py::arg("y") = y,
+               py::arg("angle_deg") = angle, py::arg("stress") = stress, py::arg("slip") = slip,
+               py::arg("resolved") = resolved, py::arg("half_width") = half, py::arg("bend") = bend,
+               py::arg("tau_max") = tmax, py::arg("lines") = json_to_python(lines));
+  // Where the front moved by a later state of the same contact (tracking::front_moves).
+  if (!later_sx.is_none()) {
+    const auto lsx = later_sx.cast<Array<double>>();
+    if (lsx.ndim() != 2)
+      throw py::value_error("front_stresses: later_sx must be 2D, (n0, n1) block-major");
+    slide::Snapshot later;
+    later.block = {{static_cast<int>(lsx.shape(0)), static_cast<int>(lsx.shape(1))},
+                   later_origin_x,
+                   later_origin_y};
+    const auto ln = static_cast<std::size_t>(lsx.size());
+    later.sx.assign(lsx.data(), lsx.data() + ln);
+    if (!later_in_contact.is_none()) {
+      const auto c = later_in_contact.cast<Array<std::uint8_t>>();
+      if (static_cast<std::size_t>(c.size()) != ln)
+        throw py::value_error("front_stresses: later_in_contact's size differs from later_sx's");
+      later.in_contact.assign(c.data(), c.data() + ln);
+    } else {
+      if (later_tau_max.is_none())
+        throw py::value_error("front_stresses: later_sx needs later_in_contact or later_tau_max");
+      const auto t = later_tau_max.cast<Array<double>>();
+      if (static_cast<std::size_t>(t.size()) != ln)
+        throw py::value_error("front_stresses: later_tau_max's size differs from later_sx's");
+      later.tau_max.assign(t.data(), t.data() + ln);
+    }
+    const tracking::FrontMoves moves = value_errors(
+        [&] { return tracking::front_moves(tracking::registry_indices(s), later, front); });
+    Array<long long> sites(m);
+    for (py::ssize_t i = 0; i < m; ++i)
+      sites.mutable_at(i) = moves.sites[static_cast<std::size_t>(i)];
+    out["moved_sites"] = sites;
+    out["moved"] = moves.moved;
+    out["elsewhere"] = moves.elsewhere;
+  }
+  return out;
 }
 
 nucleation::Model model_of(double c0, double k1, double k2, double f_P, double k1_error,
@@ -288,12 +324,16 @@ void bind_analysis(py::module_& m) {
         py::arg("Dx") = 0.0, py::arg("periodic") = false, py::arg("span") = front.span,
         py::arg("stretches") = front.stretches, py::arg("step") = front.step,
         py::arg("widths") = front.widths, py::arg("max_half_width") = front.max_half_width,
+        py::arg("later_sx") = py::none(), py::arg("later_tau_max") = py::none(),
+        py::arg("later_in_contact") = py::none(), py::arg("later_origin_x") = 0,
+        py::arg("later_origin_y") = 0,
         "The stress held all along every line of one frame (tracking::front_stresses, as "
         "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
         "(line: index in lines, kind, arc, span, x, y, angle_deg, stress, slip, resolved, "
         "half_width, bend, tau_max) and the lines as lines.json records; the lines' options "
         "(min_length, join_distance, slip_sign, tangent_half_window, screw_angle_deg) as "
-        "keywords, as find_lines takes them");
+        "keywords, as find_lines takes them; with a later state (later_sx and its contact) "
+        "also where the front moved by then (moved_sites per point, moved, elsewhere)");
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),

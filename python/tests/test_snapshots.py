@@ -153,6 +153,20 @@ def test_front_stresses_measures_what_track_loops_front_measures(runs, tmp_path)
     assert len(fewer["x"]) == 0 and fewer["lines"] == []
 
 
+def test_front_stresses_says_where_the_front_moved_by_a_later_state(runs):
+    # Across the first slip: the contact sites whose registry index changed, recounted here,
+    # each given to a point of the earlier front or counted elsewhere.
+    result, _ = runs
+    before, after = result.snapshots["slip_001_before"], result.snapshots["slip_001_after"]
+    front = asperity.front_stresses(before, later=after)
+    changed = ((np.round(before["sx"].values) != np.round(after["sx"].values))
+               & (after["in_contact"].values != 0)).sum()
+    assert front["moved"] == changed > 0
+    assert front["moved_sites"].sum() + front["elsewhere"] == changed
+    assert len(front["moved_sites"]) == len(front["x"])
+    assert "moved" not in asperity.front_stresses(before)
+
+
 def test_find_lines_joins_the_screw_lines_along_the_contact_edge():
     # Regime II, a = 60 d, R = 535 d (about 3 s): just before the first slip, cores run along the
     # top and bottom edges of the contact, where loops nucleate (MODEL.md 8; the seed's "two screw
