@@ -195,6 +195,9 @@ WeakestSegment nearest_angle_local_peierls_stress(double tau_max, std::span<cons
                                                   double theta_deg) {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   if (angles.empty() || !std::isfinite(theta_deg)) return {nan, nan};
+  // Folded into [0, 90]: a line and its reverse, and its mirror about b, have one character.
+  theta_deg = std::fmod(std::abs(theta_deg), 180.0);
+  if (theta_deg > 90.0) theta_deg = 180.0 - theta_deg;
   const AngleLaw* nearest = &angles.front();
   for (const AngleLaw& a : angles) {
     if (std::abs(a.theta_deg - theta_deg) < std::abs(nearest->theta_deg - theta_deg)) nearest = &a;

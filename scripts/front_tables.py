@@ -64,7 +64,12 @@ def main(folder):
         if not front or "moves" not in front or when != "after":
             continue
         m = front["moves"]
-        before = frames[m["since_frame"]]["front"]["lines"][0]
+        # The held loop: the loop of the earlier front with the most resolved points.
+        loops = [line for line in frames[m["since_frame"]]["front"]["lines"]
+                 if line["kind"] == "loop" and "weakest_ratio_median" in line]
+        if not loops:
+            continue
+        before = max(loops, key=lambda line: line["resolved_points"])
         with open(folder / m["table"], newline="") as table:
             rows = list(csv.DictReader(table))
         # Runs of points along the line (the table is in order along it), 12 d apart at most.

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
+#include <utility>
 
 namespace asperity::tracking {
 
@@ -12,6 +14,17 @@ std::string to_string(ProfileAxis axis) {
 }
 
 namespace {
+
+// Whether site i is in the contact: the snapshot's flag, or tau_max > 0 without one.
+bool in_contact_at(const slide::Snapshot& s, std::size_t i) {
+  return s.in_contact.empty() ? s.tau_max[i] > 0.0 : s.in_contact[i] != 0;
+}
+
+// u_y at site i of lattice row Y (d): the snapshot's u_y, or s_y - Y (a contact's snapshot has
+// both equal; a Peierls cell's keeps s_y = u_y, the same registry, and u_y).
+double uy_at(const slide::Snapshot& s, std::size_t i, double Y) {
+  return s.uy.size() == s.sx.size() ? s.uy[i] : s.sy[i] - Y;
+}
 
 // The profile along `axis` through block index `fixed` (i1 of a row along x, i0 of a column
 // along y), which the caller has checked lies inside the block.
@@ -42,9 +55,8 @@ StressProfile profile_at(const slide::Snapshot& s, ProfileAxis axis, int fixed) 
     p.pressure.push_back(s.pressure[i]);
     // Under a tip out of registry the registry runs along the tip's axis, not s_x: no offset.
     if (offsets) p.offset.push_back(s.sx[i] - blk.x(i0, 1.0));
-    if (offsets_y) p.offset_y.push_back(s.uy.size() == n ? s.uy[i] : s.sy[i] - blk.y(i1, 1.0));
-    p.in_contact.push_back(s.in_contact.empty() ? std::uint8_t(s.tau_max[i] > 0.0)
-                                                : s.in_contact[i]);
+    if (offsets_y) p.offset_y.push_back(uy_at(s, i, blk.y(i1, 1.0)));
+    p.in_contact.push_back(static_cast<std::uint8_t>(in_contact_at(s, i)));
   }
   return p;
 }
@@ -184,8 +196,9 @@ void FrontOptions::validate() const {
     throw std::invalid_argument("FrontOptions: span must be finite and > 0 (d)");
   if (!(step > 0.0) || !std::isfinite(step))
     throw std::invalid_argument("FrontOptions: step must be finite and > 0 (d)");
-  if (!(stretches >= 1.0) || !std::isfinite(stretches))
-    throw std::invalid_argument("FrontOptions: stretches must be finite and >= 1");
+  // Fewer stretches than 3 fit one parabola to most of a loop.
+  if (!(stretches >= 3.0) || !std::isfinite(stretches))
+    throw std::invalid_argument("FrontOptions: stretches must be finite and >= 3");
   if (!(max_half_width > 0.0) || !std::isfinite(max_half_width))
     throw std::invalid_argument("FrontOptions: max_half_width must be finite and > 0 (d)");
 }
@@ -261,9 +274,6 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
   const auto site = [&](int i0, int i1) {
     return static_cast<std::size_t>(i0) * static_cast<std::size_t>(blk.shape.n1) +
            static_cast<std::size_t>(i1);
-  };
-  const auto contact = [&](std::size_t i) {
-    return s.in_contact.empty() ? s.tau_max[i] > 0.0 : s.in_contact[i] != 0;
   };
   // Arc length to each vertex and each line's whole length (a loop's with its closing segment).
   std::vector<std::vector<double>> arc(f.lines.size());
@@ -342,11 +352,12 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
     const Line& l = f.lines[li];
     const bool closed = l.kind == LineKind::loop;
     if (closed && total[li] > 0.0) at -= std::floor(at / total[li]) * total[li];
-    // (An open line's last point is its last segment's end.)
+    // The segment holding `at`, by bisection (an open line's last point is its last segment's
+    // end).
     const std::size_t last_segment = closed ? l.points.size() - 1 : l.points.size() - 2;
-    std::size_t k = 0;
-    while (k < last_segment && arc[li][k + 1] <= at)
-      ++k;
+    const auto after = std::upper_bound(arc[li].begin(), arc[li].end(), at);
+    const std::size_t k = std::min(last_segment, static_cast<std::size_t>(std::max<std::ptrdiff_t>(
+                                                     0, after - arc[li].begin() - 1)));
     const Point& a = l.points[k];
     const Point& b = l.points[(k + 1) % l.points.size()];
     const double seg = std::hypot(b.x - a.x, b.y - a.y);
@@ -447,25 +458,36 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
       // The stretch's sites, and how far they reach on either side: a window that does not
       // reach h on a side is cut there (another line's sites, the block's edge).
       pool.clear();
-      double reach_left = 0.0, reach_right = 0.0;
+      // How far the sites reach on either side, the least over the stretch's bins that hold
+      // any (a side another line or the block's edge takes over along part of the stretch is
+      // cut there).
+      double reach_left = std::numeric_limits<double>::infinity(), reach_right = reach_left;
+      double fallback_left = 0.0, fallback_right = 0.0;
+      std::vector<std::pair<double, double>> whole_bins;  // farthest sites left and right
       const auto bin0 = static_cast<long long>(centre / options.step);
-      for (long long bb = bin0 - reach_bins; bb <= bin0 + reach_bins; ++bb) {
+      // Each bin once: around a loop shorter than the bins the stretch reaches, all of them.
+      const bool all_bins = closed && 2 * reach_bins + 1 >= nbins;
+      const long long first_bin = all_bins ? 0 : bin0 - reach_bins;
+      const long long last_bin = all_bins ? nbins - 1 : bin0 + reach_bins;
+      for (long long bb = first_bin; bb <= last_bin; ++bb) {
         long long wrapped = bb;
         if (closed) {
           wrapped = ((bb % nbins) + nbins) % nbins;
         } else if (bb < 0 || bb >= nbins) {
           continue;
         }
-        if (closed && bb != wrapped && std::abs(bb - bin0) > nbins / 2) continue;
+        double bin_left = 0.0, bin_right = 0.0;
+        bool bin_used = false;
         for (const std::size_t i : bins[li][static_cast<std::size_t>(wrapped)]) {
           const Nearest& near = nearest[i];
           double gap = std::abs(near.arc - centre);
           if (closed) gap = std::min(gap, length - gap);
           if (gap > 0.5 * span) continue;
-          if (near.across > 0.0) reach_left = std::max(reach_left, near.across);
-          if (near.across < 0.0) reach_right = std::max(reach_right, -near.across);
+          bin_used = true;
+          if (near.across > 0.0) bin_left = std::max(bin_left, near.across);
+          if (near.across < 0.0) bin_right = std::max(bin_right, -near.across);
           // A site out of the contact ends the window at its distance (the contact's edge).
-          if (!contact(i)) {
+          if (!in_contact_at(s, i)) {
             h = std::min(h, near.distance);
             continue;
           }
@@ -473,12 +495,43 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
               s.block.x(static_cast<int>(i / static_cast<std::size_t>(blk.shape.n1)), 1.0);
           const double Y =
               s.block.y(static_cast<int>(i % static_cast<std::size_t>(blk.shape.n1)), 1.0);
-          const double oy = !with_y ? 0.0 : (s.uy.size() == n ? s.uy[i] : s.sy[i] - Y);
+          const double oy = with_y ? uy_at(s, i, Y) : 0.0;
           pool.push_back(
               {curve.across(X, Y), s.sx[i] - X, oy, s.tau_x[i], with_y ? s.tau_y[i] : 0.0});
         }
+        // Only bins the stretch holds whole (or, around a small loop, all): a slice of a bin
+        // at the stretch's end holds too few sites to show how far they reach.
+        // (Around a loop the bin's own arc range, taken cyclically.)
+        const double bin_from = static_cast<double>(all_bins ? wrapped : bb) * options.step;
+        const double bin_to = bin_from + options.step;
+        const auto within = [&](double a) {
+          double gap = std::abs(a - centre);
+          if (closed) gap = std::min(gap, length - gap);
+          return gap <= 0.5 * span;
+        };
+        const bool whole = all_bins
+                               ? within(bin_from) && within(std::min(bin_to, length))
+                               : bin_from >= centre - 0.5 * span && bin_to <= centre + 0.5 * span;
+        if (bin_used && whole) whole_bins.push_back({bin_left, bin_right});
+        if (bin_used) {
+          fallback_left = std::max(fallback_left, bin_left);
+          fallback_right = std::max(fallback_right, bin_right);
+        }
       }
-      // Sites lie every d or closer across the line along a stretch of a few d: a side whose
+      // The least over pairs of neighbouring whole bins (8 d of line by default) of their
+      // farthest sites: on the concave side of a tight loop one bin's wedge can hold no site
+      // near the window's edge (a loop of radius 16 d: 2 d wide at 8 d in); a stretch of fewer
+      // whole bins takes the farthest sites of the bins it touches.
+      if (whole_bins.size() < 2) {
+        reach_left = fallback_left, reach_right = fallback_right;
+      } else {
+        for (std::size_t q = 0; q + 1 < whole_bins.size(); ++q) {
+          reach_left = std::min(reach_left, std::max(whole_bins[q].first, whole_bins[q + 1].first));
+          reach_right =
+              std::min(reach_right, std::max(whole_bins[q].second, whole_bins[q + 1].second));
+        }
+      }
+      // Sites lie every d or closer across the line along a bin of a few d: a side whose
       // farthest site is more than a site short of h is cut there.
       h = std::min({h, reach_left + 1.0, reach_right + 1.0});
       fs.half_width = h;
@@ -525,15 +578,27 @@ FrontMoves front_moves(const RegistryIndices& before, const slide::Snapshot& aft
   const std::size_t n = blk.shape.count();
   if (after.sx.size() != n)
     throw std::invalid_argument("front_moves: the later snapshot has no s_x for its block");
+  if (after.in_contact.empty() ? after.tau_max.size() != n : after.in_contact.size() != n)
+    throw std::invalid_argument(
+        "front_moves: the later snapshot's in_contact (or tau_max) differs from its block");
+  if (before.index.size() != before.block.shape.count())
+    throw std::invalid_argument("front_moves: the earlier indices differ from their block");
   FrontMoves out;
   out.sites.assign(front.size(), 0);
+  // The points on a grid of cells as wide as the widest reach, so that a site looks at the
+  // points of its own cell and the 8 around it only.
+  double cell = 1.0;
+  for (const FrontStress& p : front)
+    cell = std::max(cell, 0.5 * p.span + p.half_width);
+  std::map<std::pair<long long, long long>, std::vector<std::size_t>> grid;
+  const auto cell_of = [cell](double v) { return static_cast<long long>(std::floor(v / cell)); };
+  for (std::size_t k = 0; k < front.size(); ++k)
+    grid[{cell_of(front[k].at.x), cell_of(front[k].at.y)}].push_back(k);
   for (int i0 = 0; i0 < blk.shape.n0; ++i0) {
     for (int i1 = 0; i1 < blk.shape.n1; ++i1) {
       const auto i = static_cast<std::size_t>(i0) * static_cast<std::size_t>(blk.shape.n1) +
                      static_cast<std::size_t>(i1);
-      const bool contact =
-          after.in_contact.empty() ? after.tau_max[i] > 0.0 : after.in_contact[i] != 0;
-      if (!contact) continue;
+      if (!in_contact_at(after, i)) continue;
       // The same lattice site in the earlier block.
       const int j0 = blk.origin0 + i0 - before.block.origin0;
       const int j1 = blk.origin1 + i1 - before.block.origin1;
@@ -546,11 +611,20 @@ FrontMoves front_moves(const RegistryIndices& before, const slide::Snapshot& aft
       const double x = blk.x(i0, 1.0), y = blk.y(i1, 1.0);
       std::size_t best = front.size();
       double best_distance = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < front.size(); ++k) {
-        const double dist = std::hypot(front[k].at.x - x, front[k].at.y - y);
-        if (dist < best_distance && dist <= 0.5 * front[k].span + front[k].half_width) {
-          best = k;
-          best_distance = dist;
+      const long long cx = cell_of(x), cy = cell_of(y);
+      for (long long gx = cx - 1; gx <= cx + 1; ++gx) {
+        for (long long gy = cy - 1; gy <= cy + 1; ++gy) {
+          const auto found = grid.find({gx, gy});
+          if (found == grid.end()) continue;
+          for (const std::size_t k : found->second) {
+            const double dist = std::hypot(front[k].at.x - x, front[k].at.y - y);
+            // Ties go to the earlier point, as in order along the lines.
+            if ((dist < best_distance || (dist == best_distance && k < best)) &&
+                dist <= 0.5 * front[k].span + front[k].half_width) {
+              best = k;
+              best_distance = dist;
+            }
+          }
         }
       }
       if (best < front.size()) {

@@ -5,8 +5,10 @@
 // 7); an arrested core sits where the stress it feels stays below the local Peierls stress,
 // which the caller draws beside it (nucleation::local_peierls_stress). The stress it feels is
 // not tau_x at the core (that is the core's own swing) but tau_x weighted by the core's slip
-// density, the Peierls-Nabarro force per Burgers vector (core_stress). The seed's Fig. 9 is this
-// figure for its a/b_core^0 = 278 contact.
+// density (and tau_y by the change of u_y), the Peierls-Nabarro force per Burgers vector
+// (core_stress). The seed's Fig. 9 is this figure for its a/b_core^0 = 278 contact. The same
+// weight all along every line (front_stresses), against the local Peierls stress at each
+// stretch's angle (MODEL.md 6), and where a front moved between two states (front_moves).
 //
 // Only the tracking/ library: plain fields in, plain structs out.
 #pragma once
@@ -64,12 +66,14 @@ std::vector<CoreCrossing> core_crossings(const FrameLines& lines, const StressPr
 // The stress on a core where it crosses the profile: tau_x averaged across the core with its
 // slip density as the weight (the Peierls-Nabarro force on the core per Burgers vector),
 //
-//   tau_core = sum_k rho_k tau_k / sum_k rho_k,
+//   tau_core = sum_k (rho_k tau_k + rho_y,k tau_y,k) / sum_k rho_k,
 //
 // over the bonds k between neighbouring profile sites in [from, to] (profile coordinates, d; a
 // bond cut by an end counts by its fraction inside) whose sites are in the contact, rho_k the
 // change of the registry offset s_x - X over the bond and tau_k the mean tau_x of its two
-// sites. Why this weight: the core's own stress is K * rho with an odd kernel K (a straight
+// sites; rho_y,k the change of u_y and tau_y,k the mean tau_y (a mixed core moves u_y too: the
+// work on a moving core is sum du . tau over both components). Why this weight: the core's own
+// stress is K * rho with an odd kernel K (a straight
 // line, a translation-invariant elastic medium), and
 // sum rho (K * rho) = 0 for any rho, so the core's own +-tau_max swing drops out, whatever the
 // core's shape, and what is left is the stress of everything else (the load, other lines, the
@@ -108,8 +112,6 @@ struct CrossingStress {
   double half_width = 0.0;  // of the window (d)
   double tau_max = 0.0;     // at the site nearest the crossing (G)
   bool cut = false;         // the window is narrower than `widths` b_core
-  double bend = 0.0;        // largest distance of the stretch's points from its mean curve (d): the
-                      // zigzag and kinks of the trace, about 0.2-0.6 d; infinite if degenerate
 
   [[nodiscard]] bool resolved() const { return !cut && stress.resolved(); }
 };
@@ -148,7 +150,7 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
 struct FrontOptions {
   double widths = 4.0;           // window across the line, in local core widths either side
   double span = 32.0;            // length of the stretch pooled (d): >= |m| d of a direction m
-  double stretches = 6.0;        // ... and at most the line's length over this many
+  double stretches = 6.0;        // ... and at most the line's length over this many (>= 3)
   double step = 4.0;             // spacing of the points along each line (d)
   double max_half_width = 32.0;  // windows longer than this are cut to it (d)
 
@@ -157,7 +159,8 @@ struct FrontOptions {
 
 struct FrontStress {
   Point at;                // on the line (d, lattice coordinates)
-  double angle_deg = 0.0;  // character of the stretch (its chord's angle to b): 0 screw, 90 edge
+  double angle_deg = 0.0;  // character of the stretch (its mean curve's tangent at the point,
+                           // to b): 0 screw, 90 edge
   std::size_t line = 0;    // index in FrameLines::lines
   LineKind kind = LineKind::open;
   double arc = 0.0;         // along the line from its first vertex to `at` (d)
@@ -179,10 +182,11 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& snapshot, const F
 
 // Where a front moved between two states of one contact: the contact sites of `after` whose
 // registry index round(s_x / d) differs from the earlier state's at the same lattice site (the
-// sites a slip moves, as friction_sweep's slips.csv counts them), each given to the nearest
-// point of `front` (front_stresses of the earlier state) whose stretch covers it: within half
-// its span plus its window's half-width. Beside each point's stress just before, it says at
-// what stress each part of a held front gave way.
+// sites a slip moves along b; friction_sweep's slips.csv also counts jumps of s_y, only those
+// of d/4 or more and only sites in contact in both states: at R = 800 d, a = 300 d both gave
+// the same counts), each given to the nearest point of `front` (front_stresses of the earlier
+// state) whose stretch covers it: within half its span plus its window's half-width. Beside
+// each point's stress just before, it says at what stress each part of a held front gave way.
 struct RegistryIndices {
   LatticeBlock block;
   std::vector<std::int32_t> index;  // round(s_x / d) per site, block-major
@@ -195,7 +199,8 @@ struct FrontMoves {
   std::size_t moved = 0;      // every moved contact site (on both blocks)
   std::size_t elsewhere = 0;  // of those, covered by no point's stretch (a new line, say)
 };
-// Throws std::invalid_argument if `after` has no s_x.
+// Throws std::invalid_argument if `after`'s fields do not match its block or `before`'s
+// indices do not match its.
 FrontMoves front_moves(const RegistryIndices& before, const slide::Snapshot& after,
                        const std::vector<FrontStress>& front);
 

@@ -9,7 +9,10 @@
 // --profiles, per plotted frame also the stress along x and along y through the tip centre
 // (profile_NNNN.csv, profile_x_NNNN.png, profile_y_NNNN.png: tau_x / (alpha p0) with the bounds
 // +-alpha p, the cores where lines cross, and with --peierls the local Peierls stress of the
-// edge and screw fits at the local pressure; the seed's Fig. 9).
+// edge and screw fits at the local pressure; the seed's Fig. 9). With --front, per plotted
+// frame the stress held all along every line (front_NNNN.csv, front_NNNN.png; MODEL.md 6, 7,
+// tracking::front_stresses) and where the front moved since the previous one
+// (front_moves_NNNN.csv, tracking::front_moves).
 #include <netcdf.h>
 
 #include <CLI/CLI.hpp>
@@ -444,11 +447,11 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
     if (std::isfinite(ratio)) ratios[p.line].push_back(ratio);
     if (laws && std::isfinite(held / weak.tau_P))
       weakest_ratios[p.line].push_back(held / weak.tau_P);
-    if (l.kind != tracking::LineKind::loop) continue;
+    if (l.kind != tracking::LineKind::loop || !std::isfinite(ratio)) continue;
     const int c = p.angle_deg < 30.0 ? 0 : (p.angle_deg > 60.0 ? 2 : 1);
     marks[static_cast<std::size_t>(c)].x.push_back(polar);
     marks[static_cast<std::size_t>(c)].y.push_back(ratio);
-    if (laws) {
+    if (laws && std::isfinite(held / weak.tau_P)) {
       weakest.x.push_back(polar);
       weakest.y.push_back(held / weak.tau_P);
     }
@@ -842,7 +845,11 @@ int main(int argc, char** argv) {
     std::vector<fs::path> stale;
     for (const auto& entry : fs::directory_iterator(dir)) {
       const std::string name = entry.path().filename().string();
-      if (name.starts_with("lines_") && name.ends_with(".vtk")) stale.push_back(entry.path());
+      // So would an earlier run's front tables, which this run may not write (no --front).
+      const bool front = (name.starts_with("front_") || name.starts_with("front_moves_")) &&
+                         (name.ends_with(".csv") || name.ends_with(".png"));
+      if ((name.starts_with("lines_") && name.ends_with(".vtk")) || front)
+        stale.push_back(entry.path());
     }
     for (const auto& file : stale)
       fs::remove(file);

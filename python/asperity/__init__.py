@@ -264,6 +264,8 @@ def front_stresses(frame, index=0, periodic=None, later=None, later_index=0, **o
     }
     contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
     optional = {name: block(name) for name in ("uy", "tau_y") if name in ds}
+    if "uy" not in ds and "sy" in ds:  # u_y = s_y - Y, as the tool takes it
+        optional["uy"] = block("sy") - ds["y"].values[None, :]
     if later is not None:
         ls = later.isel(frame=later_index) if "frame" in later.dims else later
 

@@ -171,8 +171,10 @@ TEST(CoreStress, AStraightFrontOfAnyDirectionHoldsTheLoadAllAlong) {
   for (const Case& k :
        {Case{1, 0}, Case{0, 1}, Case{1, 1}, Case{2, 1}, Case{1, 2}, Case{3, 1}, Case{3, 2},
         Case{1, 3}, Case{4, 1}, Case{5, 1}, Case{1, 5}, Case{8, 1}, Case{1, 8}}) {
-    // Line images L / |m| apart: at least 25 d, so that a window of 8 d either side holds one.
-    const int L = std::hypot(k.mx, k.my) > 5.0 ? 256 : 128;
+    // Line images L / |m| apart: at least 25 d, so that a window of 8 d either side holds one,
+    // and a block wide enough that stretches of 32 d lie inside it, across lines crossing it
+    // obliquely.
+    const int L = std::hypot(k.mx, k.my) > 3.0 ? 256 : 128;
     peierls::PeierlsOptions o;
     o.cell.L = L;
     o.cell.b_core = 2.0;

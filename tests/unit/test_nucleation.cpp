@@ -236,6 +236,9 @@ TEST(RegimeThree, ASegmentIsComparedWithTheNearestScannedAngle) {
   EXPECT_EQ(mixed.theta_deg, 63.4);
   EXPECT_NEAR(mixed.tau_P, 0.5 * 9.2 * std::exp(-7.2), 1e-15);
   EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, laws, 10.0).theta_deg, 0.0);
+  // Angles outside [0, 90] are folded: 120 degrees has the character of 60.
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, laws, 120.0).theta_deg, 63.4);
+  EXPECT_EQ(nearest_angle_local_peierls_stress(0.5, laws, -10.0).theta_deg, 0.0);
   // Ties go to the first listed: 45 is 45 from 90 and from 0.
   const std::array<AngleLaw, 2> two{AngleLaw{90.0, PeierlsLaw{.k1 = 2.3, .k2 = 1.6}},
                                     AngleLaw{0.0, PeierlsLaw{.k1 = 1.5, .k2 = 0.8}}};

@@ -535,7 +535,34 @@ TEST(Profile, FrontSamplesAWholeLoopInOrder) {
       snapshot_of(synthetic_field(o, {{0, 0, 60, 40}, {0, 75, 6, 6}}), 0.0);
   EXPECT_GT(front_moves(registry_indices(s), apart, front).elsewhere, 50u);
   EXPECT_EQ(front_moves(registry_indices(s), s, front).moved, 0u);
+  // Windows are cut halfway to another line and at the contact's edge: two loops 10 d apart
+  // (x = -5 and 5) in a contact of radius 60 d whose far ends lie 4 d inside its edge.
+  SyntheticOptions pair = o;
+  pair.contact_radius = 60.0;
+  const SyntheticField two = synthetic_field(pair, {{-30, 0, 25, 20}, {30, 0, 25, 20}});
+  const FrameLines two_lines = find_lines(two.view());
+  ASSERT_EQ(two_lines.lines.size(), 2u);
+  int facing = 0, outer = 0, free = 0;
+  for (const FrontStress& p : front_stresses(snapshot_of(two, 0.0), two_lines)) {
+    if (std::abs(p.at.x) < 6.0 && std::abs(p.at.y) < 4.0) {  // facing the other loop
+      ++facing;
+      EXPECT_TRUE(p.cut) << p.at.x << ", " << p.at.y;
+      // Halfway (5-5.5 d here) and the site of slack the rule allows (front_stresses).
+      EXPECT_GE(p.half_width, 5.0) << p.at.x << ", " << p.at.y;
+      EXPECT_LE(p.half_width, 7.0) << p.at.x << ", " << p.at.y;
+    } else if (std::abs(p.at.x) > 54.0 && std::abs(p.at.y) < 4.0) {  // 4-6 d from the edge
+      ++outer;
+      EXPECT_TRUE(p.cut) << p.at.x << ", " << p.at.y;
+      EXPECT_FALSE(p.resolved());
+    } else if (std::abs(std::abs(p.at.x) - 30.0) < 4.0) {  // the loops' tops and bottoms
+      ++free;
+    }
+  }
+  EXPECT_GT(facing, 0);
+  EXPECT_GT(outer, 0);
+  EXPECT_GT(free, 0);
   // Options are checked.
+  EXPECT_THROW(front_stresses(s, lines, {.stretches = 2.0}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.stretches = 0.5}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.span = 0.0}), std::invalid_argument);
   EXPECT_THROW(front_stresses(s, lines, {.step = -1.0}), std::invalid_argument);
