@@ -319,10 +319,6 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   return record;
 }
 
-// The stress held all along every line (tracking::front_stresses): front_NNNN.csv and, for the
-// loops, front_NNNN.png: the stress held around each loop against the local Peierls stress of
-// the scanned angle nearest the line's (and of the weakest), which says which parts of the
-// front are at threshold. Returns the frame's record for lines.json.
 // The previous plotted frame's front, to find where the front moved since (front_moves).
 struct FrontPoint {
   long long line_id = 0;
@@ -378,6 +374,11 @@ nlohmann::json write_moves(const fs::path& dir, int index, const slide::Snapshot
           {"held_over_weakest_near_screw", span(range[1])}};
 }
 
+// The stress held all along every line (tracking::front_stresses): front_NNNN.csv and, for the
+// loops, front_NNNN.png: the stress held around each loop against the local Peierls stress of
+// the scanned angle nearest the line's (and of the weakest), which says which parts of the
+// front are at threshold; with the previous front in `history`, where it moved since
+// (write_moves). Returns the frame's record for lines.json and keeps this front in `history`.
 nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot& s,
                            const tracking::FrameLines& f, const std::vector<int>& ids,
                            const LocalPeierls& peierls, const tracking::FrontOptions& options,
