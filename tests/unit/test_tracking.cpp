@@ -492,6 +492,13 @@ TEST(Profile, FrontSamplesAWholeLoopInOrder) {
     EXPECT_LE(std::abs(p.held.tau), 2e-3 * 0.5) << p.at.x << ", " << p.at.y;
     worst = std::max(worst, std::abs(p.held.tau) / 0.5);
   }
+  // Around the loop's closure (arc 0) a stretch pools as many sites as anywhere else: the
+  // stretch wraps round instead of stopping at the first vertex.
+  const auto [fewest, most] = std::minmax_element(
+      front.begin(), front.end(),
+      [](const FrontStress& a, const FrontStress& b) { return a.held.bonds < b.held.bonds; });
+  EXPECT_GT(front.front().held.bonds, 0.8 * most->held.bonds);
+  EXPECT_GT(fewest->held.bonds, 0.8 * most->held.bonds);
   std::printf("synthetic loop: %zu points, largest |held| %.3e tau_max, angle off by %.2f deg\n",
               front.size(), worst, worst_angle);
   for (const FrontStress& p : front)
