@@ -337,7 +337,7 @@ struct FrontHistory {
 // front_moves_NNNN.csv: the points of the previous frame's front to which the sites this frame
 // moved are given, with the stress they held in it; its record for lines.json.
 nlohmann::json write_moves(const fs::path& dir, int index, const slide::Snapshot& s,
-                           const FrontHistory& before) {
+                           const FrontHistory& before, app::Series& moved) {
   const tracking::FrontMoves m = tracking::front_moves(before.indices, s, before.front);
   app::CsvTable table({"line_id", "kind", "arc", "x", "y", "polar_deg", "angle_deg", "stress",
                        "resolved", "tau_P_angle", "angle_theta_deg", "tau_P_weakest", "sites"});
@@ -356,6 +356,10 @@ nlohmann::json write_moves(const fs::path& dir, int index, const slide::Snapshot
                    p.tau_P_weakest, static_cast<long long>(m.sites[k])});
     const double ratio = std::abs(p.stress) / p.tau_P_weakest;
     if (!p.resolved || !std::isfinite(ratio)) continue;
+    if (p.kind == "loop") {
+      moved.x.push_back(p.polar);
+      moved.y.push_back(ratio);
+    }
     auto& r = range[p.angle < 30.0 ? 1 : 0];
     r = {std::min(r.first, ratio), std::max(r.second, ratio)};
   }
@@ -389,9 +393,12 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
                            {"step", options.step},
                            {"widths", options.widths},
                            {"points", front.size()}};
-  // Where the front moved since the previous frame (plotted, with a front of its own).
+  // Where the front moved since the previous frame (plotted, with a front of its own), drawn
+  // at what it held there just before against the weakest direction's tau_P.
+  app::Series moved{.title = "moved since the previous frame: held / weakest tau_P just before",
+                    .style = "points pt 4 ps 1.4 lw 1.5 lc rgb 'black'"};
   if (history.frame >= 0 && s.sx.size() == s.block.shape.count())
-    record["moves"] = write_moves(dir, index, s, history);
+    record["moves"] = write_moves(dir, index, s, history, moved);
   history = {};
   if (front.empty()) return record;  // no s_x, a tip out of registry, or no line
   history.frame = index;
@@ -487,6 +494,7 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
   }
   if (series.empty()) return record;  // no resolved point on a loop
   if (!weakest.x.empty()) series.push_back(std::move(weakest));
+  if (!moved.x.empty() && laws) series.push_back(std::move(moved));
   if (laws)
     series.push_back({.x = {-180.0, 180.0},
                       .y = {1.0, 1.0},
