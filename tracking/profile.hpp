@@ -169,7 +169,7 @@ struct FrontStress {
   double half_width = 0.0;  // of the window across the line (d)
   bool cut = false;         // the window is narrower than `widths` b_core
   double bend = 0.0;        // largest distance of the stretch's points from its mean curve (d): the
-                      // zigzag and kinks of the trace, about 0.2-0.6 d; infinite if degenerate
+                      // zigzag and kinks of the trace, about 0.2-0.8 d; infinite if degenerate
   CoreStress held;  // bonds: neighbouring pairs of pooled sites
 
   [[nodiscard]] bool resolved() const { return !cut && held.resolved(); }
