@@ -176,6 +176,26 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
   };
   held_in(largest_k, point / "largest_slip" / "largest_slip_after.nc");
   held_in(k - 1, point / "largest_slip" / "latest_slip_after.nc");
+  // The stress held all along the held loop (front_stresses): a contact large enough for its
+  // windows (unlike the default slip's), so that the loop's front resolves all round, each
+  // stretch holding less than the lattice's bound tau_max where it is, with the sign of the
+  // crossings' (the loop is held against the sliding direction all round).
+  {
+    const auto frames =
+        asperity::app::read_snapshots(point / "largest_slip" / "latest_slip_after.nc");
+    const auto lines = asperity::tracking::find_lines(asperity::tracking::view_of(frames.at(0)));
+    const auto front = asperity::tracking::front_stresses(frames.at(0), lines);
+    const double sign = std::copysign(1.0, slips.number(k - 1, "loop_stress_x"));
+    std::size_t resolved = 0;
+    for (const auto& p : front) {
+      if (!p.resolved()) continue;
+      ++resolved;
+      EXPECT_LT(std::abs(p.held.tau), p.tau_max) << p.at.x << ", " << p.at.y;
+      EXPECT_GT(sign * p.held.tau, 0.0) << p.at.x << ", " << p.at.y;
+    }
+    EXPECT_GE(resolved, front.size() * 9 / 10);
+    EXPECT_GT(resolved, 10u);
+  }
 
   // The arrested loop of Regime III (the fixture's scene comment: the first slip is the largest).
   EXPECT_EQ(largest_k, 0u);
