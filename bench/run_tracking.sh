@@ -10,21 +10,22 @@ build=${1:-build}
 cmake --build "$build" --target bench_tracking -j 2 >/dev/null
 commit=$(bench_commit tracking bench)
 cpu=$(bench_cpu)
+# JSON, not CSV: the benchmarks have different counters, which Google Benchmark's CSV
+# reporter refuses (it aborts at the first run whose counters differ from the first's).
 table=$("$build/bin/bench_tracking" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
-  --benchmark_format=csv 2>/dev/null | python3 -c "
-import csv, sys
-rows = list(csv.reader(sys.stdin))
-head = rows[0]; i = head.index('name'); t = head.index('real_time')
-extra = [head.index(c) if c in head else None for c in ('points', 'resolved', 'cell_error_tau_P')]
+  --benchmark_format=json 2>/dev/null | python3 -c "
+import json, sys
+runs = json.load(sys.stdin)['benchmarks']
 out = ['| benchmark | statistic | wall (ms) | points | resolved | error in loaded cells (tau_P) |',
        '|---|---|---|---|---|---|']
-for r in rows[1:]:
-    if r[i].endswith(('_mean', '_median', '_stddev')):
-        name, stat = r[i].rsplit('_', 1)
-        more = [f'{float(r[k]):.4g}' if k is not None and r[k] and stat != 'stddev' else ''
-                for k in extra]
-        out.append(f'| {name} | {stat} | {float(r[t]):.1f} | ' + ' | '.join(more) + ' |')
-print('\n'.join(out))")
+for r in runs:
+    stat = r.get('aggregate_name', '')
+    if stat not in ('mean', 'median', 'stddev'):
+        continue
+    more = [f'{r[c]:.4g}' if c in r and stat != 'stddev' else ''
+            for c in ('points', 'resolved', 'cell_error_tau_P')]
+    out.append(f'| {r[\"run_name\"]} | {stat} | {r[\"real_time\"]:.1f} | ' + ' | '.join(more) + ' |')
+print('\\n'.join(out))")
 section=$(cat <<EOT
 ## Tracking (bench/bench_tracking.cpp)
 
