@@ -240,6 +240,8 @@ struct MeanCurve {
   [[nodiscard]] double u(double x, double y) const {
     return ((x - cx) * tx + (y - cy) * ty) / half;
   }
+  // The coordinate along the normal (d).
+  [[nodiscard]] double v(double x, double y) const { return (x - cx) * -ty + (y - cy) * tx; }
   // dn / ds at the point's u.
   [[nodiscard]] double slope(double x, double y) const {
     return (c[1] + 2.0 * c[2] * u(x, y)) / half;
@@ -247,8 +249,7 @@ struct MeanCurve {
   // Signed distance of (x, y) from the curve (to first order in its slope).
   [[nodiscard]] double across(double x, double y) const {
     const double uu = u(x, y);
-    const double v = (x - cx) * -ty + (y - cy) * tx;
-    return (v - (c[0] + c[1] * uu + c[2] * uu * uu)) / std::hypot(1.0, slope(x, y));
+    return (v(x, y) - (c[0] + c[1] * uu + c[2] * uu * uu)) / std::hypot(1.0, slope(x, y));
   }
 };
 
@@ -371,6 +372,7 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
     double across, ox, oy, tx, ty;
   };
   std::vector<Pooled> pool;
+  std::vector<std::pair<double, double>> whole_bins;  // per bin: farthest sites left and right
   for (std::size_t li = 0; li < f.lines.size(); ++li) {
     const Line& l = f.lines[li];
     if (l.points.size() < 2) continue;  // no stretch to sample
@@ -415,15 +417,16 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
       const double direction = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // principal axis
       const double tx = std::cos(direction), ty = std::sin(direction);
       const double nx = -ty, ny = tx;
-      // n = c0 + c1 s + c2 s^2 by least squares (normal equations, s scaled to [-1, 1]).
+      // n = c0 + c1 u + c2 u^2 by least squares (normal equations, u scaled to [-1, 1]).
+      MeanCurve curve{.cx = cx, .cy = cy, .tx = tx, .ty = ty, .half = 1.0};
       double half = 0.0;
       for (const Point& q : fit)
-        half = std::max(half, std::abs((q.x - cx) * tx + (q.y - cy) * ty));
-      half = std::max(half, 1e-9);
+        half = std::max(half, std::abs(curve.u(q.x, q.y)));
+      curve.half = std::max(half, 1e-9);
       double m[3][4] = {};
       for (const Point& q : fit) {
-        const double u = ((q.x - cx) * tx + (q.y - cy) * ty) / half;
-        const double v = (q.x - cx) * nx + (q.y - cy) * ny;
+        const double u = curve.u(q.x, q.y);
+        const double v = curve.v(q.x, q.y);
         const double basis[3] = {1.0, u, u * u};
         for (int r = 0; r < 3; ++r) {
           for (int c = 0; c < 3; ++c)
@@ -431,7 +434,6 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
           m[r][3] += basis[r] * v;
         }
       }
-      MeanCurve curve{.cx = cx, .cy = cy, .tx = tx, .ty = ty, .half = half};
       const bool fitted = solve3(m, curve.c);
       if (fitted) {
         for (const Point& q : fit)
@@ -465,7 +467,13 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
       // cut there).
       double reach_left = std::numeric_limits<double>::infinity(), reach_right = reach_left;
       double fallback_left = 0.0, fallback_right = 0.0;
-      std::vector<std::pair<double, double>> whole_bins;  // farthest sites left and right
+      whole_bins.clear();
+      // Whether arc length `a` lies in the stretch (around a loop, cyclically).
+      const auto within = [&](double a) {
+        double gap = std::abs(a - centre);
+        if (closed) gap = std::min(gap, length - gap);
+        return gap <= 0.5 * span;
+      };
       const auto bin0 = static_cast<long long>(centre / options.step);
       // Each bin once: around a loop shorter than the bins the stretch reaches, all of them.
       const bool all_bins = closed && 2 * reach_bins + 1 >= nbins;
@@ -482,9 +490,7 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
         bool bin_used = false;
         for (const std::size_t i : bins[li][static_cast<std::size_t>(wrapped)]) {
           const Nearest& near = nearest[i];
-          double gap = std::abs(near.arc - centre);
-          if (closed) gap = std::min(gap, length - gap);
-          if (gap > 0.5 * span) continue;
+          if (!within(near.arc)) continue;
           bin_used = true;
           const double across = near.across;
           if (across > 0.0) bin_left = std::max(bin_left, across);
@@ -507,11 +513,6 @@ std::vector<FrontStress> front_stresses(const slide::Snapshot& s, const FrameLin
         // (Around a loop the bin's own arc range, taken cyclically.)
         const double bin_from = static_cast<double>(all_bins ? wrapped : bb) * options.step;
         const double bin_to = bin_from + options.step;
-        const auto within = [&](double a) {
-          double gap = std::abs(a - centre);
-          if (closed) gap = std::min(gap, length - gap);
-          return gap <= 0.5 * span;
-        };
         const bool whole = all_bins
                                ? within(bin_from) && within(std::min(bin_to, length))
                                : bin_from >= centre - 0.5 * span && bin_to <= centre + 0.5 * span;

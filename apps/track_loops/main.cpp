@@ -319,19 +319,17 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
   return record;
 }
 
-// The previous plotted frame's front, to find where the front moved since (front_moves).
+// The previous plotted frame's front, to find where the front moved since (front_moves): its
+// points, and per point what write_front derived from them for its table.
 struct FrontPoint {
   long long line_id = 0;
-  std::string kind;
-  double arc = 0, x = 0, y = 0, polar = 0, angle = 0, stress = 0, tau_P_angle = 0, angle_theta = 0,
-         tau_P_weakest = 0;
-  bool resolved = false;
+  double polar = 0, tau_P_angle = 0, angle_theta = 0, tau_P_weakest = 0;
 };
 struct FrontHistory {
   int frame = -1;  // -1: none
   tracking::RegistryIndices indices;
   std::vector<tracking::FrontStress> front;
-  std::vector<FrontPoint> points;
+  std::vector<FrontPoint> points;  // one per point of `front`
 };
 
 // front_moves_NNNN.csv: the points of the previous frame's front to which the sites this frame
@@ -347,20 +345,21 @@ nlohmann::json write_moves(const fs::path& dir, int index, const slide::Snapshot
       std::pair{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
       std::pair{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
   int points = 0;
-  for (std::size_t k = 0; k < before.points.size(); ++k) {
+  for (std::size_t k = 0; k < before.front.size(); ++k) {
     if (m.sites[k] == 0) continue;
+    const tracking::FrontStress& f = before.front[k];
     const FrontPoint& p = before.points[k];
     ++points;
-    table.add_row({p.line_id, p.kind, p.arc, p.x, p.y, p.polar, p.angle, p.stress,
-                   static_cast<long long>(p.resolved), p.tau_P_angle, p.angle_theta,
-                   p.tau_P_weakest, static_cast<long long>(m.sites[k])});
-    const double ratio = std::abs(p.stress) / p.tau_P_weakest;
-    if (!p.resolved || !std::isfinite(ratio)) continue;
-    if (p.kind == "loop") {
+    table.add_row({p.line_id, tracking::to_string(f.kind), f.arc, f.at.x, f.at.y, p.polar,
+                   f.angle_deg, f.held.tau, static_cast<long long>(f.resolved()), p.tau_P_angle,
+                   p.angle_theta, p.tau_P_weakest, static_cast<long long>(m.sites[k])});
+    const double ratio = std::abs(f.held.tau) / p.tau_P_weakest;
+    if (!f.resolved() || !std::isfinite(ratio)) continue;
+    if (f.kind == tracking::LineKind::loop) {
       moved.x.push_back(p.polar);
       moved.y.push_back(ratio);
     }
-    auto& r = range[p.angle < 30.0 ? 1 : 0];
+    auto& r = range[f.angle_deg < 30.0 ? 1 : 0];
     r = {std::min(r.first, ratio), std::max(r.second, ratio)};
   }
   char name[48];
@@ -437,17 +436,10 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
                    static_cast<long long>(p.resolved()), p.half_width, p.bend, p.tau_max,
                    at_angle.tau_P, at_angle.theta_deg, weak.tau_P, weak.theta_deg});
     history.points.push_back({.line_id = ids.at(p.line),
-                              .kind = tracking::to_string(p.kind),
-                              .arc = p.arc,
-                              .x = p.at.x,
-                              .y = p.at.y,
                               .polar = polar,
-                              .angle = p.angle_deg,
-                              .stress = p.held.tau,
                               .tau_P_angle = at_angle.tau_P,
                               .angle_theta = at_angle.theta_deg,
-                              .tau_P_weakest = weak.tau_P,
-                              .resolved = p.resolved()});
+                              .tau_P_weakest = weak.tau_P});
     if (!p.resolved()) continue;
     // The stress held has tau_x's sign; the Peierls stress bounds its magnitude.
     const double held = std::abs(p.held.tau);
@@ -821,7 +813,7 @@ int main(int argc, char** argv) {
     cli.add_option("--front-stretches", o.front_options.stretches,
                    "--front pools at most a line's length over this many (a small loop is not "
                    "averaged over a large part of it)")
-        ->check(app::finite_number(1.0, std::numeric_limits<double>::infinity()))
+        ->check(app::finite_number(3.0, std::numeric_limits<double>::infinity()))
         ->capture_default_str();
     cli.add_option("--front-step", o.front_options.step,
                    "Spacing of the points of --front along each line (d)")
@@ -855,8 +847,8 @@ int main(int argc, char** argv) {
     for (const auto& entry : fs::directory_iterator(dir)) {
       const std::string name = entry.path().filename().string();
       // So would an earlier run's front tables, which this run may not write (no --front).
-      const bool front = (name.starts_with("front_") || name.starts_with("front_moves_")) &&
-                         (name.ends_with(".csv") || name.ends_with(".png"));
+      const bool front =
+          name.starts_with("front_") && (name.ends_with(".csv") || name.ends_with(".png"));
       if ((name.starts_with("lines_") && name.ends_with(".vtk")) || front)
         stale.push_back(entry.path());
     }

@@ -190,6 +190,22 @@ def slide(scene, progress=None, snapshots=True):
     return SlideResult(json.loads(summary), columns, frames, scene.snapshot_attributes)
 
 
+def _frame(frame, index):
+    """One frame of a snapshot Dataset (a state has no frame dimension)."""
+    return frame.isel(frame=index) if "frame" in frame.dims else frame
+
+
+def _block(ds, name):
+    """The field in the tools' block order (x slow), contiguous."""
+    return np.ascontiguousarray(ds[name].transpose("x", "y").values)
+
+
+def _origin(ds):
+    """The lattice index of the block's first site along x and y."""
+    return (int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0]),
+            int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0]))
+
+
 def find_lines(frame, index=0, periodic=None, **options):
     """Dislocation lines in one snapshot frame (MODEL.md 7), as track_loops finds them.
 
@@ -203,15 +219,11 @@ def find_lines(frame, index=0, periodic=None, **options):
     slipped_area, ...; the columns of friction_sweep --largest-slip's slips.csv, None where
     there is no loop) and the frame's counts (contact_sites, contact_radius, core_crossings, ...).
     """
-    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
-
-    def block(name):
-        """The field in the tools' block order (x slow), contiguous."""
-        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
-
+    ds = _frame(frame, index)
+    origin_x, origin_y = _origin(ds)
     fields = {
-        "origin_x": int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0]),
-        "origin_y": int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0]),
+        "origin_x": origin_x,
+        "origin_y": origin_y,
         "tip_angle": float(frame.attrs.get("tip_angle", 0.0)),
         "tip_mismatch": float(frame.attrs.get("tip_mismatch", 0.0)),
         "periodic": bool(frame.attrs.get("periodic", False)) if periodic is None else periodic,
@@ -219,10 +231,10 @@ def find_lines(frame, index=0, periodic=None, **options):
     # A tip out of registry (the files' attributes): the registry along the tip's first axis
     # needs sy and tau_y too; the aligned tip's does not.
     if fields["tip_angle"] != 0.0 or fields["tip_mismatch"] != 0.0:
-        fields.update(sy=block("sy"), tau_y=block("tau_y"))
-    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
-    return _asperity.find_lines(block("sx"), block("tau_x"), block("tau_max"), contact,
-                                **fields, **options)
+        fields.update(sy=_block(ds, "sy"), tau_y=_block(ds, "tau_y"))
+    contact = _block(ds, "in_contact").astype(np.uint8) if "in_contact" in ds else None
+    return _asperity.find_lines(_block(ds, "sx"), _block(ds, "tau_x"), _block(ds, "tau_max"),
+                                contact, **fields, **options)
 
 
 def front_stresses(frame, index=0, periodic=None, later=None, later_index=0, **options):
@@ -246,43 +258,32 @@ def front_stresses(frame, index=0, periodic=None, later=None, later_index=0, **o
     them ("moved_sites" per point), all of them ("moved") and those no point covers
     ("elsewhere").
     """
-    ds = frame.isel(frame=index) if "frame" in frame.dims else frame
+    ds = _frame(frame, index)
     if float(frame.attrs.get("tip_angle", 0.0)) != 0.0 or \
             float(frame.attrs.get("tip_mismatch", 0.0)) != 0.0:
         raise ValueError("front_stresses: under a tip out of registry the registry runs along "
                          "the tip's axis and the stress held is not measured (docs/tracking.md)")
-
-    def block(name):
-        """The field in the tools' block order (x slow), contiguous."""
-        return np.ascontiguousarray(ds[name].transpose("x", "y").values)
-
+    origin_x, origin_y = _origin(ds)
     fields = {
-        "origin_x": int(ds["origin_x"]) if "origin_x" in ds else int(ds["x"].values[0]),
-        "origin_y": int(ds["origin_y"]) if "origin_y" in ds else int(ds["y"].values[0]),
+        "origin_x": origin_x,
+        "origin_y": origin_y,
         "Dx": float(ds["Dx"]) if "Dx" in ds else 0.0,
         "periodic": bool(frame.attrs.get("periodic", False)) if periodic is None else periodic,
     }
-    contact = block("in_contact").astype(np.uint8) if "in_contact" in ds else None
-    optional = {name: block(name) for name in ("uy", "tau_y") if name in ds}
+    contact = _block(ds, "in_contact").astype(np.uint8) if "in_contact" in ds else None
+    optional = {name: _block(ds, name) for name in ("uy", "tau_y") if name in ds}
     if "uy" not in ds and "sy" in ds:  # u_y = s_y - Y, as the tool takes it
-        optional["uy"] = block("sy") - ds["y"].values[None, :]
+        optional["uy"] = _block(ds, "sy") - ds["y"].values[None, :]
     if later is not None:
-        ls = later.isel(frame=later_index) if "frame" in later.dims else later
-
-        def later_block(name):
-            return np.ascontiguousarray(ls[name].transpose("x", "y").values)
-
-        optional["later_sx"] = later_block("sx")
+        ls = _frame(later, later_index)
+        optional["later_sx"] = _block(ls, "sx")
         if "in_contact" in ls:
-            optional["later_in_contact"] = later_block("in_contact").astype(np.uint8)
+            optional["later_in_contact"] = _block(ls, "in_contact").astype(np.uint8)
         else:
-            optional["later_tau_max"] = later_block("tau_max")
-        optional["later_origin_x"] = (int(ls["origin_x"]) if "origin_x" in ls
-                                      else int(ls["x"].values[0]))
-        optional["later_origin_y"] = (int(ls["origin_y"]) if "origin_y" in ls
-                                      else int(ls["y"].values[0]))
-    return _asperity.front_stresses(block("sx"), block("tau_x"), block("tau_max"), contact,
-                                    **optional, **fields, **options)
+            optional["later_tau_max"] = _block(ls, "tau_max")
+        optional["later_origin_x"], optional["later_origin_y"] = _origin(ls)
+    return _asperity.front_stresses(_block(ds, "sx"), _block(ds, "tau_x"), _block(ds, "tau_max"),
+                                    contact, **optional, **fields, **options)
 
 
 from . import tools  # noqa: E402  (the tools need the names above)

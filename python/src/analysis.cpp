@@ -94,8 +94,6 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
       py::arg("dropped_short") = f.dropped_short, py::arg("joined_pieces") = f.joined_pieces);
 }
 
-// The stress held all along every line of one frame (tracking::front_stresses, as track_loops
-// --front): the lines are found as find_lines finds them, then sampled every `step` d.
 // find_lines' detection options as keywords (the names of its arguments), the others
 // refused by name.
 tracking::DetectOptions detect_options(const py::kwargs& kwargs) {
@@ -121,6 +119,16 @@ tracking::DetectOptions detect_options(const py::kwargs& kwargs) {
   return o;
 }
 
+// A copy of an optional array (empty for None); the library checks its size against its block.
+template <class T>
+std::vector<T> copy_of(const py::object& a) {
+  if (a.is_none()) return {};
+  const auto arr = a.cast<Array<T>>();
+  return {arr.data(), arr.data() + arr.size()};
+}
+
+// The stress held all along every line of one frame (tracking::front_stresses, as track_loops
+// --front): the lines are found as find_lines finds them, then sampled every `step` d.
 py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
                         const Array<double>& tau_max, const py::object& in_contact,
                         const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
@@ -148,13 +156,8 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   s.uy = values(uy, "uy");
   s.tau_y = values(tau_y, "tau_y");
   if (s.tau_y.empty()) s.tau_y.assign(n, 0.0);
-  s.pressure.assign(n, 0.0);  // not used by the measure
-  if (!in_contact.is_none()) {
-    const auto contact = in_contact.cast<Array<std::uint8_t>>();
-    if (static_cast<std::size_t>(contact.size()) != n)
-      throw py::value_error("front_stresses: in_contact's size differs from sx's");
-    s.in_contact.assign(contact.data(), contact.data() + contact.size());
-  }
+  s.pressure.assign(n, 0.0);                         // not used by the measure
+  s.in_contact = copy_of<std::uint8_t>(in_contact);  // its size: checked by front_stresses
   const tracking::DetectOptions o = detect_options(kwargs);
   const tracking::FrontOptions fo{.widths = widths,
                                   .span = span,
@@ -206,21 +209,12 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
     later.block = {{static_cast<int>(lsx.shape(0)), static_cast<int>(lsx.shape(1))},
                    later_origin_x,
                    later_origin_y};
-    const auto ln = static_cast<std::size_t>(lsx.size());
-    later.sx.assign(lsx.data(), lsx.data() + ln);
-    if (!later_in_contact.is_none()) {
-      const auto c = later_in_contact.cast<Array<std::uint8_t>>();
-      if (static_cast<std::size_t>(c.size()) != ln)
-        throw py::value_error("front_stresses: later_in_contact's size differs from later_sx's");
-      later.in_contact.assign(c.data(), c.data() + ln);
-    } else {
-      if (later_tau_max.is_none())
-        throw py::value_error("front_stresses: later_sx needs later_in_contact or later_tau_max");
-      const auto t = later_tau_max.cast<Array<double>>();
-      if (static_cast<std::size_t>(t.size()) != ln)
-        throw py::value_error("front_stresses: later_tau_max's size differs from later_sx's");
-      later.tau_max.assign(t.data(), t.data() + ln);
-    }
+    later.sx = copy_of<double>(later_sx);
+    // The contact: its flag, else tau_max > 0 (front_moves checks either against the block).
+    if (later_in_contact.is_none() && later_tau_max.is_none())
+      throw py::value_error("front_stresses: later_sx needs later_in_contact or later_tau_max");
+    later.in_contact = copy_of<std::uint8_t>(later_in_contact);
+    if (later.in_contact.empty()) later.tau_max = copy_of<double>(later_tau_max);
     const tracking::FrontMoves moves = value_errors(
         [&] { return tracking::front_moves(tracking::registry_indices(s), later, front); });
     Array<long long> sites(m);
