@@ -72,23 +72,44 @@ std::string to_string(LineKind kind) {
   return "unknown";
 }
 
+const settings::Table<DetectOptions>& DetectOptions::settings() {
+  using R = settings::Range;
+  using O = DetectOptions;
+  static const settings::Table<O> table = {
+      settings::number<O>(
+          "min_length", [](auto& o) -> auto& { return o.min_length; }, R::non_negative(), "d",
+          "lines shorter than this are dropped", "--min-length"),
+      settings::number<O>(
+          "join_distance", [](auto& o) -> auto& { return o.join_distance; }, R::non_negative(), "d",
+          "open lines are joined end to start across gaps up to this long at the contact's "
+          "jagged edge: the pieces of one core running along it (0: never; not in a periodic "
+          "cell, which has no edge)",
+          "--join-distance"),
+      // A sign: a choice of two names rather than an integer range that would admit 0.
+      settings::choice<O>(
+          "slip_sign", [](auto& o) -> auto& { return o.slip_sign; }, {"-1", "1"},
+          [](int sign) { return std::to_string(sign); },
+          [](const std::string& name) { return name == "1" ? 1 : -1; },
+          "registry-index change of a slipping site: -1 sliding along +x, 1 along -x",
+          "--slip-sign"),
+      settings::integer<O>(
+          "tangent_half_window", [](auto& o) -> auto& { return o.tangent_half_window; },
+          R::closed(0, 16), "",
+          "a segment's tangent is the chord over this many segments either side (marching "
+          "squares zigzag at the grid scale)",
+          "--tangent-half-window"),
+      settings::number<O>(
+          "screw_angle_deg", [](auto& o) -> auto& { return o.screw_angle_deg; }, R::open(0.0, 90.0),
+          "degrees",
+          "a piece of line at an angle to b below this counts as screw, "
+          "otherwise edge",
+          "--screw-angle"),
+  };
+  return table;
+}
+
 void DetectOptions::validate() const {
-  if (!std::isfinite(min_length) || min_length < 0.0) {
-    reject("DetectOptions.min_length", std::to_string(min_length), "finite and >= 0");
-  }
-  if (!std::isfinite(join_distance) || join_distance < 0.0) {
-    reject("DetectOptions.join_distance", std::to_string(join_distance), "finite and >= 0");
-  }
-  if (slip_sign != -1 && slip_sign != 1) {
-    reject("DetectOptions.slip_sign", std::to_string(slip_sign), "-1 or +1");
-  }
-  if (tangent_half_window < 0 || tangent_half_window > 16) {
-    reject("DetectOptions.tangent_half_window", std::to_string(tangent_half_window),
-           ">= 0 and <= 16");
-  }
-  if (!(screw_angle_deg > 0.0 && screw_angle_deg < 90.0)) {
-    reject("DetectOptions.screw_angle_deg", std::to_string(screw_angle_deg), "> 0 and < 90");
-  }
+  settings::validate(*this, settings());
 }
 
 std::string location_class(const FrameLines& frame, Point p, double centre_fraction) {

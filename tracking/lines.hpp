@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
 #include "asperity/core/common/shape.hpp"
 #include "asperity/core/slide/frames.hpp"
 
@@ -99,7 +100,11 @@ struct DetectOptions {
   // the middle of that plateau (docs/tracking.md, step 3).
   double join_distance = 4.0;
 
-  void validate() const;  // throws std::invalid_argument naming the violated constraint
+  // Each setting described once (core/common/settings.hpp): keys min_length, join_distance,
+  // slip_sign, tangent_half_window, screw_angle_deg; track_loops lifts them under "lines.",
+  // the Python binding takes them as keywords.
+  static const settings::Table<DetectOptions>& settings();
+  void validate() const;  // throws std::invalid_argument naming the violated setting
 };
 
 struct Line {

@@ -189,18 +189,36 @@ std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
   return out;
 }
 
+const settings::Table<FrontOptions>& FrontOptions::settings() {
+  using R = settings::Range;
+  using O = FrontOptions;
+  static const settings::Table<O> table = {
+      settings::number<O>(
+          "span", [](auto& o) -> auto& { return o.span; }, R::positive(), "d",
+          "length of line pooled per point: at least the period |m| d of the "
+          "directions m to be measured (docs/tracking.md)",
+          "--front-span"),
+      // Fewer stretches than 3 fit one parabola to most of a loop.
+      settings::number<O>(
+          "stretches", [](auto& o) -> auto& { return o.stretches; }, R::at_least(3.0), "",
+          "the stretch pooled is at most the line's length over this many (a "
+          "small loop is not averaged over a large part of it)",
+          "--front-stretches"),
+      settings::number<O>(
+          "step", [](auto& o) -> auto& { return o.step; }, R::positive(), "d",
+          "spacing of the points along each line", "--front-step"),
+      settings::number<O>(
+          "widths", [](auto& o) -> auto& { return o.widths; }, R::positive(), "b_core",
+          "window across the line, in local core widths either side", "--front-widths"),
+      settings::number<O>(
+          "max_half_width", [](auto& o) -> auto& { return o.max_half_width; }, R::positive(), "d",
+          "windows across the line are cut to this", "--front-max-half-width"),
+  };
+  return table;
+}
+
 void FrontOptions::validate() const {
-  if (!(widths > 0.0))
-    throw std::invalid_argument("FrontOptions: widths must be > 0 (core widths either side)");
-  if (!(span > 0.0) || !std::isfinite(span))
-    throw std::invalid_argument("FrontOptions: span must be finite and > 0 (d)");
-  if (!(step > 0.0) || !std::isfinite(step))
-    throw std::invalid_argument("FrontOptions: step must be finite and > 0 (d)");
-  // Fewer stretches than 3 fit one parabola to most of a loop.
-  if (!(stretches >= 3.0) || !std::isfinite(stretches))
-    throw std::invalid_argument("FrontOptions: stretches must be finite and >= 3");
-  if (!(max_half_width > 0.0) || !std::isfinite(max_half_width))
-    throw std::invalid_argument("FrontOptions: max_half_width must be finite and > 0 (d)");
+  settings::validate(*this, settings());
 }
 
 namespace {

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
 #include "asperity/core/slide/frames.hpp"
 #include "asperity/tracking/lines.hpp"
 
@@ -154,7 +155,11 @@ struct FrontOptions {
   double step = 4.0;             // spacing of the points along each line (d)
   double max_half_width = 32.0;  // windows longer than this are cut to it (d)
 
-  void validate() const;  // throws std::invalid_argument naming the violated constraint
+  // Each setting described once (core/common/settings.hpp): keys span, stretches, step, widths,
+  // max_half_width; track_loops lifts them under "front.", lines.json records them per frame,
+  // the Python binding takes them as keywords.
+  static const settings::Table<FrontOptions>& settings();
+  void validate() const;  // throws std::invalid_argument naming the violated setting
 };
 
 struct FrontStress {

@@ -8,27 +8,41 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "asperity/core/common/validate.hpp"
-
 namespace asperity::tracking {
 
+const settings::Table<TrackOptions>& TrackOptions::settings() {
+  using R = settings::Range;
+  using O = TrackOptions;
+  static const settings::Table<O> table = {
+      settings::number<O>(
+          "min_overlap", [](auto& o) -> auto& { return o.min_overlap; }, R::open_closed(0.0, 1.0),
+          "",
+          "overlap coefficient of slipped regions that links lines of "
+          "consecutive frames",
+          "--min-overlap"),
+      settings::number<O>(
+          "max_centroid_distance", [](auto& o) -> auto& { return o.max_centroid_distance; },
+          R::non_negative(), "d",
+          "centroids closer than this link lines of consecutive frames even without overlap",
+          "--max-centroid-distance"),
+      settings::number<O>(
+          "max_motion", [](auto& o) -> auto& { return o.max_motion; }, R::non_negative(), "d",
+          "largest motion of a line between frames", "--max-motion"),
+      settings::number<O>(
+          "arrest_area", [](auto& o) -> auto& { return o.arrest_area; }, R::non_negative(), "d^2",
+          "a change of slipped area below this between frames is an arrest", "--arrest-area"),
+      settings::number<O>(
+          "centre_fraction", [](auto& o) -> auto& { return o.centre_fraction; },
+          R::closed(0.0, 1.0), "",
+          "nucleation and annihilation within this fraction of the contact "
+          "radius of its centre are classed centre",
+          "--centre-fraction"),
+  };
+  return table;
+}
+
 void TrackOptions::validate() const {
-  if (!(min_overlap > 0.0 && min_overlap <= 1.0)) {
-    reject("TrackOptions.min_overlap", std::to_string(min_overlap), "> 0 and <= 1");
-  }
-  if (!std::isfinite(max_centroid_distance) || max_centroid_distance < 0.0) {
-    reject("TrackOptions.max_centroid_distance", std::to_string(max_centroid_distance),
-           "finite and >= 0");
-  }
-  if (!std::isfinite(max_motion) || max_motion < 0.0) {
-    reject("TrackOptions.max_motion", std::to_string(max_motion), "finite and >= 0");
-  }
-  if (!std::isfinite(arrest_area) || arrest_area < 0.0) {
-    reject("TrackOptions.arrest_area", std::to_string(arrest_area), "finite and >= 0");
-  }
-  if (!(centre_fraction >= 0.0 && centre_fraction <= 1.0)) {
-    reject("TrackOptions.centre_fraction", std::to_string(centre_fraction), ">= 0 and <= 1");
-  }
+  settings::validate(*this, settings());
 }
 
 std::string to_string(EventType type) {

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
 #include "lines.hpp"
 
 namespace asperity::tracking {
@@ -35,7 +36,11 @@ struct TrackOptions {
   // classed "centre" (see location_class).
   double centre_fraction = 0.5;
 
-  void validate() const;  // throws std::invalid_argument naming the violated constraint
+  // Each setting described once (core/common/settings.hpp): keys min_overlap,
+  // max_centroid_distance, max_motion, arrest_area, centre_fraction; track_loops lifts them
+  // under "track.".
+  static const settings::Table<TrackOptions>& settings();
+  void validate() const;  // throws std::invalid_argument naming the violated setting
 };
 
 enum class EventType {

@@ -57,9 +57,11 @@ settings::Value parse_setting(const settings::Info& setting, const std::string& 
   return v;
 }
 
-std::string setting_help(const settings::Info& setting) {
+std::string setting_help(const settings::Info& setting, const std::string& key_label) {
   std::string help = setting.meaning;
-  return help.append("; scene key ")
+  return help.append("; ")
+      .append(key_label)
+      .append(" ")
       .append(setting.key)
       .append(", allowed: ")
       .append(setting.allowed());

@@ -21,9 +21,10 @@ namespace asperity::app {
 // checks it against the setting's allowed set; throws std::invalid_argument with the reason.
 settings::Value parse_setting(const settings::Info& setting, const std::string& text);
 
-// The help line of a setting: "<meaning>; scene key <key>, allowed: <allowed>" (numbers carry
-// their unit in the allowed set).
-std::string setting_help(const settings::Info& setting);
+// The help line of a setting: "<meaning>; <key_label> <key>, allowed: <allowed>" (numbers carry
+// their unit in the allowed set). The label says where the key is found: a scene file's, or
+// for a tool without one the summary.json echo's.
+std::string setting_help(const settings::Info& setting, const std::string& key_label = "scene key");
 
 // Every setting of `root` as {key: value} (numbers, integers, booleans, choice names): the
 // echo of a run's settings in its summary.json.
@@ -64,17 +65,18 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
 
 class SettingFlags {
  public:
-  // Adds a flag for every row of `table` that names one (`only`: of these keys alone).
+  // Adds a flag for every row of `table` that names one (`only`: of these keys alone);
+  // `key_label` as setting_help's.
   template <class Root>
   void add(CLI::App& cli, const settings::Table<Root>& table,
-           const std::vector<std::string>& only = {}) {
+           const std::vector<std::string>& only = {}, const std::string& key_label = "scene key") {
     for (const settings::Setting<Root>& s : table) {
       if (s.flag.empty()) continue;
       if (!only.empty() && std::find(only.begin(), only.end(), s.key) == only.end()) continue;
       const settings::Info info = s;
       cli.add_option_function<std::string>(
              s.flag, [this, info](const std::string& text) { given_[info.key] = text; },
-             setting_help(s))
+             setting_help(s, key_label))
           ->check(CLI::Validator(
               [info](std::string& text) -> std::string {
                 try {

@@ -29,11 +29,11 @@
 #include <stdexcept>
 
 #include "asperity/apps/common/cli.hpp"
-#include "asperity/apps/common/cli_checks.hpp"
 #include "asperity/apps/common/lines_json.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/peierls_summary.hpp"
 #include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
 #include "asperity/apps/common/vtk_lines.hpp"
 #include "asperity/nucleation/regime_three.hpp"
@@ -387,11 +387,8 @@ nlohmann::json write_front(const fs::path& dir, int index, const slide::Snapshot
                            const LocalPeierls& peierls, const tracking::FrontOptions& options,
                            const std::string& title, FrontHistory& history) {
   const std::vector<tracking::FrontStress> front = tracking::front_stresses(s, f, options);
-  nlohmann::json record = {{"span", options.span},
-                           {"stretches", options.stretches},
-                           {"step", options.step},
-                           {"widths", options.widths},
-                           {"points", front.size()}};
+  nlohmann::json record = app::settings_echo(options, tracking::FrontOptions::settings());
+  record["points"] = front.size();
   // Where the front moved since the previous frame (plotted, with a front of its own), drawn
   // at what it held there just before against the weakest direction's tau_P.
   app::Series moved{.title = "moved since the previous frame: held / weakest tau_P just before",
@@ -515,6 +512,29 @@ struct FrameOptions {
   bool front = false;
   tracking::FrontOptions front_options;
   LocalPeierls peierls;
+
+  // The tool's settings: the libraries' tables under "lines.", "track.", "front." and the
+  // figure's spacing. Flags, checks, the summary's echo and --list-settings come from it.
+  static const settings::Table<FrameOptions>& settings() {
+    static const settings::Table<FrameOptions> table = [] {
+      settings::Table<FrameOptions> t = {settings::neutral(settings::integer<FrameOptions>(
+          "plot_every", [](auto& o) -> auto& { return o.plot_every; },
+          settings::Range::closed(0, 1000000), "",
+          "a figure (and with --profiles, --front their tables) every N frames; 0: none",
+          "--plot-every"))};
+      settings::lift(
+          t, tracking::DetectOptions::settings(), "lines.",
+          [](auto& o) -> auto& { return o.detect; });
+      settings::lift(
+          t, tracking::TrackOptions::settings(), "track.",
+          [](auto& o) -> auto& { return o.track; });
+      settings::lift(
+          t, tracking::FrontOptions::settings(), "front.",
+          [](auto& o) -> auto& { return o.front_options; });
+      return t;
+    }();
+    return table;
+  }
 };
 
 // Where a frame of the sequence came from (events.csv).
@@ -698,29 +718,12 @@ nlohmann::json summary_json(const nlohmann::json& inputs, const FrameOptions& o,
                             const nlohmann::json& peierls_json, std::size_t frames,
                             const Tally& tally, const std::map<std::string, int>& counts,
                             double wall) {
-  const tracking::DetectOptions& detect = o.detect;
-  const tracking::TrackOptions& track = o.track;
+  nlohmann::json options = app::settings_echo(o, FrameOptions::settings());
+  options["profiles"] = o.profiles;
+  options["front"] = o.front;
+  options["peierls"] = peierls_json;
   return {{"inputs", inputs},
-          {"options",
-           {{"min_length", detect.min_length},
-            {"join_distance", detect.join_distance},
-            {"slip_sign", detect.slip_sign},
-            {"tangent_half_window", detect.tangent_half_window},
-            {"screw_angle_deg", detect.screw_angle_deg},
-            {"min_overlap", track.min_overlap},
-            {"max_centroid_distance", track.max_centroid_distance},
-            {"max_motion", track.max_motion},
-            {"arrest_area", track.arrest_area},
-            {"centre_fraction", track.centre_fraction},
-            {"plot_every", o.plot_every},
-            {"profiles", o.profiles},
-            {"front", o.front ? nlohmann::json{{"span", o.front_options.span},
-                                               {"stretches", o.front_options.stretches},
-                                               {"step", o.front_options.step},
-                                               {"widths", o.front_options.widths},
-                                               {"max_half_width", o.front_options.max_half_width}}
-                              : nlohmann::json(nullptr)},
-            {"peierls", peierls_json}}},
+          {"options", options},
           {"results",
            {{"frames", frames},
             {"max_lines_per_frame", tally.max_lines},
@@ -742,14 +745,11 @@ int main(int argc, char** argv) {
     std::vector<std::string> files;
     std::string out = "results/track_loops";
     FrameOptions o;
-    tracking::DetectOptions& detect = o.detect;
-    tracking::TrackOptions& track = o.track;
-    int& plot_every = o.plot_every;
     bool force_periodic = false;
     cli.add_option("snapshots", files,
                    "NetCDF snapshot files (contact_slide snapshots/*.nc, peierls_scan cells); "
-                   "their frames form one sequence in the order given")
-        ->required()
+                   "their frames form one sequence in the order given (required, but for "
+                   "--list-settings)")
         ->check(CLI::ExistingFile);
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     std::string label;
@@ -764,37 +764,8 @@ int main(int argc, char** argv) {
                    "order of the files (e.g. snapshots/*.nc)")
         ->check(CLI::Range(1, 999999))
         ->excludes(label_option);
-    cli.add_option("--min-length", detect.min_length, "Drop lines shorter than this (d)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--join-distance", detect.join_distance,
-                   "Join open lines end to start across gaps up to this long at the contact's "
-                   "jagged edge: the pieces of one core running along it (d; 0: never; "
-                   "not in a periodic cell, which has no edge)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--slip-sign", detect.slip_sign,
-                   "Registry-index change of a slipping site: -1 sliding along +x, +1 along -x")
-        ->check(CLI::IsMember({-1, 1}))
-        ->capture_default_str();
-    cli.add_option("--min-overlap", track.min_overlap,
-                   "Overlap of slipped regions linking lines of consecutive frames")
-        ->check(app::finite_number(0.0, 1.0, true))
-        ->capture_default_str();
-    cli.add_option("--max-centroid-distance", track.max_centroid_distance,
-                   "Centroids closer than this link lines of consecutive frames (d)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--max-motion", track.max_motion, "Largest motion of a line between frames (d)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--arrest-area", track.arrest_area,
-                   "Slipped-area change below which a line is arrested (d^2)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--plot-every", plot_every, "A figure every N frames (0: none)")
-        ->check(CLI::Range(0, 1000000))
-        ->capture_default_str();
+    app::SettingFlags flags;
+    flags.add(cli, FrameOptions::settings(), {}, "summary key");
     bool& profiles = o.profiles;
     cli.add_flag("--profiles", profiles,
                  "Per plotted frame also the stress along x and along y through the tip centre "
@@ -805,20 +776,6 @@ int main(int argc, char** argv) {
                  "of it (front_NNNN.csv, front_NNNN.png: around each loop, against the local "
                  "Peierls stress at its angle with --peierls), and where the front moved since "
                  "the previous frame, with what it held there (front_moves_NNNN.csv)");
-    cli.add_option("--front-span", o.front_options.span,
-                   "Length of line pooled per point of --front (d): at least the period |m| d "
-                   "of the directions to be measured")
-        ->check(app::positive())
-        ->capture_default_str();
-    cli.add_option("--front-stretches", o.front_options.stretches,
-                   "--front pools at most a line's length over this many (a small loop is not "
-                   "averaged over a large part of it)")
-        ->check(app::finite_number(3.0, std::numeric_limits<double>::infinity()))
-        ->capture_default_str();
-    cli.add_option("--front-step", o.front_options.step,
-                   "Spacing of the points of --front along each line (d)")
-        ->check(app::positive())
-        ->capture_default_str();
     std::string peierls_path;
     cli.add_option("--peierls", peierls_path,
                    "peierls_scan summary.json or its folder: with --profiles, draw the local "
@@ -828,10 +785,18 @@ int main(int argc, char** argv) {
     cli.add_flag("--periodic", force_periodic,
                  "Treat every block as a whole periodic cell (default: the file's `periodic` "
                  "attribute)");
+    bool list_settings = false;
+    cli.add_flag("--list-settings", list_settings,
+                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
+                 "table and exit (docs/tracking.md)");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    detect.validate();
-    track.validate();
-    o.front_options.validate();
+    if (list_settings) {
+      std::printf("%s", app::settings_markdown(FrameOptions{}, FrameOptions::settings()).c_str());
+      return 0;
+    }
+    if (files.empty()) throw std::invalid_argument("snapshots: at least one file is required");
+    flags.apply(FrameOptions::settings(), o);
+    settings::validate(o, FrameOptions::settings());
     nlohmann::json peierls_json = nullptr;
     if (!peierls_path.empty()) {
       if (!profiles && !o.front)
@@ -854,7 +819,7 @@ int main(int argc, char** argv) {
     }
     for (const auto& file : stale)
       fs::remove(file);
-    tracking::Tracker tracker(track);
+    tracking::Tracker tracker(o.track);
     FrontHistory front_history;  // --front: the previous frame's, for the moves since
     nlohmann::json frames_json = nlohmann::json::array(), inputs = nlohmann::json::array();
     std::vector<FrameInfo> info;

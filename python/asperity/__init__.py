@@ -210,10 +210,11 @@ def find_lines(frame, index=0, periodic=None, **options):
     """Dislocation lines in one snapshot frame (MODEL.md 7), as track_loops finds them.
 
     frame: an xarray Dataset in the snapshot layout (result.snapshots[...], or a tools' .nc
-    opened with xarray); index: the frame in it. options: min_length (d, default 2),
-    join_distance (d, default 4: open pieces of one core cut by the contact's jagged edge are
-    joined across gaps up to this long; 0: never), slip_sign (-1: sliding along +x),
-    tangent_half_window, screw_angle_deg, centre_fraction.
+    opened with xarray); index: the frame in it. options: track_loops' lines.* settings and
+    track.centre_fraction as keywords, unprefixed (min_length, join_distance: 0 leaves the
+    pieces of one core cut by the contact's jagged edge unjoined, slip_sign, ...); their
+    defaults, allowed values and meanings: help(asperity._asperity.find_lines), made from the
+    one table track_loops --list-settings prints (docs/tracking.md, "Settings").
     Returns a dict: "lines" (the records of track_loops' lines.json, ids in frame order),
     "census" (what they add up to: loops, loop_area, loop_screw_fraction, the largest loop,
     slipped_area, ...; the columns of friction_sweep --largest-slip's slips.csv, None where
@@ -243,11 +244,11 @@ def front_stresses(frame, index=0, periodic=None, later=None, later_index=0, **o
     every `step` d of each line, the stress a stretch `span` d long holds, the Peierls-Nabarro
     force on it per Burgers vector (G), to compare with the local Peierls stress at its angle.
 
-    frame: an xarray Dataset in the snapshot layout; index: the frame in it. options: span
-    (d, default 32; at most a line's length over `stretches`, 6), step (d, 4), widths (core
-    widths either side, 4), max_half_width (d, 32),
-    and find_lines' min_length, join_distance, slip_sign, tangent_half_window,
-    screw_angle_deg. Returns a dict of NumPy columns, one row per point: line (index in
+    frame: an xarray Dataset in the snapshot layout; index: the frame in it. options:
+    track_loops' front.* settings as keywords, unprefixed (span, stretches, step, widths,
+    max_half_width), and find_lines' options; their defaults, allowed values and meanings:
+    help(asperity._asperity.front_stresses), from the table track_loops --list-settings
+    prints. Returns a dict of NumPy columns, one row per point: line (index in
     "lines"), kind, arc, span, x, y (d), angle_deg (0 screw, 90 edge), stress (G), slip (d),
     resolved, half_width, bend (d), tau_max (G); and "lines", the lines as find_lines gives
     them. Under a tip out of registry nothing is measured (ValueError).

@@ -45,24 +45,23 @@ class PeriodicSurfaceGF:
     @property
     def applications(self) -> int: ...
 
+# The options of find_lines and front_stresses are keywords named by the keys of track_loops'
+# settings table (track_loops --list-settings; docs/tracking.md "Settings"): lines.* and
+# track.centre_fraction, and for front_stresses front.* too, unprefixed. Their defaults,
+# allowed values and meanings are in each function's __doc__, made from the same table.
 def find_lines(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLike,
                in_contact: Optional[npt.ArrayLike] = None, origin_x: int = 0,
                origin_y: int = 0, d: float = 1.0, periodic: bool = False,
-               min_length: float = 2.0, join_distance: float = 4.0, slip_sign: int = -1,
-               tangent_half_window: int = 1,
-               screw_angle_deg: float = 45.0, centre_fraction: float = 0.5,
                sy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,
-               tip_angle: float = 0.0, tip_mismatch: float = 0.0) -> dict: ...
+               tip_angle: float = 0.0, tip_mismatch: float = 0.0, **options: Any) -> dict: ...
 def front_stresses(sx: npt.ArrayLike, tau_x: npt.ArrayLike, tau_max: npt.ArrayLike,
                    in_contact: Optional[npt.ArrayLike] = None,
                    uy: Optional[npt.ArrayLike] = None, tau_y: Optional[npt.ArrayLike] = None,
                    origin_x: int = 0, origin_y: int = 0, Dx: float = 0.0,
-                   periodic: bool = False, span: float = 32.0, stretches: float = 6.0,
-                   step: float = 4.0, widths: float = 4.0, max_half_width: float = 32.0,
-                   later_sx: Optional[npt.ArrayLike] = None,
+                   periodic: bool = False, later_sx: Optional[npt.ArrayLike] = None,
                    later_tau_max: Optional[npt.ArrayLike] = None,
                    later_in_contact: Optional[npt.ArrayLike] = None, later_origin_x: int = 0,
-                   later_origin_y: int = 0, **lines_options: Any) -> dict: ...
+                   later_origin_y: int = 0, **options: Any) -> dict: ...
 def regime_two_law(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def nucleation_condition(a_over_bcore0: npt.ArrayLike, c0: npt.ArrayLike) -> Any: ...
 def control_parameter(a: npt.ArrayLike, R: npt.ArrayLike, alpha: npt.ArrayLike = 0.7,

@@ -25,6 +25,7 @@
 #include "asperity/tracking/profile.hpp"
 #include "asperity/tracking/tracker.hpp"
 #include "errors.hpp"
+#include "settings_kwargs.hpp"
 
 namespace asperity::python {
 
@@ -39,12 +40,44 @@ py::object json_to_python(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+// The lines' options (tracking::DetectOptions' table, and TrackOptions' centre_fraction for the
+// records' location class) and, with `front`, FrontOptions' from keywords named by their keys
+// (as track_loops' lines.*, track.*, front.* settings); others are refused by name.
+struct KeywordOptions {
+  tracking::DetectOptions detect;
+  tracking::TrackOptions track;
+  tracking::FrontOptions front;
+};
+
+KeywordOptions keyword_options(const char* function, const py::kwargs& kwargs, bool front) {
+  KeywordOptions o;
+  for (const auto& [key, value] : kwargs) {
+    const auto name = key.cast<std::string>();
+    if (set_keyword(tracking::DetectOptions::settings(), o.detect, name, value)) continue;
+    if (name == "centre_fraction" &&
+        set_keyword(tracking::TrackOptions::settings(), o.track, name, value))
+      continue;
+    if (front && set_keyword(tracking::FrontOptions::settings(), o.front, name, value)) continue;
+    throw py::type_error(
+        std::string(function) + ": unexpected keyword '" + name +
+        "' (options: " + keyword_names(tracking::DetectOptions::settings()) + ", centre_fraction" +
+        (front ? ", " + keyword_names(tracking::FrontOptions::settings()) : "") + ")");
+  }
+  return o;
+}
+
+std::pair<tracking::DetectOptions, tracking::TrackOptions> lines_options(const char* function,
+                                                                         const py::kwargs& kwargs) {
+  const KeywordOptions o = keyword_options(function, kwargs, false);
+  return {o.detect, o.track};
+}
+
 py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
                     const Array<double>& tau_max, const py::object& in_contact, int origin_x,
-                    int origin_y, double d, bool periodic, double min_length, double join_distance,
-                    int slip_sign, int tangent_half_window, double screw_angle_deg,
-                    double centre_fraction, const py::object& sy, const py::object& tau_y,
-                    double tip_angle, double tip_mismatch) {
+                    int origin_y, double d, bool periodic, const py::object& sy,
+                    const py::object& tau_y, double tip_angle, double tip_mismatch,
+                    const py::kwargs& kwargs) {
+  const auto [o, track] = lines_options("find_lines", kwargs);
   if (sx.ndim() != 2) throw py::value_error("find_lines: sx must be 2D, (n0, n1) block-major");
   tracking::FieldView view;
   view.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
@@ -69,19 +102,13 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
     view.tau_y = {tau_y_values.data(), static_cast<std::size_t>(tau_y_values.size())};
   }
   view.tip = {.angle = tip_angle, .mismatch = tip_mismatch};
-  tracking::DetectOptions o;
-  o.min_length = min_length;
-  o.join_distance = join_distance;
-  o.slip_sign = slip_sign;
-  o.tangent_half_window = tangent_half_window;
-  o.screw_angle_deg = screw_angle_deg;
   const tracking::FrameLines f = value_errors([&] {
     py::gil_scoped_release release;
     return tracking::find_lines(view, o);
   });
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k = 0; k < f.lines.size(); ++k)
-    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, centre_fraction));
+    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, track.centre_fraction));
   nlohmann::json census = nlohmann::json::object();
   for (const auto& [name, value] : app::census_fields(tracking::census(f)))
     census[name] = value;  // NaN (no loop) becomes None
@@ -92,31 +119,6 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
       py::arg("core_crossings") = f.core_crossings,
       py::arg("registry_crossings") = f.registry_crossings,
       py::arg("dropped_short") = f.dropped_short, py::arg("joined_pieces") = f.joined_pieces);
-}
-
-// find_lines' detection options as keywords (the names of its arguments), the others
-// refused by name.
-tracking::DetectOptions detect_options(const py::kwargs& kwargs) {
-  tracking::DetectOptions o;
-  for (const auto& [key, value] : kwargs) {
-    const auto name = key.cast<std::string>();
-    if (name == "min_length") {
-      o.min_length = value.cast<double>();
-    } else if (name == "join_distance") {
-      o.join_distance = value.cast<double>();
-    } else if (name == "slip_sign") {
-      o.slip_sign = value.cast<int>();
-    } else if (name == "tangent_half_window") {
-      o.tangent_half_window = value.cast<int>();
-    } else if (name == "screw_angle_deg") {
-      o.screw_angle_deg = value.cast<double>();
-    } else {
-      throw py::type_error("front_stresses: unexpected keyword '" + name +
-                           "' (the lines' options: min_length, join_distance, slip_sign, "
-                           "tangent_half_window, screw_angle_deg)");
-    }
-  }
-  return o;
 }
 
 // A copy of an optional array (empty for None); the library checks its size against its block.
@@ -132,8 +134,7 @@ std::vector<T> copy_of(const py::object& a) {
 py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
                         const Array<double>& tau_max, const py::object& in_contact,
                         const py::object& uy, const py::object& tau_y, int origin_x, int origin_y,
-                        double Dx, bool periodic, double span, double stretches, double step,
-                        double widths, double max_half_width, const py::object& later_sx,
+                        double Dx, bool periodic, const py::object& later_sx,
                         const py::object& later_tau_max, const py::object& later_in_contact,
                         int later_origin_x, int later_origin_y, const py::kwargs& kwargs) {
   if (sx.ndim() != 2) throw py::value_error("front_stresses: sx must be 2D, (n0, n1) block-major");
@@ -158,12 +159,9 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   if (s.tau_y.empty()) s.tau_y.assign(n, 0.0);
   s.pressure.assign(n, 0.0);                         // not used by the measure
   s.in_contact = copy_of<std::uint8_t>(in_contact);  // its size: checked by front_stresses
-  const tracking::DetectOptions o = detect_options(kwargs);
-  const tracking::FrontOptions fo{.widths = widths,
-                                  .span = span,
-                                  .stretches = stretches,
-                                  .step = step,
-                                  .max_half_width = max_half_width};
+  const KeywordOptions options = keyword_options("front_stresses", kwargs, true);
+  const tracking::DetectOptions& o = options.detect;
+  const tracking::FrontOptions& fo = options.front;
   const auto [f, front] = value_errors([&] {
     py::gil_scoped_release release;
     tracking::FrameLines lines = tracking::find_lines(tracking::view_of(s, periodic), o);
@@ -194,7 +192,8 @@ py::dict front_stresses(const Array<double>& sx, const Array<double>& tau_x,
   }
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k = 0; k < f.lines.size(); ++k)
-    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, 0.5));
+    lines.push_back(
+        app::line_json(f.lines[k], static_cast<int>(k), f, options.track.centre_fraction));
   py::dict out(py::arg("line") = line, py::arg("kind") = kind, py::arg("arc") = arc,
                py::arg("span") = spans, py::arg("x") = x, py::arg("y") = y,
                py::arg("angle_deg") = angle, py::arg("stress") = stress, py::arg("slip") = slip,
@@ -294,40 +293,44 @@ py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const p
       py::arg("c0_window_spread") = fit.c0_window_spread);
 }
 
+// TrackOptions' one row the lines' records use (their location class).
+settings::Table<tracking::TrackOptions> centre_fraction_table() {
+  return {*settings::find(tracking::TrackOptions::settings(), "centre_fraction")};
+}
+
 }  // namespace
 
 void bind_analysis(py::module_& m) {
+  // Static: the docstrings outlive this call whatever the binding does with them.
+  static const std::string lines_help =
+      "Options as keywords (default, meaning, allowed; the table track_loops lifts under "
+      "lines.*):\n" +
+      keywords_help(tracking::DetectOptions::settings()) + keywords_help(centre_fraction_table());
+  static const std::string find_lines_doc =
+      "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; a tip out of "
+      "registry (tip_angle, tip_mismatch) needs sy and tau_y too; returns the lines as "
+      "lines.json records and the frame's counts.\n" +
+      lines_help;
+  static const std::string front_doc =
+      "The stress held all along every line of one frame (tracking::front_stresses, as "
+      "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
+      "(line: index in lines, kind, arc, span, x, y, angle_deg, stress, slip, resolved, "
+      "half_width, bend, tau_max) and the lines as lines.json records; with a later state "
+      "(later_sx and its contact) also where the front moved by then (moved_sites per point, "
+      "moved, elsewhere).\nThe front's options as keywords (track_loops' front.*):\n" +
+      keywords_help(tracking::FrontOptions::settings()) + "and the lines' (find_lines):\n" +
+      lines_help.substr(lines_help.find('\n') + 1);
   m.def("find_lines", &find_lines, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
         py::arg("in_contact") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
-        py::arg("d") = 1.0, py::arg("periodic") = false,
-        py::arg("min_length") = tracking::DetectOptions{}.min_length,
-        py::arg("join_distance") = tracking::DetectOptions{}.join_distance,
-        py::arg("slip_sign") = tracking::DetectOptions{}.slip_sign,
-        py::arg("tangent_half_window") = tracking::DetectOptions{}.tangent_half_window,
-        py::arg("screw_angle_deg") = tracking::DetectOptions{}.screw_angle_deg,
-        py::arg("centre_fraction") = tracking::TrackOptions{}.centre_fraction,
-        py::arg("sy") = py::none(), py::arg("tau_y") = py::none(), py::arg("tip_angle") = 0.0,
-        py::arg("tip_mismatch") = 0.0,
-        "Dislocation lines in one frame (MODEL.md 7): fields (n0, n1) block-major; a tip out of "
-        "registry (tip_angle, tip_mismatch) needs sy and tau_y too; returns the lines as "
-        "lines.json records and the frame's counts");
-  const tracking::FrontOptions front{};
+        py::arg("d") = 1.0, py::arg("periodic") = false, py::arg("sy") = py::none(),
+        py::arg("tau_y") = py::none(), py::arg("tip_angle") = 0.0, py::arg("tip_mismatch") = 0.0,
+        find_lines_doc.c_str());
   m.def("front_stresses", &front_stresses, py::arg("sx"), py::arg("tau_x"), py::arg("tau_max"),
         py::arg("in_contact") = py::none(), py::arg("uy") = py::none(),
         py::arg("tau_y") = py::none(), py::arg("origin_x") = 0, py::arg("origin_y") = 0,
-        py::arg("Dx") = 0.0, py::arg("periodic") = false, py::arg("span") = front.span,
-        py::arg("stretches") = front.stretches, py::arg("step") = front.step,
-        py::arg("widths") = front.widths, py::arg("max_half_width") = front.max_half_width,
-        py::arg("later_sx") = py::none(), py::arg("later_tau_max") = py::none(),
-        py::arg("later_in_contact") = py::none(), py::arg("later_origin_x") = 0,
-        py::arg("later_origin_y") = 0,
-        "The stress held all along every line of one frame (tracking::front_stresses, as "
-        "track_loops --front): fields (n0, n1) block-major; returns its points as columns "
-        "(line: index in lines, kind, arc, span, x, y, angle_deg, stress, slip, resolved, "
-        "half_width, bend, tau_max) and the lines as lines.json records; the lines' options "
-        "(min_length, join_distance, slip_sign, tangent_half_window, screw_angle_deg) as "
-        "keywords, as find_lines takes them; with a later state (later_sx and its contact) "
-        "also where the front moved by then (moved_sites per point, moved, elsewhere)");
+        py::arg("Dx") = 0.0, py::arg("periodic") = false, py::arg("later_sx") = py::none(),
+        py::arg("later_tau_max") = py::none(), py::arg("later_in_contact") = py::none(),
+        py::arg("later_origin_x") = 0, py::arg("later_origin_y") = 0, front_doc.c_str());
   m.def("regime_two_law", py::vectorize([](double x, double c0) {
           return value_errors([&] { return nucleation::regime_two_law(x, c0); });
         }),

@@ -153,6 +153,76 @@ def test_front_stresses_measures_what_track_loops_front_measures(runs, tmp_path)
     assert len(fewer["x"]) == 0 and fewer["lines"] == []
 
 
+def test_front_options_are_the_tools_settings(runs, tmp_path):
+    # The keywords are track_loops' settings (one table, docs/tracking.md "Settings"): the same
+    # non-default values given as keywords and as the tool's flags give the same front, and the
+    # tool echoes them in summary.json and lines.json.
+    result, files = runs
+    label = "slip_001_before"
+    options = {"span": 16.0, "step": 2.0, "widths": 3.0, "max_half_width": 24.0,
+               "stretches": 4.0, "min_length": 3.0}
+    ours = asperity.front_stresses(result.snapshots[label], **options)
+    flags = ["--front-span", "16", "--front-step", "2", "--front-widths", "3",
+             "--front-max-half-width", "24", "--front-stretches", "4", "--min-length", "3"]
+    subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--front", "--out", tmp_path,
+                    *flags], check=True, capture_output=True)
+    summary = json.loads((tmp_path / "summary.json").read_text())["options"]
+    frame = json.loads((tmp_path / "lines.json").read_text())["frames"][0]
+    for key in ("span", "step", "widths", "max_half_width", "stretches"):
+        assert summary["front." + key] == frame["front"][key] == options[key], key
+    assert summary["lines.min_length"] == 3.0
+    with open(tmp_path / frame["front"]["table"], newline="") as table:
+        rows = list(csv.DictReader(table))
+    assert len(rows) == len(ours["x"]) > 0
+    np.testing.assert_allclose(ours["stress"], [float(r["stress"]) for r in rows], rtol=1e-12,
+                               atol=1e-12, equal_nan=True)
+    # A 2 d step on every line: a point every 2 d (a loop's closing point is its first).
+    expected = sum(int(line["length"] // 2) + (line["kind"] != "loop") for line in ours["lines"])
+    assert len(ours["x"]) == expected
+
+
+def test_keywords_are_checked_as_the_settings_are(runs):
+    result, _ = runs
+    frame = result.snapshots["slip_001_before"]
+    # Each setting's kind: a sign is one of its names, also given as an int (NumPy's too).
+    base = asperity.find_lines(frame)
+    assert asperity.find_lines(frame, slip_sign=-1) == base
+    assert asperity.find_lines(frame, slip_sign=np.int64(-1), min_length=np.float32(2.0)) == base
+    assert asperity.find_lines(frame, tangent_half_window=1.0) == base  # an integral float
+    for bad, error, message in (({"slip_sign": 0}, ValueError, 'slip_sign = "0": allowed'),
+                                ({"tangent_half_window": 1.5}, TypeError, "tangent_half_window"),
+                                ({"min_length": True}, TypeError, "min_length"),
+                                ({"min_length": "2"}, TypeError, "min_length"),
+                                ({"screw_angle_deg": 90.0}, ValueError, "screw_angle_deg = 90"),
+                                ({"centre_fraction": 2.0}, ValueError, "centre_fraction = 2"),
+                                ({"span": 1.0}, TypeError, "unexpected keyword 'span'")):
+        with pytest.raises(error, match=message):
+            asperity.find_lines(frame, **bad)
+    with pytest.raises(ValueError, match="stretches = 2: allowed: >= 3"):
+        asperity.front_stresses(frame, stretches=2)
+
+
+def test_keywords_help_is_the_tools_table():
+    # Every setting the functions take is listed in their help with its default, from the
+    # table track_loops --list-settings prints.
+    table = subprocess.run([BIN / "track_loops", "--list-settings"], check=True,
+                           capture_output=True, text=True).stdout
+    rows = [line.split("|")[1:3] for line in table.splitlines()[2:]]
+    settings = {key.strip(" `"): default.strip() for key, default in rows}
+    front_doc = asperity._asperity.front_stresses.__doc__
+    lines_doc = asperity._asperity.find_lines.__doc__
+    for key, default in settings.items():
+        group, _, name = key.partition(".")
+        if group == "lines" or key == "track.centre_fraction":
+            docs = (lines_doc, front_doc)
+        elif group == "front":
+            docs = (front_doc,)
+        else:
+            continue
+        for doc in docs:
+            assert f"  {name} = {default.strip(chr(34))}: " in doc, key
+
+
 def test_front_stresses_says_where_the_front_moved_by_a_later_state(runs):
     # Across the first slip: the contact sites whose registry index changed, recounted here,
     # each given to a point of the earlier front or counted elsewhere.

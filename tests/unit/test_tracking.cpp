@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numbers>
+#include <string>
 
 #include "asperity/tracking/census.hpp"
 #include "asperity/tracking/lines.hpp"
@@ -29,24 +31,80 @@ void expect_rejects(const auto& make_invalid, const std::string& field) {
 TEST(TrackingOptions, DefaultsAreValid) {
   EXPECT_NO_THROW(DetectOptions{}.validate());
   EXPECT_NO_THROW(TrackOptions{}.validate());
+  EXPECT_NO_THROW(FrontOptions{}.validate());
   EXPECT_NO_THROW(SyntheticOptions{}.validate());
 }
 
-TEST(TrackingOptions, ViolationsNameTheField) {
-  expect_rejects([] { DetectOptions{.min_length = -1}.validate(); }, "DetectOptions.min_length");
-  expect_rejects([] { DetectOptions{.slip_sign = 0}.validate(); }, "DetectOptions.slip_sign");
-  expect_rejects([] { DetectOptions{.screw_angle_deg = 90}.validate(); },
-                 "DetectOptions.screw_angle_deg");
-  expect_rejects([] { DetectOptions{.join_distance = -1}.validate(); },
-                 "DetectOptions.join_distance");
-  expect_rejects([] { DetectOptions{.join_distance = INFINITY}.validate(); },
-                 "DetectOptions.join_distance");
-  expect_rejects([] { TrackOptions{.min_overlap = 0}.validate(); }, "TrackOptions.min_overlap");
+// validate() comes from the settings tables: a violation names the key (as track_loops' flags
+// and the Python keywords do) and what is allowed.
+TEST(TrackingOptions, ViolationsNameTheSetting) {
+  expect_rejects([] { DetectOptions{.min_length = -1}.validate(); }, "min_length = -1: allowed");
+  expect_rejects([] { DetectOptions{.slip_sign = 0}.validate(); }, "slip_sign = \"0\": allowed");
+  expect_rejects([] { DetectOptions{.screw_angle_deg = 90}.validate(); }, "screw_angle_deg = 90");
+  expect_rejects([] { DetectOptions{.join_distance = -1}.validate(); }, "join_distance = -1");
+  expect_rejects([] { DetectOptions{.join_distance = INFINITY}.validate(); }, "join_distance =");
+  expect_rejects([] { DetectOptions{.tangent_half_window = 17}.validate(); },
+                 "tangent_half_window = 17");
+  expect_rejects([] { TrackOptions{.min_overlap = 0}.validate(); }, "min_overlap = 0");
   expect_rejects([] { TrackOptions{.max_centroid_distance = NAN}.validate(); },
-                 "TrackOptions.max_centroid_distance");
-  expect_rejects([] { Tracker(TrackOptions{.arrest_area = -1}); }, "TrackOptions.arrest_area");
+                 "max_centroid_distance =");
+  expect_rejects([] { Tracker(TrackOptions{.arrest_area = -1}); }, "arrest_area = -1");
+  expect_rejects([] { TrackOptions{.centre_fraction = 1.5}.validate(); }, "centre_fraction = 1.5");
+  expect_rejects([] { FrontOptions{.span = 0}.validate(); }, "span = 0: allowed: > 0 d");
+  expect_rejects([] { FrontOptions{.stretches = 2.5}.validate(); },
+                 "stretches = 2.5: allowed: >= 3");
+  expect_rejects([] { FrontOptions{.step = INFINITY}.validate(); }, "step =");
+  expect_rejects([] { FrontOptions{.widths = -1}.validate(); }, "widths = -1");
+  expect_rejects([] { FrontOptions{.max_half_width = 0}.validate(); }, "max_half_width = 0");
   expect_rejects([] { SyntheticOptions{.registry_offset = 0.5}.validate(); },
                  "SyntheticOptions.registry_offset");
+}
+
+// Each row of the tables reads and writes its own field: a value set through the row is the
+// field's, and no other row's value changes (a row wired to the wrong member fails).
+template <class Root>
+void expect_rows_reach_their_fields(const std::map<std::string, settings::Value>& values) {
+  const settings::Table<Root>& table = Root::settings();
+  ASSERT_EQ(table.size(), values.size());
+  for (const settings::Setting<Root>& row : table) {
+    SCOPED_TRACE(row.key);
+    ASSERT_TRUE(values.contains(row.key));
+    const settings::Value v = values.at(row.key);
+    ASSERT_NO_THROW(row.check(v));
+    ASSERT_NE(v, row.get(Root{}));  // a value the default is not
+    Root r;
+    row.set(r, v);
+    EXPECT_EQ(row.get(r), v);
+    for (const settings::Setting<Root>& other : table) {
+      if (other.key == row.key) continue;
+      EXPECT_EQ(other.get(r), other.get(Root{})) << other.key;
+    }
+  }
+}
+
+TEST(TrackingOptions, EachRowReachesItsField) {
+  expect_rows_reach_their_fields<DetectOptions>({{"min_length", 3.0},
+                                                 {"join_distance", 0.0},
+                                                 {"slip_sign", std::string("1")},
+                                                 {"tangent_half_window", 2LL},
+                                                 {"screw_angle_deg", 30.0}});
+  expect_rows_reach_their_fields<TrackOptions>({{"min_overlap", 0.5},
+                                                {"max_centroid_distance", 4.0},
+                                                {"max_motion", 10.0},
+                                                {"arrest_area", 1.0},
+                                                {"centre_fraction", 0.25}});
+  expect_rows_reach_their_fields<FrontOptions>({{"span", 16.0},
+                                                {"stretches", 4.0},
+                                                {"step", 2.0},
+                                                {"widths", 3.0},
+                                                {"max_half_width", 24.0}});
+  // The fields themselves, for one row each: the slip sign's names are its values.
+  DetectOptions d;
+  settings::find(DetectOptions::settings(), "slip_sign")->set(d, std::string("1"));
+  EXPECT_EQ(d.slip_sign, 1);
+  FrontOptions f;
+  settings::find(FrontOptions::settings(), "span")->set(f, 16.0);
+  EXPECT_EQ(f.span, 16.0);
 }
 
 TEST(FieldView, SizesAndShapeAreChecked) {
