@@ -103,7 +103,7 @@ const settings::Table<DetectOptions>& DetectOptions::settings() {
           "degrees",
           "a piece of line at an angle to b below this counts as screw, "
           "otherwise edge",
-          "--screw-angle"),
+          "--screw-angle-deg"),
   };
   return table;
 }

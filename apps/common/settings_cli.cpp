@@ -50,7 +50,7 @@ settings::Value parse_setting(const settings::Info& setting, const std::string& 
       break;
     }
     case settings::Kind::choice:
-      v = text;
+      v = setting.choice_named(text);  // "+1" for a sign's "1"
       break;
   }
   setting.check(v);

@@ -66,32 +66,37 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
 class SettingFlags {
  public:
   // Adds a flag for every row of `table` that names one (`only`: of these keys alone);
-  // `key_label` as setting_help's.
+  // `key_label` as setting_help's. With `defaults`, the help shows each flag's default (for a
+  // tool without a scene file, whose defaults are the structs'; a scene tool's flag overrides
+  // the scene's value, so it shows none).
   template <class Root>
   void add(CLI::App& cli, const settings::Table<Root>& table,
-           const std::vector<std::string>& only = {}, const std::string& key_label = "scene key") {
+           const std::vector<std::string>& only = {}, const std::string& key_label = "scene key",
+           const Root* defaults = nullptr) {
     for (const settings::Setting<Root>& s : table) {
       if (s.flag.empty()) continue;
       if (!only.empty() && std::find(only.begin(), only.end(), s.key) == only.end()) continue;
       const settings::Info info = s;
-      cli.add_option_function<std::string>(
-             s.flag, [this, info](const std::string& text) { given_[info.key] = text; },
-             setting_help(s, key_label))
-          ->check(CLI::Validator(
-              [info](std::string& text) -> std::string {
-                try {
-                  parse_setting(info, text);
-                } catch (const std::invalid_argument& e) {
-                  return e.what();
-                }
-                return {};
-              },
-              ""))
-          ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
-                      : info.kind == settings::Kind::integer ? "INT"
-                      : info.kind == settings::Kind::boolean ? "BOOL"
-                      : info.kind == settings::Kind::numbers ? "LIST"
-                                                             : "NUMBER");
+      CLI::Option* option =
+          cli.add_option_function<std::string>(
+                 s.flag, [this, info](const std::string& text) { given_[info.key] = text; },
+                 setting_help(s, key_label))
+              ->check(CLI::Validator(
+                  [info](std::string& text) -> std::string {
+                    try {
+                      parse_setting(info, text);
+                    } catch (const std::invalid_argument& e) {
+                      return e.what();
+                    }
+                    return {};
+                  },
+                  ""))
+              ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
+                          : info.kind == settings::Kind::integer ? "INT"
+                          : info.kind == settings::Kind::boolean ? "BOOL"
+                          : info.kind == settings::Kind::numbers ? "LIST"
+                                                                 : "NUMBER");
+      if (defaults != nullptr) option->default_str(settings::to_string(s.get(*defaults)));
     }
   }
 

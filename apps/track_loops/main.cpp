@@ -765,7 +765,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 999999))
         ->excludes(label_option);
     app::SettingFlags flags;
-    flags.add(cli, FrameOptions::settings(), {}, "summary key");
+    const FrameOptions defaults;
+    flags.add(cli, FrameOptions::settings(), {}, "summary key", &defaults);
     bool& profiles = o.profiles;
     cli.add_flag("--profiles", profiles,
                  "Per plotted frame also the stress along x and along y through the tip centre "

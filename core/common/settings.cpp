@@ -1,5 +1,6 @@
 #include "asperity/core/common/settings.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -84,6 +85,25 @@ std::string Info::allowed() const {
     }
   }
   return "?";
+}
+
+std::string Info::choice_named(const std::string& text) const {
+  if (std::find(choices.begin(), choices.end(), text) != choices.end()) return text;
+  const auto integer = [](const std::string& t) -> std::optional<long long> {
+    if (t.starts_with("+-")) return std::nullopt;
+    const char* first = t.data() + (t.starts_with('+') ? 1 : 0);
+    const char* last = t.data() + t.size();
+    long long n = 0;
+    const auto [end, ec] = std::from_chars(first, last, n);
+    if (first == last || ec != std::errc() || end != last) return std::nullopt;
+    return n;
+  };
+  const std::optional<long long> n = integer(text);
+  if (!n) return text;
+  for (const std::string& c : choices) {
+    if (integer(c) == n) return c;
+  }
+  return text;
 }
 
 void Info::check(const Value& value) const {

@@ -80,6 +80,10 @@ struct Info {
   // Throws std::invalid_argument "<key> = <value>: allowed: <allowed()>" if the value is not of
   // the kind or not allowed (a number must also be finite).
   void check(const Value& value) const;
+  // The choice that `text` names: `text` itself, or, for choices named by integers (a sign:
+  // "-1", "1"), the one equal to it as an integer ("+1", "01"); else `text` unchanged (check()
+  // then refuses it).
+  [[nodiscard]] std::string choice_named(const std::string& text) const;
 };
 
 template <class Root>

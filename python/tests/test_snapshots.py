@@ -179,19 +179,57 @@ def test_front_options_are_the_tools_settings(runs, tmp_path):
     # A 2 d step on every line: a point every 2 d (a loop's closing point is its first).
     expected = sum(int(line["length"] // 2) + (line["kind"] != "loop") for line in ours["lines"])
     assert len(ours["x"]) == expected
+    # Each front option reaches the measure: alone, each moves the stress somewhere, at a
+    # value that binds here. This frame's two lines are 16 d long: their stretch is a sixth of
+    # each, 2.7 d (span binds at 2 d, stretches at 12), and every window is cut at 1.0-1.6 d
+    # by the other line, so max_half_width binds at 1 d and widths at no value (its row is
+    # reached as the others are, through the table: tests/unit/test_tracking.cpp).
+    base = asperity.front_stresses(result.snapshots[label], min_length=3.0, step=2.0)
+    for key, value in (("span", 2.0), ("stretches", 12.0), ("max_half_width", 1.0)):
+        one = asperity.front_stresses(result.snapshots[label], min_length=3.0, step=2.0,
+                                      **{key: value})
+        assert not np.array_equal(one["stress"], base["stress"], equal_nan=True), key
 
 
-def test_keywords_are_checked_as_the_settings_are(runs):
-    result, _ = runs
-    frame = result.snapshots["slip_001_before"]
-    # Each setting's kind: a sign is one of its names, also given as an int (NumPy's too).
+def test_keywords_are_checked_as_the_settings_are(runs, tmp_path):
+    result, files = runs
+    label = "slip_001_before"
+    frame = result.snapshots[label]
     base = asperity.find_lines(frame)
-    assert asperity.find_lines(frame, slip_sign=-1) == base
-    assert asperity.find_lines(frame, slip_sign=np.int64(-1), min_length=np.float32(2.0)) == base
-    assert asperity.find_lines(frame, tangent_half_window=1.0) == base  # an integral float
+    # Values reach the options whatever their Python or NumPy type: the opposite slip sign
+    # (the other side of each core is the slipped one) and a wider tangent window change the
+    # lines, and the same values given as an int, its name, a NumPy scalar or an integral float
+    # change them alike.
+    flipped = asperity.find_lines(frame, slip_sign=1)
+    assert flipped != base
+    for same in ("1", "+1", np.int64(1), np.array(1)):
+        assert asperity.find_lines(frame, slip_sign=same) == flipped, repr(same)
+    wider = asperity.find_lines(frame, tangent_half_window=3)
+    assert wider != base
+    assert asperity.find_lines(frame, tangent_half_window=3.0) == wider
+    assert asperity.find_lines(frame, tangent_half_window=np.uint8(3)) == wider
+    longer = asperity.find_lines(frame, min_length=np.float32(30.0))
+    assert longer != base and longer == asperity.find_lines(frame, min_length=30)
+    # The tool reads "+1" as the sign "1" too, as it did before its flags came from the table.
+    for sign in ("1", "+1"):
+        subprocess.run([BIN / "track_loops", files / f"{label}.nc", "--plot-every", "0",
+                        "--slip-sign", sign, "--out", tmp_path / sign], check=True,
+                       capture_output=True)
+    assert (json.loads((tmp_path / "1" / "lines.json").read_text())
+            == json.loads((tmp_path / "+1" / "lines.json").read_text()))
     for bad, error, message in (({"slip_sign": 0}, ValueError, 'slip_sign = "0": allowed'),
+                                ({"slip_sign": 1.0}, TypeError, "slip_sign"),
+                                ({"slip_sign": np.True_}, TypeError, "slip_sign"),
                                 ({"tangent_half_window": 1.5}, TypeError, "tangent_half_window"),
+                                ({"tangent_half_window": np.array(1.5)}, TypeError,
+                                 "tangent_half_window"),
+                                ({"tangent_half_window": 1e300}, TypeError,
+                                 "tangent_half_window"),
+                                ({"tangent_half_window": 2**70}, ValueError,
+                                 "tangent_half_window"),
                                 ({"min_length": True}, TypeError, "min_length"),
+                                ({"min_length": np.True_}, TypeError, "min_length"),
+                                ({"min_length": np.array([2.0, 3.0])}, TypeError, "min_length"),
                                 ({"min_length": "2"}, TypeError, "min_length"),
                                 ({"screw_angle_deg": 90.0}, ValueError, "screw_angle_deg = 90"),
                                 ({"centre_fraction": 2.0}, ValueError, "centre_fraction = 2"),
@@ -202,25 +240,35 @@ def test_keywords_are_checked_as_the_settings_are(runs):
         asperity.front_stresses(frame, stretches=2)
 
 
-def test_keywords_help_is_the_tools_table():
-    # Every setting the functions take is listed in their help with its default, from the
-    # table track_loops --list-settings prints.
+def test_every_keyword_is_a_setting_at_its_default(runs):
+    # Each setting the functions take, from the table track_loops --list-settings prints, given
+    # at its default: accepted, and the result is the one without it. Their help lists each
+    # with that default.
+    result, _ = runs
+    frame = result.snapshots["slip_001_before"]
     table = subprocess.run([BIN / "track_loops", "--list-settings"], check=True,
                            capture_output=True, text=True).stdout
     rows = [line.split("|")[1:3] for line in table.splitlines()[2:]]
-    settings = {key.strip(" `"): default.strip() for key, default in rows}
-    front_doc = asperity._asperity.front_stresses.__doc__
-    lines_doc = asperity._asperity.find_lines.__doc__
-    for key, default in settings.items():
-        group, _, name = key.partition(".")
-        if group == "lines" or key == "track.centre_fraction":
-            docs = (lines_doc, front_doc)
-        elif group == "front":
-            docs = (front_doc,)
-        else:
-            continue
-        for doc in docs:
-            assert f"  {name} = {default.strip(chr(34))}: " in doc, key
+    settings = {key.strip(" `"): default.strip().strip('"') for key, default in rows}
+    lines_keys = {k.partition(".")[2]: v for k, v in settings.items()
+                  if k.startswith("lines.") or k == "track.centre_fraction"}
+    front_keys = {k.partition(".")[2]: v for k, v in settings.items() if k.startswith("front.")}
+    assert len(lines_keys) == 6 and len(front_keys) == 5
+
+    def typed(text):
+        return float(text) if "." in text or "e" in text else int(text)
+
+    base_lines = asperity.find_lines(frame)
+    base_front = asperity.front_stresses(frame)
+    for name, default in lines_keys.items():
+        assert asperity.find_lines(frame, **{name: typed(default)}) == base_lines, name
+    for name, default in {**lines_keys, **front_keys}.items():
+        front = asperity.front_stresses(frame, **{name: typed(default)})
+        np.testing.assert_array_equal(front["stress"], base_front["stress"], err_msg=name)
+    for doc, keys in ((asperity._asperity.find_lines.__doc__, lines_keys),
+                      (asperity._asperity.front_stresses.__doc__, {**lines_keys, **front_keys})):
+        for name, default in keys.items():
+            assert f"  {name} = {default}: " in doc, name
 
 
 def test_front_stresses_says_where_the_front_moved_by_a_later_state(runs):

@@ -11,7 +11,7 @@ doc=$2
 if grep -q '^<!-- settings: ' "$doc"; then
   rows=$(awk '/^<!-- settings: /{inside=1; next} /^<!-- end of settings -->/{inside=0} inside && /^\|/' "$doc")
 else
-  rows=$(grep '^|' "$doc")
+  rows=$(grep '^|' "$doc" || true)
 fi
 [ -n "$rows" ] || { echo "$doc: no settings table found"; exit 1; }
 diff <("$tool" --list-settings) <(printf '%s\n' "$rows") || {

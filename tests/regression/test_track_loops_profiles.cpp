@@ -29,6 +29,7 @@
 
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/snapshot_io.hpp"
+#include "asperity/tracking/profile.hpp"
 
 namespace {
 
@@ -234,9 +235,16 @@ TEST(TrackLoopsProfiles, FrontFollowsEveryLineAndItsNearestScannedAngle) {
     if (frame.at("front").is_null()) continue;
     const auto& front = frame.at("front");
     ++fronts;
-    EXPECT_EQ(front.at("span").get<double>(), 32.0);
-    EXPECT_EQ(front.at("stretches").get<double>(), 6.0);
-    EXPECT_EQ(front.at("step").get<double>(), 4.0);
+    // The record is the front's settings, the tool's defaults (tracking::FrontOptions' table).
+    const asperity::tracking::FrontOptions defaults;
+    EXPECT_EQ(front.at("span").get<double>(), defaults.span);
+    EXPECT_EQ(front.at("stretches").get<double>(), defaults.stretches);
+    EXPECT_EQ(front.at("step").get<double>(), defaults.step);
+    EXPECT_EQ(front.at("widths").get<double>(), defaults.widths);
+    EXPECT_EQ(front.at("max_half_width").get<double>(), defaults.max_half_width);
+    ASSERT_EQ(defaults.step, 4.0);  // the counts below
+    ASSERT_EQ(defaults.span, 32.0);
+    ASSERT_EQ(defaults.stretches, 6.0);
     // One point every 4 d along each line: floor(length / 4) on a loop, one more on an open line.
     std::map<int, nlohmann::json> lines;
     std::size_t expected = 0;

@@ -111,6 +111,34 @@ TEST(Settings, NumberListsCheckEachValueAndPrintAsLists) {
   EXPECT_EQ(settings::fingerprint(h, settings::Table<Holder>{row}), "sweep.R=[40]");
 }
 
+// Choices named by integers (a sign): "+1" and "01" name the choice "1"; other names and
+// texts stay as they are, for check() to refuse.
+TEST(Settings, IntegerChoicesAreNamedByTheirValue) {
+  struct Holder {
+    int sign = -1;
+  };
+  const auto row = settings::choice<Holder>(
+      "lines.slip_sign", [](auto& h) -> auto& { return h.sign; }, {"-1", "1"},
+      [](int s) { return std::to_string(s); },
+      [](const std::string& n) { return n == "1" ? 1 : -1; }, "sign");
+  EXPECT_EQ(row.choice_named("1"), "1");
+  EXPECT_EQ(row.choice_named("+1"), "1");
+  EXPECT_EQ(row.choice_named("01"), "1");
+  EXPECT_EQ(row.choice_named("-1"), "-1");
+  EXPECT_EQ(row.choice_named("-01"), "-1");
+  EXPECT_EQ(row.choice_named("0"), "0");
+  EXPECT_EQ(row.choice_named("+-1"), "+-1");
+  EXPECT_EQ(row.choice_named("1.0"), "1.0");
+  EXPECT_EQ(row.choice_named(""), "");
+  EXPECT_THROW(row.check(settings::Value(row.choice_named("0"))), std::invalid_argument);
+  // Named choices are left alone: "lbfgs" is not an integer.
+  settings::Info names;
+  names.kind = settings::Kind::choice;
+  names.choices = {"lbfgs", "flow"};
+  EXPECT_EQ(names.choice_named("+1"), "+1");
+  EXPECT_EQ(names.choice_named("flow"), "flow");
+}
+
 // The Hertz envelope: tau_max = alpha p(r) with the Hertz p (MODEL.md 3), zero outside a.
 TEST(Envelope, HertzIsAlphaTimesTheHertzPressure) {
   interface::ContactScene c;
