@@ -133,12 +133,20 @@ def fit(tmp_path_factory):
 
 
 def test_fit_scaling_from_python_is_the_tools_output(fit):
-    # sweep_R535's Regime II points give a c0 with an error (data/reference/sweep_R535.md).
+    # sweep_R535's Regime II points give c0 = 0.2118 +- 0.0115 (data/reference/sweep_R535.md,
+    # the value the regression tier stores too; k1, k2 do not enter the Regime II fit), and a
+    # prediction for every row of the table, all at its radius.
     two = fit.summary["regime_two"]
+    assert two["c0"] == pytest.approx(0.2118, rel=1e-3)
     assert two["points"] >= 3 and two["within_max_deviation"]
     assert 0 < two["c0_error"] < 0.1 * two["c0"]
-    assert "predictions" in fit.tables
-    assert any(p.name == "collapse.png" for p in fit.figures)
+    with open(DATA / "reference" / "sweep_R535.csv") as table:
+        rows = sum(1 for _ in table) - 1
+    predictions = fit.tables["predictions"]
+    assert len(predictions) == rows > 0
+    assert set(np.asarray(predictions["R"], dtype=float)) == {535.0}
+    collapse = [p for p in fit.figures if p.name == "collapse.png"]
+    assert len(collapse) == 1 and collapse[0].stat().st_size > 10_000
 
 
 def test_fit_regime_two_in_process_equals_fit_scaling(fit):
