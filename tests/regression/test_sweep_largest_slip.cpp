@@ -5,6 +5,7 @@
 // before and after its last slip, the peak, and slips.csv with its figures.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -187,9 +188,22 @@ TEST(FrictionSweepLargestSlip, SlipsTableHasTheLoopsAfterEverySlip) {
     const auto front = asperity::tracking::front_stresses(frames.at(0), lines);
     const double sign = std::copysign(1.0, slips.number(k - 1, "loop_stress_x"));
     std::size_t resolved = 0;
+    const asperity::tracking::FrontOptions options;
     for (const auto& p : front) {
+      // What "resolved" means, recomputed (the track_loops.profiles fixtures resolve no point,
+      // so this is where it is checked): the full window, widths local core widths either side
+      // (b_core = d G / tau_max, MODEL.md 3) up to max_half_width, holding about one Burgers
+      // vector of slip across it; a point short of either is not resolved.
+      const double full = std::min(options.widths / p.tau_max, options.max_half_width);
+      const bool whole = p.half_width >= full * (1 - 1e-12);
+      EXPECT_EQ(p.cut, !whole) << p.at.x << ", " << p.at.y;
+      const bool one_b = std::abs(p.held.slip) >= 0.75 && std::abs(p.held.slip) <= 1.25;
+      EXPECT_EQ(p.resolved(), whole && one_b && std::isfinite(p.held.tau))
+          << p.at.x << ", " << p.at.y << ": half width " << p.half_width << " of " << full
+          << ", slip " << p.held.slip;
       if (!p.resolved()) continue;
       ++resolved;
+      EXPECT_NEAR(p.half_width, full, 1e-9 * full) << p.at.x << ", " << p.at.y;
       EXPECT_LT(std::abs(p.held.tau), p.tau_max) << p.at.x << ", " << p.at.y;
       EXPECT_GT(sign * p.held.tau, 0.0) << p.at.x << ", " << p.at.y;
     }
