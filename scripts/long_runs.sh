@@ -19,6 +19,11 @@
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
 #                                          slip (friction_sweep --peek), and the lines of its
 #                                          states (track_loops): beside the running run
+#   scripts/long_runs.sh series name...    keep the states around every slip of each running
+#                                          point (scripts/keep_slip_states.sh beside the run,
+#                                          into <out>.series/<point>/slip_NNN_{before,after}.nc;
+#                                          track_loops --front reads them whole); once asked, a
+#                                          later start of the run starts its watcher again
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
 #                                          this checkout's build, which it keeps from then on:
 #                                          a run whose binary is gone, one moved to a new build,
@@ -116,6 +121,40 @@ start() {
   # An adopted run's table and checkpoints hold rows and states of an earlier build.
   [ -f "$runs/$out.adopt" ] && flags="$flags --adopt"
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags")"
+  # A run whose slips are being kept keeps them across its restarts.
+  if [ -d "$runs/$out.series" ]; then
+    sleep 2  # the run makes its points' folders first
+    series "$name" "$scene" "$out" "$flags"
+  fi
+}
+
+# The watchers that keep each running point's slip states (scripts/keep_slip_states.sh), one
+# per point folder the run has made; each stops when the run does.
+series() {
+  local name=$1 out=$3
+  local p
+  p=$(pids_of "$out" | head -1)
+  if [ -z "$p" ]; then
+    echo "$name: not running: start it first (its watcher follows the process)" >&2
+    return 1
+  fi
+  mkdir -p "$runs/$out.series"
+  local point n=0
+  for point in "$runs/$out"/points/*/; do
+    [ -d "$point" ] || continue
+    point=${point%/}
+    if pgrep -f -- "keep_slip_states.sh $point " >/dev/null; then
+      echo "$name: $(basename "$point"): already kept"
+      continue
+    fi
+    nohup bash scripts/keep_slip_states.sh "$point" "$runs/$out.series/$(basename "$point")" "$p" \
+      >>"$runs/$out.series/watch.log" 2>&1 &
+    n=$((n + 1))
+    echo "$name: $(basename "$point"): keeping its slips' states in $runs/$out.series/$(basename "$point") (watcher pid $!)"
+  done
+  [ "$n" -gt 0 ] || [ -n "$(ls -d "$runs/$out"/points/*/ 2>/dev/null)" ] ||
+    echo "$name: no point folder yet: ask again once the run has begun a point" >&2
+  return 0
 }
 
 adopt() {
@@ -196,6 +235,16 @@ status() {
       [ -f "$(dirname "$table")/$fig" ] && figs="$figs${figs:+, }$(dirname "$table")/$fig"
     done
     [ -n "$figs" ] && echo "    figures: $figs"
+    # The states kept around each slip (series), if asked for.
+    local kept="$runs/$out.series/$(basename "$(dirname "$(dirname "$table")")")"
+    if [ -d "$kept" ]; then
+      local pairs missed=0 watching="no watcher"
+      pairs=$(find "$kept" -maxdepth 1 -name 'slip_*_after.nc' | wc -l)
+      [ -f "$kept/missed.txt" ] && missed=$(wc -l <"$kept/missed.txt")
+      pgrep -f -- "keep_slip_states.sh $runs/$out/points/$(basename "$kept") " >/dev/null &&
+        watching="watcher running"
+      echo "    series: $pairs slips' states kept, $missed missed ($watching): $kept"
+    fi
   done
   return 0
 }
@@ -264,12 +313,16 @@ while IFS='|' read -r name scene out flags auto; do
     status) status "$name" "$scene" "$out" "$flags" ;;
     stop) stop "$name" "$scene" "$out" "$flags" ;;
     peek) peek "$name" "$scene" "$out" "$flags" ;;
+    series)
+      [ "$want" != "  " ] || { echo "series: name the runs" >&2; exit 2; }
+      series "$name" "$scene" "$out" "$flags"
+      ;;
     adopt)
       [ "$want" != "  " ] || { echo "adopt: name the runs" >&2; exit 2; }
       adopt "$name" "$scene" "$out" "$flags"
       ;;
     *)
-      echo "usage: scripts/long_runs.sh start|status|stop|adopt|peek [name...]" >&2
+      echo "usage: scripts/long_runs.sh start|status|stop|adopt|peek|series [name...]" >&2
       exit 2
       ;;
   esac

@@ -83,6 +83,21 @@ printf 'slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area
 run_status
 grep -q "a300_R800: 2 slips" "$work/out" || fail "the table without cost columns"
 grep -q "pace" "$work/out" && fail "a pace without cost columns"
+# The states kept around each slip (long_runs.sh series): counted where they were asked for,
+# no line where they were not.
+grep -q "series:" "$work/out" && fail "a series line without a series"
+kept="$work/issue23/regime3_R800_g.series/a300_R800"
+mkdir -p "$kept"
+touch "$kept/slip_001_before.nc" "$kept/slip_001_after.nc" "$kept/slip_003_before.nc" \
+  "$kept/slip_003_after.nc"
+echo "2 its states were replaced before they were copied" >"$kept/missed.txt"
+run_status
+grep -q "^    series: 2 slips' states kept, 1 missed (no watcher): $kept$" "$work/out" ||
+  fail "the series kept"
+# series starts watchers beside a running run only.
+(cd "$repo" && RUNS="$work" bash scripts/long_runs.sh series r800) >"$work/out" 2>&1 &&
+  fail "series of a run not running exited zero"
+grep -q "^r800: not running: start it first" "$work/out" || fail "series of a run not running"
 # peek reads only: a run without its scene copy has nothing to look at, and says so.
 (cd "$repo" && RUNS="$work" bash scripts/long_runs.sh peek r800) >"$work/out" 2>&1 ||
   fail "peek exited non-zero"
