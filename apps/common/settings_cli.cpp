@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 #include <vector>
@@ -30,6 +31,8 @@ settings::Value parse_setting(const settings::Info& setting, const std::string& 
       char* end = nullptr;
       const double x = std::strtod(text.c_str(), &end);
       if (text.empty() || end != text.c_str() + text.size()) bad("not a number");
+      // NaN is how an optional number says "not given": a flag gives a value or is left out.
+      if (std::isnan(x)) bad("not a number");
       v = x;
       break;
     }

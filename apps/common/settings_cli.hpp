@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,8 +32,14 @@ std::string setting_help(const settings::Info& setting, const std::string& key_l
 template <class Root>
 nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& table) {
   nlohmann::json out = nlohmann::json::object();
-  for (const settings::Setting<Root>& s : table)
-    std::visit([&](const auto& v) { out[s.key] = v; }, s.get(root));
+  for (const settings::Setting<Root>& s : table) {
+    const settings::Value v = s.get(root);
+    if (s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v))) {
+      out[s.key] = nullptr;  // not given
+      continue;
+    }
+    std::visit([&](const auto& x) { out[s.key] = x; }, v);
+  }
   return out;
 }
 
@@ -51,8 +58,11 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
     return escaped;
   };
   for (const settings::Setting<Root>& s : table) {
-    std::string value = settings::to_string(s.get(defaults));
+    const settings::Value v = s.get(defaults);
+    std::string value = settings::to_string(v);
     if (s.kind == settings::Kind::choice) value = "\"" + value + "\"";
+    if (s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v)))
+      value = "not given";
     out.append("| `").append(s.key).append("` | ").append(value).append(" | ");
     out.append(s.allowed()).append(" | ").append(s.flag.empty() ? "" : "`" + s.flag + "`");
     out.append(" | ")
@@ -96,7 +106,12 @@ class SettingFlags {
                           : info.kind == settings::Kind::boolean ? "BOOL"
                           : info.kind == settings::Kind::numbers ? "LIST"
                                                                  : "NUMBER");
-      if (defaults != nullptr) option->default_str(settings::to_string(s.get(*defaults)));
+      if (defaults != nullptr) {
+        const settings::Value v = s.get(*defaults);
+        const bool absent =
+            s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v));
+        if (!absent) option->default_str(settings::to_string(v));
+      }
     }
   }
 

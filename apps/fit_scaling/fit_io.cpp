@@ -21,32 +21,93 @@ namespace asperity::app::fit_scaling {
 namespace fs = std::filesystem;
 namespace nuc = asperity::nucleation;
 
+const settings::Table<Options>& Options::settings() {
+  using R = settings::Range;
+  using O = Options;
+  static const settings::Table<O> table = {
+      settings::optional_number<O>(
+          "k1", [](auto& o) -> auto& { return o.k1; }, R::positive(), "",
+          "Peierls law prefactor, tau_P / tau_max = k1 exp(-k2 b_core / d) (with k2; the pair "
+          "overrides --peierls)",
+          "--k1"),
+      settings::optional_number<O>(
+          "k2", [](auto& o) -> auto& { return o.k2; }, R::positive(), "",
+          "Peierls law exponent (with k1; the pair overrides --peierls)", "--k2"),
+      settings::number<O>(
+          "k1_error", [](auto& o) -> auto& { return o.k1_error; }, R::non_negative(), "",
+          "error of a given k1", "--k1-error"),
+      settings::number<O>(
+          "k2_error", [](auto& o) -> auto& { return o.k2_error; }, R::non_negative(), "",
+          "error of a given k2", "--k2-error"),
+      settings::optional_number<O>(
+          "k1_k2_correlation", [](auto& o) -> auto& { return o.correlation; }, R::closed(-1, 1), "",
+          "correlation of the given k1 and k2 errors (only with both; not given: 0)",
+          "--k1-k2-correlation"),
+      settings::number<O>(
+          "f_P", [](auto& o) -> auto& { return o.f_P; }, R::open_closed(0, 1), "",
+          "fraction of the local Peierls stress integrated (Regime III law, "
+          "MODEL.md 8)",
+          "--f-P"),
+      settings::numbers<O>(
+          "window", [](auto& o) -> auto& { return o.window; }, R::positive(), "",
+          "Regime II window lo,hi in a/b_core^0 (empty: automatic)", "--window"),
+      settings::integer<O>(
+          "bootstrap", [](auto& o) -> auto& { return o.bootstrap; }, R::closed(100, 10000000), "",
+          "bootstrap resamples for the error of c0", "--bootstrap"),
+      settings::integer<O>(
+          "seed", [](auto& o) -> auto& { return o.seed; }, R::closed(0, 2147483647), "",
+          "bootstrap seed", "--seed"),
+      settings::number<O>(
+          "rise_tolerance", [](auto& o) -> auto& { return o.rise_tolerance; }, R::closed_open(0, 1),
+          "",
+          "relative rise of mu/alpha past a branch's lowest point that marks "
+          "simulated Regime III (docs/nucleation.md)"),
+      settings::numbers<O>(
+          "map_a", [](auto& o) -> auto& { return o.map_a; }, R::positive(), "d",
+          "regime map range of a: lo,hi (empty: from the data)", "--map-a"),
+      settings::numbers<O>(
+          "map_R", [](auto& o) -> auto& { return o.map_R; }, R::positive(), "d",
+          "regime map range of R: lo,hi (empty: from the data)", "--map-R"),
+      settings::optional_number<O>(
+          "c0_hertz", [](auto& o) -> auto& { return o.c0_hertz; }, R::positive(), "",
+          "c0 of the Hertz law for mixed tables, when no Hertz table is given", "--c0-hertz"),
+      settings::optional_number<O>(
+          "c0_adhesive", [](auto& o) -> auto& { return o.c0_adhesive; }, R::positive(), "",
+          "c0 of the adhesive law for mixed tables, when no adhesive table is given",
+          "--c0-adhesive"),
+      settings::numbers<O>(
+          "forecast_R", [](auto& o) -> auto& { return o.forecast_R; }, R::positive(), "d",
+          "forecast: sphere radii without data, with forecast_a (forecast.csv)", "--forecast-R"),
+      settings::numbers<O>(
+          "forecast_a", [](auto& o) -> auto& { return o.forecast_a; }, R::positive(), "d",
+          "forecast: contact radii at each forecast_R: predicted mu/alpha, its error and its "
+          "slope in a (an upturn where it is positive)",
+          "--forecast-a"),
+  };
+  return table;
+}
+
 void Options::validate() const {
   if (sweeps.empty()) throw std::invalid_argument("at least one sweep table is required");
+  settings::validate(*this, settings());
   // Whether a Peierls law is needed depends on the tables' envelopes: main() asks has_law().
-  for (const auto& [name, c0] :
-       {std::pair{"--c0-hertz", c0_hertz}, std::pair{"--c0-adhesive", c0_adhesive}}) {
-    if (c0 && !(*c0 > 0.0 && std::isfinite(*c0)))
-      throw std::invalid_argument(std::string(name) + ": a finite c0 > 0 expected");
-  }
-  if (!window.empty() && (window.size() != 2 || !(window[0] > 0.0) || !(window[1] >= window[0])))
-    throw std::invalid_argument("--window: two values 0 < lo <= hi (a/b_core^0) expected");
+  if (!window.empty() && (window.size() != 2 || !(window[1] >= window[0])))
+    throw std::invalid_argument("window = " + settings::to_string(window) +
+                                ": allowed: two values 0 < lo <= hi (a/b_core^0)");
   if (correlation && !(k1 && k2))
-    throw std::invalid_argument("--k1-k2-correlation: only with both --k1 and --k2");
+    throw std::invalid_argument("k1_k2_correlation: only with both k1 and k2 given");
   if (forecast_R.empty() != forecast_a.empty())
-    throw std::invalid_argument("--forecast-R and --forecast-a: give both or neither");
+    throw std::invalid_argument("forecast_R and forecast_a: give both or neither");
   for (const auto& [name, r] :
-       {std::pair{"--forecast-R", forecast_R}, std::pair{"--forecast-a", forecast_a}}) {
-    for (double v : r)
-      if (!(v > 0.0 && std::isfinite(v)))
-        throw std::invalid_argument(std::string(name) + ": finite values > 0 (d) expected");
+       {std::pair{"forecast_R", forecast_R}, std::pair{"forecast_a", forecast_a}}) {
     if (std::set<double>(r.begin(), r.end()).size() != r.size())
-      throw std::invalid_argument(std::string(name) + ": a value is given twice");
+      throw std::invalid_argument(std::string(name) + " = " + settings::to_string(r) +
+                                  ": a value is given twice");
   }
-  for (const auto& [name, r] : {std::pair{"--map-a", map_a}, std::pair{"--map-R", map_R}}) {
-    if (r.empty()) continue;
-    if (r.size() != 2 || !(r[0] > 0.0) || !(r[1] > r[0]))
-      throw std::invalid_argument(std::string(name) + ": two values 0 < lo < hi expected");
+  for (const auto& [name, r] : {std::pair{"map_a", map_a}, std::pair{"map_R", map_R}}) {
+    if (!r.empty() && (r.size() != 2 || !(r[1] > r[0])))
+      throw std::invalid_argument(std::string(name) + " = " + settings::to_string(r) +
+                                  ": allowed: two values 0 < lo < hi");
   }
 }
 

@@ -25,6 +25,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "asperity/core/common/settings.hpp"
 #include "asperity/nucleation/comparison.hpp"
 #include "asperity/nucleation/regime_map.hpp"
 #include "asperity/nucleation/regime_three.hpp"
@@ -54,7 +55,12 @@ struct Options {
   std::vector<double> forecast_R, forecast_a;
   std::string out = "results/fit_scaling";
 
-  // Throws std::invalid_argument naming the option and the constraint.
+  // Each setting described once (core/common/settings.hpp; the inputs, sweeps, peierls and out,
+  // are not settings): the flags, their checks, --list-settings, summary.json's "settings" echo
+  // and validate() come from this table.
+  static const settings::Table<Options>& settings();
+  // Throws std::invalid_argument naming the setting and the constraint: each row's, then those
+  // between settings (two window values in order, the forecast's lists together, ...).
   void validate() const;
   // Whether a Peierls law is given (--peierls, or --k1 and --k2): the Hertz tables need one.
   [[nodiscard]] bool has_law() const { return !peierls.empty() || (k1 && k2); }

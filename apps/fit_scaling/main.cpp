@@ -16,6 +16,7 @@
 // (mixed_predictions.csv, mixed_limits.png); the Peierls law is needed for Hertz tables only.
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -23,8 +24,8 @@
 #include <vector>
 
 #include "asperity/apps/common/cli.hpp"
-#include "asperity/apps/common/cli_checks.hpp"
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "fit_io.hpp"
 
 using namespace asperity;
@@ -35,56 +36,25 @@ int main(int argc, char** argv) {
   return app::run_main(argc, argv, [](int argc_, char** argv_) {
     CLI::App cli{"Fit c0, compare with the Peierls prediction of Regime III, map the regimes"};
     Options o;
-    std::optional<double> k1_error, k2_error;
-    cli.add_option("sweeps", o.sweeps, "friction_sweep tables (sweep.csv) or output folders")
-        ->required();
+    cli.add_option("sweeps", o.sweeps,
+                   "friction_sweep tables (sweep.csv) or output folders (required, but for "
+                   "--list-settings)");
     cli.add_option("--peierls", o.peierls,
                    "peierls_scan summary.json (or its folder): k1, k2 of the edge fit");
-    cli.add_option("--k1", o.k1,
-                   "Peierls law prefactor k1 (with --k2; the pair overrides --peierls)")
-        ->check(app::positive());
-    cli.add_option("--k2", o.k2,
-                   "Peierls law exponent k2 (with --k1; the pair overrides --peierls)")
-        ->check(app::positive());
-    cli.add_option("--k1-error", k1_error, "Error of a given k1")->check(app::non_negative());
-    cli.add_option("--k2-error", k2_error, "Error of a given k2")->check(app::non_negative());
-    cli.add_option("--k1-k2-correlation", o.correlation,
-                   "Correlation of the given k1 and k2 errors (default 0)")
-        ->check(app::finite_number(-1, 1));
-    cli.add_option("--f-P", o.f_P, "Fraction of the local Peierls stress (Regime III)")
-        ->check(app::finite_number(0, 1, true))
-        ->capture_default_str();
-    cli.add_option("--window", o.window,
-                   "Regime II window lo,hi in a/b_core^0 (default: automatic)")
-        ->delimiter(',')
-        ->check(app::positive());
-    cli.add_option("--bootstrap", o.bootstrap, "Bootstrap resamples for the error of c0")
-        ->check(CLI::Range(100, 10000000))
-        ->capture_default_str();
-    cli.add_option("--seed", o.seed, "Bootstrap seed")->check(CLI::Range(0LL, 1LL << 62));
-    cli.add_option("--map-a", o.map_a, "Regime map range of a (d): lo,hi")
-        ->delimiter(',')
-        ->check(app::positive());
-    cli.add_option("--map-R", o.map_R, "Regime map range of R (d): lo,hi")
-        ->delimiter(',')
-        ->check(app::positive());
-    cli.add_option("--c0-hertz", o.c0_hertz,
-                   "c0 of the Hertz law for mixed tables, when no Hertz table is given")
-        ->check(app::positive());
-    cli.add_option("--c0-adhesive", o.c0_adhesive,
-                   "c0 of the adhesive law for mixed tables, when no adhesive table is given")
-        ->check(app::positive());
-    cli.add_option("--forecast-R", o.forecast_R,
-                   "Forecast: sphere radii R (d) without data, with --forecast-a (forecast.csv)")
-        ->delimiter(',');
-    cli.add_option("--forecast-a", o.forecast_a,
-                   "Forecast: contact radii a (d) at each --forecast-R: predicted mu/alpha, its "
-                   "error and its slope in a (an upturn where it is positive)")
-        ->delimiter(',');
+    app::SettingFlags flags;
+    const Options defaults;
+    flags.add(cli, Options::settings(), {}, "summary key", &defaults);
     cli.add_option("--out", o.out, "Output directory")->capture_default_str();
+    bool list_settings = false;
+    cli.add_flag("--list-settings", list_settings,
+                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
+                 "table and exit (docs/nucleation.md)");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (k1_error) o.k1_error = *k1_error;
-    if (k2_error) o.k2_error = *k2_error;
+    if (list_settings) {
+      std::printf("%s", app::settings_markdown(Options{}, Options::settings()).c_str());
+      return 0;
+    }
+    flags.apply(Options::settings(), o);
     o.validate();
 
     const auto t0 = std::chrono::steady_clock::now();

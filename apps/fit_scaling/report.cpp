@@ -9,6 +9,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "fit_io.hpp"
 
 namespace asperity::app::fit_scaling {
@@ -401,6 +402,9 @@ void write_summary(const fs::path& json, const Loaded& data, const Results& res,
   }
   if (res.adhesive) out["adhesive"] = adhesive_json(*res.adhesive, o, res.points->adhesive.size());
   if (res.mixed) out["mixed"] = mixed_json(res.points->mixed, *res.mixed);
+  // Every setting as the run used it, by its key (Options::settings(); `fit_scaling
+  // --list-settings`): the flags given and the defaults.
+  out["settings"] = app::settings_echo(o, Options::settings());
   out["envelopes"] = {{"hertz", res.points->hertz.size()},
                       {"adhesive", res.points->adhesive.size()},
                       {"mixed", res.points->mixed.size()}};

@@ -70,7 +70,8 @@ std::string Info::allowed() const {
       return "an integer " + range.describe(true);
     case Kind::number: {
       std::string s = range.describe() == "any" ? "a finite number" : range.describe();
-      return unit.empty() ? s : s + " " + unit;
+      if (!unit.empty()) s += " " + unit;
+      return optional ? s + ", or not given" : s;
     }
     case Kind::numbers: {
       std::string s = "a list of numbers";
@@ -126,8 +127,9 @@ void Info::check(const Value& value) const {
         fail();
       return;
     case Kind::number:
-      if (!std::holds_alternative<double>(value) || !std::isfinite(std::get<double>(value)) ||
-          !range.contains(std::get<double>(value)))
+      if (!std::holds_alternative<double>(value)) fail();
+      if (optional && std::isnan(std::get<double>(value))) return;  // not given
+      if (!std::isfinite(std::get<double>(value)) || !range.contains(std::get<double>(value)))
         fail();
       return;
     case Kind::numbers:

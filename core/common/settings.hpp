@@ -14,7 +14,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -74,6 +76,9 @@ struct Info {
   // formats and path frames): left out of fingerprint(..., results_only) so that a sweep
   // reuses its rows whatever the threads.
   bool affects_results = true;
+  // A number that may be left out (a std::optional<double> field, optional_number()): NaN is its
+  // value when not given, allowed by check(), echoed as null and listed as "not given".
+  bool optional = false;
 
   // "(0, 1) G d^2", "integer >= 1", "one of \"lbfgs\", \"cg\"", "true or false".
   [[nodiscard]] std::string allowed() const;
@@ -154,6 +159,26 @@ Setting<Root> numbers(std::string key, Ref ref, Range range, std::string unit, s
                            std::move(unit), std::move(meaning), std::move(flag)};
   s.get = [ref](const Root& r) { return Value(std::vector<double>(ref(r))); };
   s.set = [ref](Root& r, const Value& v) { ref(r) = std::get<std::vector<double>>(v); };
+  return s;
+}
+
+// A number that may be left out: a std::optional<double> field, NaN in the row's value when it is
+// not given (Info::optional); when given, finite and within `range`.
+template <class Root, class Ref>
+Setting<Root> optional_number(std::string key, Ref ref, Range range, std::string unit,
+                              std::string meaning, std::string flag = {}) {
+  Setting<Root> s;
+  static_cast<Info&>(s) = {std::move(key),  Kind::number,       range,          {},
+                           std::move(unit), std::move(meaning), std::move(flag)};
+  s.optional = true;
+  s.get = [ref](const Root& r) {
+    const std::optional<double>& v = ref(r);
+    return Value(v ? *v : std::numeric_limits<double>::quiet_NaN());
+  };
+  s.set = [ref](Root& r, const Value& v) {
+    const double x = std::get<double>(v);
+    ref(r) = std::isnan(x) ? std::nullopt : std::optional<double>(x);
+  };
   return s;
 }
 

@@ -415,6 +415,13 @@ TEST(FitScalingRegression, ForecastIsTheDataPredictionAndTurnsUpAtTheCrossover) 
   const CsvTable f = CsvTable::read(FIT_FORECAST_DIR "/forecast.csv");
   const CsvTable p = CsvTable::read(FIT_FORECAST_DIR "/predictions.csv");
   const nlohmann::json s = summary(FIT_FORECAST_DIR);
+  // The run's settings, echoed by key (Options::settings()): the flags given, the defaults, and
+  // null for the Peierls law's k1 and k2, not given (the law is --peierls').
+  EXPECT_EQ(s["settings"]["forecast_R"], nlohmann::json::array({800.0, 1700.0}));
+  EXPECT_EQ(s["settings"]["f_P"].get<double>(), 0.5);
+  EXPECT_TRUE(s["settings"]["k1"].is_null());
+  EXPECT_TRUE(s["settings"]["k2"].is_null());
+  EXPECT_EQ(s["settings"]["forecast_a"].size(), f.rows() / 2);
   std::size_t matched = 0;
   for (std::size_t i = 0; i < f.rows(); ++i) {
     for (std::size_t j = 0; j < p.rows(); ++j) {

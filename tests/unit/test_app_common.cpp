@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -121,6 +122,48 @@ TEST(SceneReader, ListRowsReadFromScenesAndFlags) {
             (std::vector<double>{30.0, 60.5, 120.0}));
   EXPECT_THROW(parse_setting(table[0], "30,,60"), std::invalid_argument);
   EXPECT_THROW(parse_setting(table[0], "30,-1"), std::invalid_argument);
+}
+
+// A number that may be left out (settings::optional_number): a flag gives a value (never NaN,
+// which is how the row says "not given"); the echo writes null for it, the Markdown "not given".
+TEST(SettingFlags, OptionalNumbersAreGivenOrLeftOut) {
+  struct Holder {
+    std::optional<double> k1;
+    double k2 = 1.0;
+  };
+  const settings::Table<Holder> table = {
+      settings::optional_number<Holder>(
+          "k1", [](auto& h) -> auto& { return h.k1; }, Range::positive(), "", "prefactor", "--k1"),
+      settings::number<Holder>(
+          "k2", [](auto& h) -> auto& { return h.k2; }, Range::positive(), "", "exponent", "--k2")};
+  EXPECT_EQ(std::get<double>(parse_setting(table[0], "2.5")), 2.5);
+  EXPECT_THROW(parse_setting(table[0], "nan"), std::invalid_argument);
+  EXPECT_THROW(parse_setting(table[0], "-1"), std::invalid_argument);
+  Holder h;
+  const nlohmann::json echo = settings_echo(h, table);
+  EXPECT_TRUE(echo.at("k1").is_null());
+  EXPECT_EQ(echo.at("k2").get<double>(), 1.0);
+  h.k1 = 3.0;
+  EXPECT_EQ(settings_echo(h, table).at("k1").get<double>(), 3.0);
+  const std::string md = settings_markdown(Holder{}, table);
+  EXPECT_NE(md.find("| `k1` | not given | > 0, or not given | `--k1` |"), std::string::npos) << md;
+  // Through the flags: left out, the field stays empty; given, it is set.
+  for (const bool give : {false, true}) {
+    CLI::App cli;
+    SettingFlags flags;
+    flags.add(cli, table, {}, "summary key", &h);
+    std::vector<std::string> args = {"--k2", "2"};
+    if (give) args = {"--k1", "4", "--k2", "2"};
+    std::vector<const char*> argv = {"tool"};
+    for (const auto& a : args)
+      argv.push_back(a.c_str());
+    cli.parse(static_cast<int>(argv.size()), argv.data());
+    Holder got;
+    flags.apply(table, got);
+    EXPECT_EQ(got.k1.has_value(), give);
+    EXPECT_EQ(got.k1.value_or(0.0), give ? 4.0 : 0.0);
+    EXPECT_EQ(got.k2, 2.0);
+  }
 }
 
 TEST(SceneReader, TypeErrorsNameKeyAndValue) {

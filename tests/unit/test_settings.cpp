@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -137,6 +138,35 @@ TEST(Settings, IntegerChoicesAreNamedByTheirValue) {
   names.choices = {"lbfgs", "flow"};
   EXPECT_EQ(names.choice_named("+1"), "+1");
   EXPECT_EQ(names.choice_named("flow"), "flow");
+}
+
+// A number that may be left out (std::optional<double>): NaN in the row when not given, allowed
+// then and only then; a given value is checked as any number's.
+TEST(Settings, OptionalNumbersAreNaNWhenNotGiven) {
+  struct Holder {
+    std::optional<double> k1;
+  };
+  const auto row = settings::optional_number<Holder>(
+      "k1", [](auto& h) -> auto& { return h.k1; }, settings::Range::positive(), "", "prefactor");
+  Holder h;
+  EXPECT_TRUE(row.optional);
+  EXPECT_TRUE(std::isnan(std::get<double>(row.get(h))));
+  EXPECT_NO_THROW(row.check(row.get(h)));
+  EXPECT_EQ(row.allowed(), "> 0, or not given");
+  row.set(h, settings::Value(2.5));
+  ASSERT_TRUE(h.k1.has_value());
+  EXPECT_EQ(*h.k1, 2.5);
+  EXPECT_EQ(std::get<double>(row.get(h)), 2.5);
+  EXPECT_EQ(message_of([&] { row.check(settings::Value(-1.0)); }),
+            "k1 = -1: allowed: > 0, or not given");
+  EXPECT_THROW(row.check(settings::Value(INFINITY)), std::invalid_argument);
+  row.set(h, settings::Value(std::nan("")));
+  EXPECT_FALSE(h.k1.has_value());
+  // A plain number still refuses NaN.
+  const auto plain = settings::number<Holder>(
+      "x", [](auto& o) -> auto& { return *o.k1; }, settings::Range::any(), "", "x");
+  EXPECT_FALSE(plain.optional);
+  EXPECT_THROW(plain.check(settings::Value(std::nan(""))), std::invalid_argument);
 }
 
 // The Hertz envelope: tau_max = alpha p(r) with the Hertz p (MODEL.md 3), zero outside a.
