@@ -152,11 +152,24 @@ CoreStress core_stress(const StressProfile& p, double from, double to) {
   return c;
 }
 
+const settings::Table<CrossingOptions>& CrossingOptions::settings() {
+  using O = CrossingOptions;
+  static const settings::Table<O> table = {settings::number<O>(
+      "widths", [](auto& o) -> auto& { return o.widths; }, settings::Range::positive(), "b_core",
+      "window around each core crossing of the profiles, in local core widths either side",
+      "--profile-widths")};
+  return table;
+}
+
+void CrossingOptions::validate() const {
+  settings::validate(*this, settings());
+}
+
 std::vector<CrossingStress> crossing_stresses(const StressProfile& p,
                                               const std::vector<CoreCrossing>& cores,
-                                              double widths) {
-  if (!(widths > 0.0))
-    throw std::invalid_argument("crossing_stresses: widths must be > 0 (core widths either side)");
+                                              const CrossingOptions& options) {
+  options.validate();
+  const double widths = options.widths;
   std::vector<CrossingStress> out;
   out.reserve(cores.size());
   for (std::size_t j = 0; j < cores.size(); ++j) {

@@ -98,14 +98,14 @@ struct CoreStress {
 // Throws std::invalid_argument if the profile has no registry offset or from > to.
 CoreStress core_stress(const StressProfile& profile, double from, double to);
 
-// core_stress of each crossing in a window centred on it: `widths` local core widths either side
-// (b_core = d G / tau_max at the profile site nearest the crossing, MODEL.md 3; tau in G, lengths
-// in d), cut at halfway to the neighbouring crossings, so that no window holds two cores, and at
-// the first site out of the contact on either side. The window leaves out the core's tail, which
-// decays only as 1/x^2. In a loaded Peierls cell (tests/analytic/test_core_stress.cpp) a centred
-// window of 4 b_core either side missed the load by 9e-5 tau_max at b_core = 2 d (0.15% of that
-// core's tau_P) and 1.7e-6 tau_max at 6 d (3% of its tiny tau_P); one cut to 1.3 b_core at 6 d
-// missed it by 8e-5 tau_max, 1.6 times tau_P. So a cut window is not resolved, whatever slip it
+// core_stress of each crossing in a window centred on it: CrossingOptions::widths local core widths
+// either side (b_core = d G / tau_max at the profile site nearest the crossing, MODEL.md 3; tau in
+// G, lengths in d), cut at halfway to the neighbouring crossings, so that no window holds two
+// cores, and at the first site out of the contact on either side. The window leaves out the core's
+// tail, which decays only as 1/x^2. In a loaded Peierls cell (tests/analytic/test_core_stress.cpp)
+// a centred window of 4 b_core either side missed the load by 9e-5 tau_max at b_core = 2 d (0.15%
+// of that core's tau_P) and 1.7e-6 tau_max at 6 d (3% of its tiny tau_P); one cut to 1.3 b_core at
+// 6 d missed it by 8e-5 tau_max, 1.6 times tau_P. So a cut window is not resolved, whatever slip it
 // holds, and for wide cores (b_core > 5 d or so, tau_P < 1e-4 tau_max) even the full window's
 // error is a sizeable part of tau_P.
 struct CrossingStress {
@@ -116,10 +116,18 @@ struct CrossingStress {
 
   [[nodiscard]] bool resolved() const { return !cut && stress.resolved(); }
 };
-// Throws std::invalid_argument if widths <= 0 or the profile has no registry offset.
+struct CrossingOptions {
+  double widths = 4.0;  // window around each crossing, in local core widths either side
+
+  // Each setting described once (core/common/settings.hpp): key widths; track_loops lifts it
+  // under "profiles.".
+  static const settings::Table<CrossingOptions>& settings();
+  void validate() const;  // throws std::invalid_argument naming the violated setting
+};
+// Throws std::invalid_argument if the options are invalid or the profile has no registry offset.
 std::vector<CrossingStress> crossing_stresses(const StressProfile& profile,
                                               const std::vector<CoreCrossing>& cores,
-                                              double widths = 4.0);
+                                              const CrossingOptions& options = {});
 
 // The stress held along the whole of every line, not only where it crosses the two axes: at
 // points `step` apart along each line, the sites of a stretch `span` long around the point

@@ -177,7 +177,8 @@ struct LocalPeierls {
 // profile_NNNN.csv and two figures; returns the frame's profile record for lines.json.
 nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snapshot& s,
                               const tracking::FrameLines& f, const std::vector<int>& ids,
-                              const LocalPeierls& peierls, const std::string& title) {
+                              const LocalPeierls& peierls,
+                              const tracking::CrossingOptions& crossing, const std::string& title) {
   app::CsvTable table({"axis", "position", "tau_x", "tau_y", "tau_max", "pressure", "in_contact",
                        "tau_P_edge", "tau_P_screw", "tau_P_weakest", "weakest_theta_deg", "offset",
                        "offset_y"});
@@ -217,7 +218,7 @@ nlohmann::json write_profiles(const fs::path& dir, int index, const slide::Snaps
     // The stress each core holds (its slip-weighted tau_x) beside the local Peierls stresses:
     // at or below them for a held core, at them for one creeping at threshold.
     std::vector<tracking::CrossingStress> held;
-    if (!p.offset.empty()) held = tracking::crossing_stresses(p, cores);
+    if (!p.offset.empty()) held = tracking::crossing_stresses(p, cores, crossing);
     nlohmann::json cores_json = nlohmann::json::array();
     for (std::size_t j = 0; j < cores.size(); ++j) {
       const tracking::CoreCrossing& c = cores[j];
@@ -511,6 +512,7 @@ struct FrameOptions {
   bool profiles = false;
   bool front = false;
   tracking::FrontOptions front_options;
+  tracking::CrossingOptions crossing;  // --profiles: the stress each core crossing holds
   LocalPeierls peierls;
 
   // The tool's settings: the libraries' tables under "lines.", "track.", "front." and the
@@ -528,6 +530,9 @@ struct FrameOptions {
       settings::lift(
           t, tracking::TrackOptions::settings(), "track.",
           [](auto& o) -> auto& { return o.track; });
+      settings::lift(
+          t, tracking::CrossingOptions::settings(), "profiles.",
+          [](auto& o) -> auto& { return o.crossing; });
       settings::lift(
           t, tracking::FrontOptions::settings(), "front.",
           [](auto& o) -> auto& { return o.front_options; });
@@ -616,7 +621,7 @@ nlohmann::json track_frame(const fs::path& dir, const slide::Snapshot& s, int in
     if (o.profiles) {
       std::ostringstream short_title;
       short_title << s.label << " (Dx = " << s.Dx << " d): " << f.lines.size() << " line(s)";
-      profile = write_profiles(dir, index, s, f, ids, o.peierls, short_title.str());
+      profile = write_profiles(dir, index, s, f, ids, o.peierls, o.crossing, short_title.str());
     }
     if (o.front) {
       std::ostringstream short_title;

@@ -191,6 +191,28 @@ def test_front_options_are_the_tools_settings(runs, tmp_path):
         assert not np.array_equal(one["stress"], base["stress"], equal_nan=True), key
 
 
+def test_profile_widths_reach_the_core_windows(runs, tmp_path):
+    # track_loops --profiles' window around each core crossing is the setting profiles.widths
+    # (tracking::CrossingOptions' table): at 0.02 local core widths it is 0.02 / tau_max d
+    # either side (b_core = d G / tau_max), narrower than where this frame's cores are cut.
+    _, files = runs
+    tables = {}
+    for widths in (None, "0.02"):
+        out = tmp_path / str(widths)
+        flags = [] if widths is None else ["--profile-widths", widths]
+        subprocess.run([BIN / "track_loops", files / "slip_001_before.nc", "--profiles",
+                        "--out", out, *flags], check=True, capture_output=True)
+        with open(out / "cores_0000.csv", newline="") as table:
+            tables[widths] = list(csv.DictReader(table))
+        summary = json.loads((out / "summary.json").read_text())["options"]
+        assert summary["profiles.widths"] == (4.0 if widths is None else 0.02)
+    assert len(tables["0.02"]) == len(tables[None]) > 0
+    for narrow, default in zip(tables["0.02"], tables[None]):
+        assert float(narrow["half_width"]) == pytest.approx(0.02 / float(narrow["tau_max"]),
+                                                            rel=1e-12)
+        assert float(narrow["half_width"]) < float(default["half_width"])
+
+
 def test_keywords_are_checked_as_the_settings_are(runs, tmp_path):
     result, files = runs
     label = "slip_001_before"

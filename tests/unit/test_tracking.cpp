@@ -107,6 +107,10 @@ TEST(TrackingOptions, EachRowReachesItsField) {
   expect_rows_reach_their_fields<DetectOptions>(detect);
   expect_rows_reach_their_fields<TrackOptions>(track);
   expect_rows_reach_their_fields<FrontOptions>(front);
+  expect_rows_reach_their_fields<CrossingOptions>({{"widths", 3.0}});
+  EXPECT_EQ(all_set<CrossingOptions>({{"widths", 3.0}}).widths, 3.0);
+  expect_rejects([] { CrossingOptions{.widths = 0}.validate(); },
+                 "widths = 0: allowed: > 0 b_core");
   // Each key's field by name, all set at once to distinct values: two rows wired to each
   // other's members (span and max_half_width share a default of 32) fail here.
   const auto d = all_set<DetectOptions>(detect);
