@@ -19,9 +19,10 @@
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
 #                                          slip (friction_sweep --peek), and the lines of its
 #                                          states (track_loops): beside the running run
-#   scripts/long_runs.sh series name...    keep the states around every slip of each running
-#                                          point (scripts/keep_slip_states.sh beside the run,
-#                                          into <out>.series/<point>/slip_NNN_{before,after}.nc;
+#   scripts/long_runs.sh series name...    keep the states around every slip of each point of
+#                                          a running run, also of points begun later
+#                                          (scripts/keep_slip_states.sh beside the run, into
+#                                          <out>.series/<point>/slip_NNN_{before,after}.nc;
 #                                          track_loops --front reads them whole); once asked, a
 #                                          later start of the run starts its watcher again
 #   scripts/long_runs.sh adopt name...     continue a stopped run with --adopt under a copy of
@@ -122,39 +123,37 @@ start() {
   [ -f "$runs/$out.adopt" ] && flags="$flags --adopt"
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags")"
   # A run whose slips are being kept keeps them across its restarts.
+  # (A failure to start it does not stop the starts of the other runs named.)
   if [ -d "$runs/$out.series" ]; then
-    sleep 2  # the run makes its points' folders first
-    series "$name" "$scene" "$out" "$flags"
+    sleep 1
+    series "$name" "$scene" "$out" "$flags" || true
   fi
 }
 
-# The watchers that keep each running point's slip states (scripts/keep_slip_states.sh), one
-# per point folder the run has made; each stops when the run does.
+# The watcher that keeps the states around every slip of each point of a running run
+# (scripts/keep_slip_states.sh over <out>, also the points that begin later), into
+# <out>.series/<point>/; it follows the run's process and stops with it.
 series() {
   local name=$1 out=$3
   local p
-  p=$(pids_of "$out" | head -1)
+  # The run itself, not a friction_sweep --peek on its folder (which ends at once).
+  p=$(for q in $(pids_of "$out"); do
+    tr '\0' ' ' <"/proc/$q/cmdline" 2>/dev/null | grep -q -- '--peek' || echo "$q"
+  done | head -1)
   if [ -z "$p" ]; then
     echo "$name: not running: start it first (its watcher follows the process)" >&2
     return 1
   fi
   mkdir -p "$runs/$out.series"
-  local point n=0
-  for point in "$runs/$out"/points/*/; do
-    [ -d "$point" ] || continue
-    point=${point%/}
-    if pgrep -f -- "keep_slip_states.sh $point " >/dev/null; then
-      echo "$name: $(basename "$point"): already kept"
-      continue
-    fi
-    nohup bash scripts/keep_slip_states.sh "$point" "$runs/$out.series/$(basename "$point")" "$p" \
-      >>"$runs/$out.series/watch.log" 2>&1 &
-    n=$((n + 1))
-    echo "$name: $(basename "$point"): keeping its slips' states in $runs/$out.series/$(basename "$point") (watcher pid $!)"
-  done
-  [ "$n" -gt 0 ] || [ -n "$(ls -d "$runs/$out"/points/*/ 2>/dev/null)" ] ||
-    echo "$name: no point folder yet: ask again once the run has begun a point" >&2
-  return 0
+  # One watcher per run process: one left from an earlier process of the run (stopped, then
+  # started again within its poll) ends by itself and is not this one.
+  if pgrep -f -- "keep_slip_states.sh $runs/$out $runs/$out.series $p( |\$)" >/dev/null; then
+    echo "$name: its slips' states are being kept in $runs/$out.series"
+    return 0
+  fi
+  nohup bash scripts/keep_slip_states.sh "$runs/$out" "$runs/$out.series" "$p" \
+    >>"$runs/$out.series/watch.log" 2>&1 &
+  echo "$name: keeping its slips' states in $runs/$out.series/<point> (watcher pid $!)"
 }
 
 adopt() {
@@ -241,8 +240,9 @@ status() {
       local pairs missed=0 watching="no watcher"
       pairs=$(find "$kept" -maxdepth 1 -name 'slip_*_after.nc' | wc -l)
       [ -f "$kept/missed.txt" ] && missed=$(wc -l <"$kept/missed.txt")
-      pgrep -f -- "keep_slip_states.sh $runs/$out/points/$(basename "$kept") " >/dev/null &&
+      if pgrep -f -- "keep_slip_states.sh $runs/$out $runs/$out.series " >/dev/null; then
         watching="watcher running"
+      fi
       echo "    series: $pairs slips' states kept, $missed missed ($watching): $kept"
     fi
   done

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -68,9 +69,16 @@ settings::Value keyword_value(const settings::Info& info, const py::handle& hand
           return static_cast<long long>(v);
       }
       throw wrong("an integer");
-    case settings::Kind::number:
-      if (sort == Sort::integer || sort == Sort::real) return py::float_(value).cast<double>();
-      throw wrong("a number");
+    case settings::Kind::number: {
+      // An optional number (settings::optional_number) is left out by None; NaN is not a value.
+      if (info.optional && value.is_none()) return std::numeric_limits<double>::quiet_NaN();
+      if (sort != Sort::integer && sort != Sort::real)
+        throw wrong(info.optional ? "a number or None" : "a number");
+      const double v = py::float_(value).cast<double>();
+      if (info.optional && std::isnan(v))
+        throw py::value_error(info.key + " = nan: give a number, or None to leave it out");
+      return v;
+    }
     case settings::Kind::choice:
       // A sign given as a number (slip_sign=1, np.int64(-1)) or as its name ("+1").
       if (sort == Sort::text) return info.choice_named(value.cast<std::string>());

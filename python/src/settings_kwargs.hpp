@@ -6,7 +6,9 @@
 
 #include <pybind11/pybind11.h>
 
+#include <cmath>
 #include <string>
+#include <variant>
 
 #include "asperity/core/common/settings.hpp"
 #include "errors.hpp"
@@ -42,12 +44,16 @@ std::string keyword_names(const settings::Table<Root>& table) {
   return out;
 }
 
-// One line per setting: "  key = <default>: <meaning> (allowed: <allowed>)".
+// One line per setting: "  key = <default>: <meaning> (allowed: <allowed>)"; an optional
+// number not given by default reads "None".
 template <class Root>
 std::string keywords_help(const settings::Table<Root>& table, const Root& defaults = {}) {
   std::string out;
   for (const settings::Setting<Root>& s : table) {
-    out.append("  ").append(s.key).append(" = ").append(settings::to_string(s.get(defaults)));
+    const settings::Value v = s.get(defaults);
+    const bool absent =
+        s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v));
+    out.append("  ").append(s.key).append(" = ").append(absent ? "None" : settings::to_string(v));
     out.append(": ").append(s.meaning).append(" (allowed: ").append(s.allowed()).append(")\n");
   }
   return out;

@@ -147,11 +147,17 @@ TEST(SettingFlags, OptionalNumbersAreGivenOrLeftOut) {
   EXPECT_EQ(settings_echo(h, table).at("k1").get<double>(), 3.0);
   const std::string md = settings_markdown(Holder{}, table);
   EXPECT_NE(md.find("| `k1` | not given | > 0, or not given | `--k1` |"), std::string::npos) << md;
-  // Through the flags: left out, the field stays empty; given, it is set.
+  // Through the flags: left out, the field keeps what it held (7 here); given, it is set. The
+  // help shows the defaults' values, none for an optional number not given.
   for (const bool give : {false, true}) {
     CLI::App cli;
     SettingFlags flags;
-    flags.add(cli, table, {}, "summary key", &h);
+    const Holder defaults;  // k1 not given, k2 = 1
+    flags.add(cli, table, {}, "summary key", &defaults);
+    const std::string help = cli.help();
+    EXPECT_NE(help.find("--k2 NUMBER=1"), std::string::npos) << help;
+    EXPECT_EQ(help.find("--k1 NUMBER="), std::string::npos) << help;
+    EXPECT_NE(help.find("summary key k1, allowed: > 0, or not given"), std::string::npos) << help;
     std::vector<std::string> args = {"--k2", "2"};
     if (give) args = {"--k1", "4", "--k2", "2"};
     std::vector<const char*> argv = {"tool"};
@@ -159,9 +165,10 @@ TEST(SettingFlags, OptionalNumbersAreGivenOrLeftOut) {
       argv.push_back(a.c_str());
     cli.parse(static_cast<int>(argv.size()), argv.data());
     Holder got;
+    got.k1 = 7.0;
     flags.apply(table, got);
-    EXPECT_EQ(got.k1.has_value(), give);
-    EXPECT_EQ(got.k1.value_or(0.0), give ? 4.0 : 0.0);
+    ASSERT_TRUE(got.k1.has_value());
+    EXPECT_EQ(*got.k1, give ? 4.0 : 7.0);
     EXPECT_EQ(got.k2, 2.0);
   }
 }
