@@ -5,7 +5,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -34,8 +33,8 @@ nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& tabl
   nlohmann::json out = nlohmann::json::object();
   for (const settings::Setting<Root>& s : table) {
     const settings::Value v = s.get(root);
-    if (s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v))) {
-      out[s.key] = nullptr;  // not given
+    if (s.not_given(v)) {
+      out[s.key] = nullptr;
       continue;
     }
     std::visit([&](const auto& x) { out[s.key] = x; }, v);
@@ -61,8 +60,7 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
     const settings::Value v = s.get(defaults);
     std::string value = settings::to_string(v);
     if (s.kind == settings::Kind::choice) value = "\"" + value + "\"";
-    if (s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v)))
-      value = "not given";
+    if (s.not_given(v)) value = "not given";
     out.append("| `").append(s.key).append("` | ").append(value).append(" | ");
     out.append(s.allowed()).append(" | ").append(s.flag.empty() ? "" : "`" + s.flag + "`");
     out.append(" | ")
@@ -108,9 +106,7 @@ class SettingFlags {
                                                                  : "NUMBER");
       if (defaults != nullptr) {
         const settings::Value v = s.get(*defaults);
-        const bool absent =
-            s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v));
-        if (!absent) option->default_str(settings::to_string(v));
+        if (!s.not_given(v)) option->default_str(settings::to_string(v));
       }
     }
   }

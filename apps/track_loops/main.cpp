@@ -515,8 +515,8 @@ struct FrameOptions {
   tracking::CrossingOptions crossing;  // --profiles: the stress each core crossing holds
   LocalPeierls peierls;
 
-  // The tool's settings: the libraries' tables under "lines.", "track.", "front." and the
-  // figure's spacing. Flags, checks, the summary's echo and --list-settings come from it.
+  // The tool's settings: the libraries' tables under "lines.", "track.", "profiles.", "front."
+  // and the figure's spacing. Flags, checks, the summary's echo and --list-settings come from it.
   static const settings::Table<FrameOptions>& settings() {
     static const settings::Table<FrameOptions> table = [] {
       settings::Table<FrameOptions> t = {settings::neutral(settings::integer<FrameOptions>(

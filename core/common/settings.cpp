@@ -128,7 +128,7 @@ void Info::check(const Value& value) const {
       return;
     case Kind::number:
       if (!std::holds_alternative<double>(value)) fail();
-      if (optional && std::isnan(std::get<double>(value))) return;  // not given
+      if (not_given(value)) return;
       if (!std::isfinite(std::get<double>(value)) || !range.contains(std::get<double>(value)))
         fail();
       return;

@@ -89,6 +89,11 @@ struct Info {
   // "-1", "1"), the one equal to it as an integer ("+1", "01"); else `text` unchanged (check()
   // then refuses it).
   [[nodiscard]] std::string choice_named(const std::string& text) const;
+  // Whether `value` is an optional number's "not given" (NaN in a row with `optional`): echoed
+  // as null, listed as "not given", shown without a default.
+  [[nodiscard]] bool not_given(const Value& value) const {
+    return optional && std::holds_alternative<double>(value) && std::isnan(std::get<double>(value));
+  }
 };
 
 template <class Root>

@@ -40,7 +40,14 @@ py::object json_to_python(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-// The lines' options (tracking::DetectOptions' table, and TrackOptions' centre_fraction for the
+// TrackOptions' one row the lines' records use (their location class).
+const settings::Table<tracking::TrackOptions>& centre_fraction_table() {
+  static const settings::Table<tracking::TrackOptions> table = {
+      *settings::find(tracking::TrackOptions::settings(), "centre_fraction")};
+  return table;
+}
+
+// The lines' options (tracking::DetectOptions' table, and centre_fraction_table() for the
 // records' location class) and, with `front`, FrontOptions' from keywords named by their keys
 // (as track_loops' lines.*, track.*, front.* settings); others are refused by name.
 struct KeywordOptions {
@@ -54,22 +61,15 @@ KeywordOptions keyword_options(const char* function, const py::kwargs& kwargs, b
   for (const auto& [key, value] : kwargs) {
     const auto name = key.cast<std::string>();
     if (set_keyword(tracking::DetectOptions::settings(), o.detect, name, value)) continue;
-    if (name == "centre_fraction" &&
-        set_keyword(tracking::TrackOptions::settings(), o.track, name, value))
-      continue;
+    if (set_keyword(centre_fraction_table(), o.track, name, value)) continue;
     if (front && set_keyword(tracking::FrontOptions::settings(), o.front, name, value)) continue;
-    throw py::type_error(
-        std::string(function) + ": unexpected keyword '" + name +
-        "' (options: " + keyword_names(tracking::DetectOptions::settings()) + ", centre_fraction" +
-        (front ? ", " + keyword_names(tracking::FrontOptions::settings()) : "") + ")");
+    throw py::type_error(std::string(function) + ": unexpected keyword '" + name +
+                         "' (options: " + keyword_names(tracking::DetectOptions::settings()) +
+                         ", " + keyword_names(centre_fraction_table()) +
+                         (front ? ", " + keyword_names(tracking::FrontOptions::settings()) : "") +
+                         ")");
   }
   return o;
-}
-
-std::pair<tracking::DetectOptions, tracking::TrackOptions> lines_options(const char* function,
-                                                                         const py::kwargs& kwargs) {
-  const KeywordOptions o = keyword_options(function, kwargs, false);
-  return {o.detect, o.track};
 }
 
 py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
@@ -77,7 +77,7 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
                     int origin_y, double d, bool periodic, const py::object& sy,
                     const py::object& tau_y, double tip_angle, double tip_mismatch,
                     const py::kwargs& kwargs) {
-  const auto [o, track] = lines_options("find_lines", kwargs);
+  const KeywordOptions options = keyword_options("find_lines", kwargs, false);
   if (sx.ndim() != 2) throw py::value_error("find_lines: sx must be 2D, (n0, n1) block-major");
   tracking::FieldView view;
   view.block = {{static_cast<int>(sx.shape(0)), static_cast<int>(sx.shape(1))}, origin_x, origin_y};
@@ -104,11 +104,12 @@ py::dict find_lines(const Array<double>& sx, const Array<double>& tau_x,
   view.tip = {.angle = tip_angle, .mismatch = tip_mismatch};
   const tracking::FrameLines f = value_errors([&] {
     py::gil_scoped_release release;
-    return tracking::find_lines(view, o);
+    return tracking::find_lines(view, options.detect);
   });
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k = 0; k < f.lines.size(); ++k)
-    lines.push_back(app::line_json(f.lines[k], static_cast<int>(k), f, track.centre_fraction));
+    lines.push_back(
+        app::line_json(f.lines[k], static_cast<int>(k), f, options.track.centre_fraction));
   nlohmann::json census = nlohmann::json::object();
   for (const auto& [name, value] : app::census_fields(tracking::census(f)))
     census[name] = value;  // NaN (no loop) becomes None
@@ -291,11 +292,6 @@ py::dict fit_regime_two(const Array<double>& x, const Array<double>& mu, const p
       py::arg("rms_log_residual") = fit.rms_log_residual, py::arg("free_slope") = fit.free_slope,
       py::arg("free_slope_error") = fit.free_slope_error,
       py::arg("c0_window_spread") = fit.c0_window_spread);
-}
-
-// TrackOptions' one row the lines' records use (their location class).
-settings::Table<tracking::TrackOptions> centre_fraction_table() {
-  return {*settings::find(tracking::TrackOptions::settings(), "centre_fraction")};
 }
 
 }  // namespace

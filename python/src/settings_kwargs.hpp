@@ -6,9 +6,7 @@
 
 #include <pybind11/pybind11.h>
 
-#include <cmath>
 #include <string>
-#include <variant>
 
 #include "asperity/core/common/settings.hpp"
 #include "errors.hpp"
@@ -51,9 +49,8 @@ std::string keywords_help(const settings::Table<Root>& table, const Root& defaul
   std::string out;
   for (const settings::Setting<Root>& s : table) {
     const settings::Value v = s.get(defaults);
-    const bool absent =
-        s.optional && std::holds_alternative<double>(v) && std::isnan(std::get<double>(v));
-    out.append("  ").append(s.key).append(" = ").append(absent ? "None" : settings::to_string(v));
+    out.append("  ").append(s.key).append(" = ").append(s.not_given(v) ? "None"
+                                                                       : settings::to_string(v));
     out.append(": ").append(s.meaning).append(" (allowed: ").append(s.allowed()).append(")\n");
   }
   return out;
