@@ -1,9 +1,10 @@
 // gf_validate: runs the analytic checks of the elastic half-space Green's functions
 // (MODEL.md section 2) on a scene and writes a summary, tables and figures.
 //
-//   gf_validate [scene.toml] [--out DIR] [--threads N]
+//   gf_validate [scene.toml] [--out DIR] [--threads N] [--hertz-a A ...] [--list-settings]
 //
 // With no scene it runs the default scene data/scenes/gf_validation.toml of the source tree.
+// Its settings are one table (Scene::settings()): docs/gf_validation.md lists them.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/validation/gf_checks.hpp"
 
@@ -21,7 +23,7 @@ using namespace asperity;
 
 namespace {
 
-// The scene, validated; defaults equal data/scenes/gf_validation.toml.
+// The scene; defaults equal data/scenes/gf_validation.toml.
 struct Scene {
   elastic::Material material;
   double hertz_R = 1000.0;  // sphere radius (d)
@@ -31,30 +33,62 @@ struct Scene {
   contact::BondedOptions disk_solver{.tolerance = 1e-11};
   int far_field_distance = 60;  // (d)
   fft::FFTOptions fft{.threads = 2};
+
+  // Every setting once: the scene file's keys, the flags, their checks, --list-settings and
+  // summary.json's "settings" echo.
+  static const settings::Table<Scene>& settings();
 };
+
+const settings::Table<Scene>& Scene::settings() {
+  using R = settings::Range;
+  static const settings::Table<Scene> table = [] {
+    settings::Table<Scene> t;
+    settings::lift(
+        t, elastic::Material::settings(), "material.", [](auto& s) -> auto& { return s.material; });
+    t.push_back(settings::number<Scene>(
+        "hertz.R", [](auto& s) -> auto& { return s.hertz_R; }, R::positive(), "d",
+        "radius of the rigid sphere of the Hertz check", "--hertz-R"));
+    // Below 2 d the contact holds a handful of sites; above 2000 d the grid outgrows a laptop.
+    t.push_back(settings::number<Scene>(
+        "hertz.a", [](auto& s) -> auto& { return s.hertz_a; }, R::closed(2.0, 2000.0), "d",
+        "Hertz contact radius; sets the load Fz = 4 E* a^3 / (3 R) (below 0.1 hertz.R)",
+        "--hertz-a"));
+    settings::lift(
+        t, contact::NormalContactOptions::settings(), "hertz.",
+        [](auto& s) -> auto& { return s.hertz_solver; });
+    t.push_back(settings::number<Scene>(
+        "bonded_disk.a", [](auto& s) -> auto& { return s.disk_a; }, R::closed(2.0, 2000.0), "d",
+        "radius of the bonded rigid disk", "--disk-a"));
+    settings::lift(
+        t, contact::BondedOptions::settings(), "bonded_disk.",
+        [](auto& s) -> auto& { return s.disk_solver; });
+    t.push_back(settings::integer<Scene>(
+        "far_field.max_distance", [](auto& s) -> auto& { return s.far_field_distance; },
+        R::closed(10, 2000), "d",
+        "the response of one loaded patch is sampled out to this distance",
+        "--far-field-distance"));
+    settings::lift(
+        t, fft::FFTOptions::settings(), "fft.", [](auto& s) -> auto& { return s.fft; });
+    return t;
+  }();
+  return table;
+}
+
+// The cross-setting check the table cannot make: a Hertz contact is small-slope (MODEL.md 4).
+void check_scene(const Scene& s, const std::string& where) {
+  if (s.hertz_a >= 0.1 * s.hertz_R) {
+    throw std::invalid_argument(
+        where + ": hertz.a = " + settings::format_number(s.hertz_a) +
+        ": allowed: < 0.1 hertz.R = " + settings::format_number(0.1 * s.hertz_R) +
+        " (small-slope contact)");
+  }
+}
 
 Scene read_scene(const std::string& path) {
   Scene s;
   auto r = app::SceneReader::from_file(path);
-  s.material.G = r.number("material.G", s.material.G, app::Range::positive());
-  s.material.nu = r.number("material.nu", s.material.nu, app::Range::closed(0.0, 0.5));
-  s.hertz_R = r.number("hertz.R", s.hertz_R, app::Range::positive());
-  s.hertz_a = r.number("hertz.a", s.hertz_a, app::Range::closed(2.0, 2000.0));
-  s.hertz_solver.tolerance =
-      r.number("hertz.tolerance", s.hertz_solver.tolerance, app::Range::open(0.0, 1e-2));
-  s.disk_a = r.number("bonded_disk.a", s.disk_a, app::Range::closed(2.0, 2000.0));
-  s.disk_solver.tolerance =
-      r.number("bonded_disk.tolerance", s.disk_solver.tolerance, app::Range::open(0.0, 1e-2));
-  s.far_field_distance =
-      r.integer("far_field.max_distance", s.far_field_distance, app::Range::closed(10, 2000));
-  s.fft.threads = r.integer("fft.threads", s.fft.threads, app::Range::closed(1, 1024));
-  s.fft.planner = fft::planner_from_string(
-      r.string("fft.planner", fft::to_string(s.fft.planner), {"estimate", "measure", "patient"}));
+  r.read(Scene::settings(), s);
   r.reject_unknown();
-  if (s.hertz_a >= 0.1 * s.hertz_R) {
-    throw std::invalid_argument(path + ": hertz.a = " + std::to_string(s.hertz_a) +
-                                ": allowed: < 0.1 hertz.R (small-slope contact)");
-  }
   return s;
 }
 
@@ -157,6 +191,7 @@ nlohmann::json summary_json(const std::string& scene_path, const Scene& s,
   return {
       {"provenance", app::provenance_json()},
       {"scene", scene_path},
+      {"settings", app::settings_echo(s, Scene::settings())},
       {"material", {{"G", s.material.G}, {"nu", s.material.nu}}},
       {"fft", {{"threads", s.fft.threads}, {"planner", fft::to_string(s.fft.planner)}}},
       {"hertz",
@@ -213,17 +248,28 @@ int main(int argc, char** argv) {
         "disk, far field)"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/gf_validation.toml";
     std::string out = "results/gf_validation";
-    int threads = 0;
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
     cli.add_option("--out", out, "Output directory")->capture_default_str();
-    cli.add_option("--threads", threads, "FFT threads (overrides the scene)")
-        ->check(CLI::Range(1, 1024));
+    // A flag overrides the scene's key.
+    app::SettingFlags flags;
+    flags.add(cli, Scene::settings());
+    bool list_settings = false;
+    cli.add_flag("--list-settings", list_settings,
+                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
+                 "table and exit (docs/gf_validation.md)");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+    if (list_settings) {
+      std::printf("%s", app::settings_markdown(Scene{}, Scene::settings()).c_str());
+      return 0;
+    }
 
     Scene s = read_scene(scene_path);
-    if (threads > 0) s.fft.threads = threads;
+    flags.apply(Scene::settings(), s);
+    check_scene(s, scene_path + (flags.given("hertz.a") || flags.given("hertz.R")
+                                     ? " with --hertz-a/--hertz-R"
+                                     : ""));
     const fs::path dir = app::ensure_directory(out);
 
     std::cerr << "gf_validate: Hertz contact (R = " << s.hertz_R << " d, a = " << s.hertz_a

@@ -1,8 +1,6 @@
 // Matrix-free conjugate gradients on the masked Green's function; see bonded.hpp.
 #include "asperity/core/contact/bonded.hpp"
 
-#include "asperity/core/common/validate.hpp"
-
 #include <Eigen/Core>
 #include <Eigen/IterativeLinearSolvers>
 #include <cmath>
@@ -78,9 +76,21 @@ struct generic_product_impl<asperity::contact::MaskedGF, Rhs, SparseShape, Dense
 
 namespace asperity::contact {
 
+const settings::Table<BondedOptions>& BondedOptions::settings() {
+  using R = settings::Range;
+  // A relative residual: 1 or more is met by f = 0.
+  static const settings::Table<BondedOptions> table = {
+      settings::number<BondedOptions>(
+          "tolerance", [](auto& o) -> auto& { return o.tolerance; }, R::open(0.0, 1.0), "",
+          "conjugate-gradient stop: relative residual |G f - u| / |u| on the bonded sites"),
+      settings::integer<BondedOptions>(
+          "max_iterations", [](auto& o) -> auto& { return o.max_iterations; }, R::closed(1, 1e9),
+          "", "conjugate-gradient iteration cap (one GF application each)")};
+  return table;
+}
+
 void BondedOptions::validate() const {
-  require_positive("BondedOptions.tolerance", tolerance);
-  require_at_least("BondedOptions.max_iterations", max_iterations, 1);
+  settings::validate(*this, settings());
 }
 
 BondedResult solve_bonded(elastic::FreeSurfaceGF& gf, std::span<const std::uint8_t> mask,

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
 #include "asperity/core/common/termination.hpp"
 #include "asperity/core/elastic/surface_gf.hpp"
 
@@ -19,6 +20,8 @@ struct BondedOptions {
   double tolerance = 1e-10;   // relative residual |G f - u| / |u| on the mask
   int max_iterations = 5000;  // CG iteration cap
 
+  // The settings (keys "tolerance", "max_iterations"): common/settings.hpp.
+  static const settings::Table<BondedOptions>& settings();
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
 

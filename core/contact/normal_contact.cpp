@@ -1,17 +1,27 @@
 // Polonsky & Keer constrained conjugate gradients, load-controlled; see normal_contact.hpp.
 #include "asperity/core/contact/normal_contact.hpp"
 
-#include "asperity/core/common/validate.hpp"
-
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace asperity::contact {
 
+const settings::Table<NormalContactOptions>& NormalContactOptions::settings() {
+  using R = settings::Range;
+  // A relative change of the forces: 1 or more stops at once.
+  static const settings::Table<NormalContactOptions> table = {
+      settings::number<NormalContactOptions>(
+          "tolerance", [](auto& o) -> auto& { return o.tolerance; }, R::open(0.0, 1.0), "",
+          "Polonsky-Keer stop: sum |P_new - P_old| / load per iteration"),
+      settings::integer<NormalContactOptions>(
+          "max_iterations", [](auto& o) -> auto& { return o.max_iterations; }, R::closed(1, 1e9),
+          "", "Polonsky-Keer iteration cap (one GF application each)")};
+  return table;
+}
+
 void NormalContactOptions::validate() const {
-  require_positive("NormalContactOptions.tolerance", tolerance);
-  require_at_least("NormalContactOptions.max_iterations", max_iterations, 1);
+  settings::validate(*this, settings());
 }
 
 NormalContactResult solve_normal_contact(elastic::FreeSurfaceGF& gf,

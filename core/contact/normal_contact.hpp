@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
 #include "asperity/core/common/termination.hpp"
 #include "asperity/core/elastic/surface_gf.hpp"
 
@@ -20,6 +21,8 @@ struct NormalContactOptions {
   double tolerance = 1e-12;    // stop when sum_i |P_i^new - P_i^old| / W falls below this
   int max_iterations = 20000;  // cap on CG iterations (each costs one GF application)
 
+  // The settings (keys "tolerance", "max_iterations"): common/settings.hpp.
+  static const settings::Table<NormalContactOptions>& settings();
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
 

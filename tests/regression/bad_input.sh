@@ -147,6 +147,9 @@ gv=gf_validate
 check $gv "hertz.a" "$(scene g1 <<<$'[hertz]\nR = 1000\na = 500')"
 check $gv "hertz.radius" "$(scene g2 <<<$'[hertz]\nradius = 5')"
 check $gv "--threads" --threads 0
+check $gv "hertz.max_iterations" "$(scene g3 <<<$'[hertz]\nmax_iterations = 0')"
+check $gv "bonded_disk.tolerance" "$(scene g4 <<<$'[bonded_disk]\ntolerance = 1')"
+check $gv "--hertz-a" --hertz-a 150
 
 echo "$((cases - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]
