@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <string>
@@ -69,6 +70,24 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
     out.append(" |\n");
   }
   return out;
+}
+
+// --list-settings: prints `table` with the defaults of `defaults` (settings_markdown()) and ends
+// the parse as --help does (parse_command_line() returns false: exit status 0, nothing run).
+// `what` names the rows ("setting", "scene key"), `doc` where the table is kept. The flag's
+// callback runs after the parse and before CLI11 checks required arguments, so a tool's required
+// inputs need not be given with it.
+template <class Root>
+void add_list_settings(CLI::App& cli, const settings::Table<Root>& table, Root defaults,
+                       const std::string& doc, const std::string& what = "setting") {
+  cli.add_flag_callback(
+      "--list-settings",
+      [&table, defaults = std::move(defaults)] {
+        std::printf("%s", settings_markdown(defaults, table).c_str());
+        throw CLI::Success();
+      },
+      "Print every " + what + " (default, allowed values, flag, meaning) as a Markdown table and " +
+          "exit (" + doc + ")");
 }
 
 class SettingFlags {

@@ -528,16 +528,9 @@ int main(int argc, char** argv) {
     cli.add_flag("--slide", explicit_slide,
                  "--model explicit: after the normal loading, slide at fixed Fz (the LFM's "
                  "protocols and outputs; the loading's outputs go to <out>/loading)");
-    bool list_settings = false;
-    cli.add_flag("--list-settings", list_settings,
-                 "Print every scene key (default, allowed values, flag, meaning) as a Markdown "
-                 "table and exit (docs/settings.md)");
+    app::add_list_settings(cli, app::SlideScene::settings(), app::SlideScene{}, "docs/settings.md",
+                           "scene key");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (list_settings) {
-      std::printf("%s",
-                  app::settings_markdown(app::SlideScene{}, app::SlideScene::settings()).c_str());
-      return 0;
-    }
     if (explicit_slide && model != "explicit") {
       throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
     }

@@ -45,15 +45,8 @@ int main(int argc, char** argv) {
     const Options defaults;
     flags.add(cli, Options::settings(), {}, "summary key", &defaults);
     cli.add_option("--out", o.out, "Output directory")->capture_default_str();
-    bool list_settings = false;
-    cli.add_flag("--list-settings", list_settings,
-                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
-                 "table and exit (docs/nucleation.md)");
+    app::add_list_settings(cli, Options::settings(), Options{}, "docs/nucleation.md");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (list_settings) {
-      std::printf("%s", app::settings_markdown(Options{}, Options::settings()).c_str());
-      return 0;
-    }
     flags.apply(Options::settings(), o);
     o.validate();
 

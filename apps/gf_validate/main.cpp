@@ -255,15 +255,8 @@ int main(int argc, char** argv) {
     // A flag overrides the scene's key.
     app::SettingFlags flags;
     flags.add(cli, Scene::settings());
-    bool list_settings = false;
-    cli.add_flag("--list-settings", list_settings,
-                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
-                 "table and exit (docs/gf_validation.md)");
+    app::add_list_settings(cli, Scene::settings(), Scene{}, "docs/gf_validation.md");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (list_settings) {
-      std::printf("%s", app::settings_markdown(Scene{}, Scene::settings()).c_str());
-      return 0;
-    }
 
     Scene s = read_scene(scene_path);
     flags.apply(Scene::settings(), s);

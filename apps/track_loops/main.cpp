@@ -791,15 +791,8 @@ int main(int argc, char** argv) {
     cli.add_flag("--periodic", force_periodic,
                  "Treat every block as a whole periodic cell (default: the file's `periodic` "
                  "attribute)");
-    bool list_settings = false;
-    cli.add_flag("--list-settings", list_settings,
-                 "Print every setting (default, allowed values, flag, meaning) as a Markdown "
-                 "table and exit (docs/tracking.md)");
+    app::add_list_settings(cli, FrameOptions::settings(), FrameOptions{}, "docs/tracking.md");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (list_settings) {
-      std::printf("%s", app::settings_markdown(FrameOptions{}, FrameOptions::settings()).c_str());
-      return 0;
-    }
     if (files.empty()) throw std::invalid_argument("snapshots: at least one file is required");
     flags.apply(FrameOptions::settings(), o);
     settings::validate(o, FrameOptions::settings());
