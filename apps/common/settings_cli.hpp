@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -45,9 +46,13 @@ nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& tabl
 
 // A Markdown table of the settings: key, default (the value in `defaults`), allowed, flag,
 // meaning. The reference of a tool's scene keys (docs/settings.md is made from it).
+// `skip`: keys left out (a sweep scene's contact.a and contact.R, which its points set);
+// `header`: false for rows that continue another table (a tool whose scene joins two tables).
 template <class Root>
-std::string settings_markdown(const Root& defaults, const settings::Table<Root>& table) {
-  std::string out = "| key | default | allowed | flag | meaning |\n|---|---|---|---|---|\n";
+std::string settings_markdown(const Root& defaults, const settings::Table<Root>& table,
+                              const std::vector<std::string>& skip = {}, bool header = true) {
+  std::string out =
+      header ? "| key | default | allowed | flag | meaning |\n|---|---|---|---|---|\n" : "";
   // A "|" inside a cell ends it: escaped.
   const auto cell = [](const std::string& text) {
     std::string escaped;
@@ -58,6 +63,7 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
     return escaped;
   };
   for (const settings::Setting<Root>& s : table) {
+    if (std::find(skip.begin(), skip.end(), s.key) != skip.end()) continue;
     const settings::Value v = s.get(defaults);
     std::string value = settings::to_string(v);
     if (s.kind == settings::Kind::choice) value = "\"" + value + "\"";
@@ -72,22 +78,30 @@ std::string settings_markdown(const Root& defaults, const settings::Table<Root>&
   return out;
 }
 
-// --list-settings: prints `table` with the defaults of `defaults` (settings_markdown()) and ends
-// the parse as --help does (parse_command_line() returns false: exit status 0, nothing run).
-// `what` names the rows ("setting", "scene key"), `doc` where the table is kept. The flag's
-// callback runs after the parse and before CLI11 checks required arguments, so a tool's required
-// inputs need not be given with it.
-template <class Root>
-void add_list_settings(CLI::App& cli, const settings::Table<Root>& table, Root defaults,
-                       const std::string& doc, const std::string& what = "setting") {
+// --list-settings: prints `table_text()` (settings_markdown() of the tool's tables) and ends the
+// parse as --help does (parse_command_line() returns false: exit status 0, nothing run). `what`
+// names the rows ("setting", "scene key"), `doc` where the table is kept. The flag's callback
+// runs after the parse and before CLI11 checks required arguments, so a tool's required inputs
+// need not be given with it.
+inline void add_list_settings(CLI::App& cli, std::function<std::string()> table_text,
+                              const std::string& doc, const std::string& what = "setting") {
   cli.add_flag_callback(
       "--list-settings",
-      [&table, defaults = std::move(defaults)] {
-        std::printf("%s", settings_markdown(defaults, table).c_str());
+      [table_text = std::move(table_text)] {
+        std::printf("%s", table_text().c_str());
         throw CLI::Success();
       },
       "Print every " + what + " (default, allowed values, flag, meaning) as a Markdown table and " +
           "exit (" + doc + ")");
+}
+
+// The same for one table, with the defaults of `defaults`.
+template <class Root>
+void add_list_settings(CLI::App& cli, const settings::Table<Root>& table, Root defaults,
+                       const std::string& doc, const std::string& what = "setting") {
+  add_list_settings(
+      cli, [&table, defaults = std::move(defaults)] { return settings_markdown(defaults, table); },
+      doc, what);
 }
 
 class SettingFlags {

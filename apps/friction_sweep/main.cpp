@@ -21,9 +21,11 @@
 // and rank 0 writes the same files (apps/common/mpi_points.hpp).
 // The points run in runner.cpp, the report is written by report.cpp; this file wires the flags.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "asperity/apps/common/cli.hpp"
@@ -35,6 +37,24 @@
 
 using namespace asperity;
 
+namespace {
+
+// The slide-scene keys a sweep scene leaves out: each point sets them from [sweep] (and --a and
+// --R are the sweep's lists).
+const std::vector<std::string> kPointKeys{"contact.a", "contact.R"};
+
+// The slide-scene keys a sweep scene takes, with their flags.
+std::vector<std::string> sweep_slide_keys() {
+  std::vector<std::string> keys;
+  for (const auto& s : app::SlideScene::settings()) {
+    if (std::find(kPointKeys.begin(), kPointKeys.end(), s.key) == kPointKeys.end())
+      keys.push_back(s.key);
+  }
+  return keys;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   return app::run_main_over_ranks(argc, argv, [](int argc_, char** argv_, app::Ranks& ranks) {
     CLI::App cli{"Static friction of the lateral force model over many (a, R) points"};
@@ -44,9 +64,12 @@ int main(int argc, char** argv) {
     cli.add_option("scene", scene_path, "Sweep scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    // --R, --a, --a-over-bcore0, --jobs: from the sweep's settings table.
+    // --R, --a, --a-over-bcore0, --jobs: from the sweep's settings table; --alpha, --tolerance,
+    // --threads, --distance, ...: from the slide scene's, but for contact.a and contact.R, which
+    // the points set.
     app::SettingFlags flags;
     flags.add(cli, app::SweepScene::settings());
+    flags.add(cli, app::SlideScene::settings(), sweep_slide_keys());
     auto* figures_opt =
         cli.add_flag("--figures", o.figures,
                      "Per point also the figures and NetCDF snapshots (as contact_slide)");
@@ -89,6 +112,16 @@ int main(int argc, char** argv) {
                    "inside a long relaxation (0: none)")
         ->check(app::non_negative())
         ->capture_default_str();
+    // A sweep scene is a slide scene without contact.a and contact.R (its points set them) and
+    // the [sweep] and [explicit] tables.
+    app::add_list_settings(
+        cli,
+        [] {
+          return app::settings_markdown(app::SlideScene{}, app::SlideScene::settings(),
+                                        kPointKeys) +
+                 app::settings_markdown(app::SweepScene{}, app::SweepScene::settings(), {}, false);
+        },
+        "docs/settings.md", "scene key");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     app::SweepScene s = app::read_sweep_scene(scene_path);
@@ -99,9 +132,31 @@ int main(int argc, char** argv) {
     }
     if (a_given) s.a_over_bcore0.reset();
     if (x_given) s.a.reset();
+    // One tip for every point (--tip-angle) replaces the scene's list, and a list (--tip-angles)
+    // the scene's one value; both flags at once are refused, as both keys in a scene are.
+    for (const auto& [one, list, one_flag, list_flag] :
+         {std::tuple{"contact.tip_angle", "sweep.tip_angle", "--tip-angle", "--tip-angles"},
+          std::tuple{"contact.tip_mismatch", "sweep.tip_mismatch", "--tip-mismatch",
+                     "--tip-mismatches"}}) {
+      if (flags.given(one) && flags.given(list)) {
+        throw std::invalid_argument(std::string(one_flag) + " and " + list_flag +
+                                    ": give one of them (one value for every point, or a list)");
+      }
+    }
+    if (flags.given("contact.tip_angle")) s.tip_angle.reset();
+    if (flags.given("contact.tip_mismatch")) s.tip_mismatch.reset();
     flags.apply(app::SweepScene::settings(), s);
+    flags.apply(app::SlideScene::settings(), s.base);
+    // The slip minimiser is made from the final minimiser (--solver, --tolerance, --slip-solver).
+    s.base.make_slip_minimizer();
+    const bool slip_flag = flags.given("solver.slip_method"),
+               method_flag = flags.given("solver.method");
+    app::check_slip_relaxation(s.base.options,
+                               slip_flag ? "--slip-solver" : scene_path + ": solver.slip_method",
+                               method_flag ? "--solver" : scene_path + ": solver.method");
     s.base.contact.validate();
     s.base.options.validate();
+    s.validate();  // the relations of the sweep with the slide's keys (--envelope, sweep.model)
     o.out = out;
     o.command_line = app::command_line(argc_, argv_);
     if (ranks.distributed()) {

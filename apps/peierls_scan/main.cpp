@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     cli.add_flag("--snapshots", snapshots, "NetCDF snapshots of each point's cell");
     cli.add_flag("--list-angles", list_angles, "Print the angles the cell offers and exit");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    app::add_list_settings(cli, scene_settings(), Scene{}, "docs/peierls.md", "scene key");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
     Scene s = read_scene(scene_path);

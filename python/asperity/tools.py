@@ -138,7 +138,10 @@ def track_loops(files, out=None, **options):
 
 
 def friction_sweep(scene, out=None, **options):
-    """mu/alpha over contact radii (a sweep scene): tables["sweep"], summary.json."""
+    """mu/alpha over contact radii (a sweep scene): tables["sweep"], summary.json. options: the
+    sweep's (a, R, a_over_bcore0, jobs, tip_angles, largest_slip, ...) and the slide scene's
+    but a and R (alpha, tolerance, distance, max_slips, threads, slip_solver, ...), each
+    overriding the scene's key (`friction_sweep --list-settings`, docs/settings.md)."""
     return run("friction_sweep", scene, out=out, **options)
 
 

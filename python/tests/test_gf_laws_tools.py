@@ -250,3 +250,20 @@ def test_fit_regime_two_never_fits_a_lower_bound():
     assert with_bound["points"] == 4
     assert unflagged["points"] == 5
     assert unflagged["c0"] != without["c0"]
+
+
+def test_friction_sweep_takes_the_slide_flags(tmp_path):
+    # A sweep's slide settings as keyword arguments (the slide scene's flags): they reach every
+    # point as the scene's keys would (tests/regression/sweep_flags.sh checks the rows equal).
+    scene = tmp_path / "tiny.toml"
+    scene.write_text("[sweep]\nR = [535]\na = [4]\n[slide]\ndistance = 0.6\n[fft]\nthreads = 1\n")
+    sweep = tools.friction_sweep(scene, out=tmp_path / "sw", alpha=0.6, tolerance=1e-7,
+                                 step_growth=2)
+    rows = sweep.tables["sweep"]
+    assert len(rows) == 1 and rows["alpha"][0] == 0.6
+    point = json.loads((tmp_path / "sw" / "points" / "a4_R535" / "summary.json").read_text())
+    assert point["settings"]["contact.alpha"] == 0.6
+    assert point["settings"]["solver.tolerance"] == 1e-7
+    assert point["settings"]["slide.step_growth"] == 2
+    with pytest.raises(RuntimeError, match="--tip-angle and --tip-angles"):
+        tools.friction_sweep(scene, out=tmp_path / "bad", tip_angle=1, tip_angles=[2, 3])

@@ -122,6 +122,10 @@ check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
 
 fs=friction_sweep
 check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
+check $fs "--tolerance" --tolerance 0
+check $fs "--tip-angle and --tip-angles" --tip-angle 1 --tip-angles 2,3
+check $fs "--slip-solver" --solver lbfgs --slip-solver same
+check $fs "sweep.model" "$(scene w1e <<<$'[sweep]\nR = [535]\na = [5]\nmodel = "explicit"')" --envelope mixed
 check $fs "sweep.R: missing" "$(scene w0 <<<$'[sweep]\na = [5]')"
 check $fs "give exactly one" "$(scene w2 <<<$'[sweep]\nR = [535]\na = [5]\na_over_bcore0 = [1]')"
 check $fs "sweep.a" "$(scene w3 <<<$'[sweep]\nR = [535]\na = [-1]')"

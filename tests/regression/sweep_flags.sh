@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Regression tier: friction_sweep's slide flags are the scene's keys. The tiny sweep run with
+# --alpha 0.6 --tolerance 1e-7 --distance 1.0 gives rows that the same sweep written as a scene
+# (contact.alpha = 0.6, solver.tolerance = 1e-7, slide.distance = 1.0) reuses as its own: the
+# rows' fingerprints (every setting that changes a result) are equal. A point's summary echoes
+# the flags' values.
+# Usage: sweep_flags.sh FRICTION_SWEEP SCENE OUT
+set -euo pipefail
+bin=$1 scene=$2 out=$3
+rm -rf "$out"
+mkdir -p "$out"
+edited="$out/edited.toml"
+sed -e 's/^alpha = 0.7$/alpha = 0.6/' -e 's/^distance = 1.2 /distance = 1.0 /' \
+  -e 's/^tolerance = 1e-6$/tolerance = 1e-7/' "$scene" > "$edited"
+[ "$(diff "$scene" "$edited" | grep -c '^>')" -eq 3 ] ||
+  { echo "the scene has not the three lines this test edits:"; diff "$scene" "$edited"; exit 1; }
+
+"$bin" "$scene" --alpha 0.6 --tolerance 1e-7 --distance 1.0 --out "$out/sweep" > "$out/flags.log" 2>&1 ||
+  { cat "$out/flags.log"; exit 1; }
+grep -q "alpha = 0.6" "$out/flags.log" || { echo "--alpha not applied:"; cat "$out/flags.log"; exit 1; }
+"$bin" "$edited" --out "$out/sweep" > "$out/scene.log" 2>&1 || { cat "$out/scene.log"; exit 1; }
+grep -q "reused 2 of 2 points" "$out/scene.log" ||
+  { echo "the scene's run did not reuse the flags' rows:"; cat "$out/scene.log"; exit 1; }
+# And the scene's own values (alpha = 0.7) are not those rows.
+"$bin" "$scene" --plan --out "$out/sweep" > "$out/plan.log" 2>&1 || { cat "$out/plan.log"; exit 1; }
+grep -q "kept: 0" "$out/plan.log" || { echo "rows of other settings kept:"; cat "$out/plan.log"; exit 1; }
+echo "flags = scene keys: rows reused"
