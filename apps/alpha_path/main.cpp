@@ -8,6 +8,7 @@
 // point), alpha.csv (alpha, max Fx/Fz, barrier, heights per point), summary.json (the table, the
 // load dependence of alpha per sigma/d, provenance), height.png and slope.png (profiles at
 // sigma/d = 2^(-1/6) for every load and at Fz = 1 for every sigma/d), alpha_vs_load.png.
+// Its settings are one table (Scan::settings()): docs/explicit.md lists them.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -20,6 +21,7 @@
 #include "asperity/apps/common/cli_checks.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/core/explicit/alpha_path.hpp"
 
 using namespace asperity;
@@ -32,6 +34,38 @@ std::string label(const char* format, double v) {
   return buf;
 }
 
+// What the tool scans: every sigma/d with every Fz, each path sampled as `path` says.
+struct Scan {
+  std::vector<double> sigma_over_d{0.8, explicit_model::AlphaPathOptions{}.sigma_over_d, 0.95, 1.0};
+  std::vector<double> forces{0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0};  // eps/sigma
+  explicit_model::AlphaPathOptions path;  // its samples (sigma/d and Fz come from the lists)
+
+  // Every setting once: the flags, their checks, --list-settings, summary.json's "settings".
+  static const settings::Table<Scan>& settings();
+};
+
+const settings::Table<Scan>& Scan::settings() {
+  static const settings::Table<Scan> table = [] {
+    const auto& point = explicit_model::AlphaPathOptions::settings();
+    const auto row = [&](const char* key) -> const auto& {
+      return *settings::find(point, key);
+    };
+    // The lists take the allowed values of the single point's rows.
+    settings::Table<Scan> t = {
+        settings::numbers<Scan>(
+            "scan.sigma_over_d", [](auto& s) -> auto& { return s.sigma_over_d; },
+            row("sigma_over_d").range, "d", "Lennard-Jones sigma of the points", "--sigma-over-d"),
+        settings::numbers<Scan>(
+            "scan.Fz", [](auto& s) -> auto& { return s.forces; }, row("normal_force").range,
+            "eps/sigma", "normal forces of the points", "--forces")};
+    settings::Table<explicit_model::AlphaPathOptions> samples{row("samples")};
+    settings::lift(
+        t, samples, "path.", [](auto& s) -> auto& { return s.path; });
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,30 +73,27 @@ int main(int argc, char** argv) {
     CLI::App cli{
         "Local friction coefficient alpha of the repulsive LJ interface: one atom over a rigid "
         "square lattice at fixed normal force (MODEL.md 4)"};
-    const double sigma_default = explicit_model::AlphaPathOptions{}.sigma_over_d;
-    std::vector<double> sigmas{0.8, sigma_default, 0.95, 1.0};
-    std::vector<double> forces{0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0};
-    int samples = explicit_model::AlphaPathOptions{}.samples;
     std::string out = "results/alpha_path";
-    cli.add_option("--sigma-over-d", sigmas, "LJ sigma in lattice spacings, comma-separated")
-        ->delimiter(',')
-        ->check(app::finite_number(0.6, 1.5))
-        ->capture_default_str();
-    // Beyond 1000 eps/sigma the atom is pressed to ~0.8 sigma, deep inside the repulsive wall
-    // (and 1e300 overflows the height search).
-    cli.add_option("--forces", forces, "Normal forces Fz (eps/sigma, up to 1000), comma-separated")
-        ->delimiter(',')
-        ->check(app::finite_number(0.0, 1000.0, true))
-        ->capture_default_str();
-    cli.add_option("--samples", samples, "Points along x over one period (odd)")
-        ->check(CLI::Range(3, 1000001))
-        ->capture_default_str();
+    app::SettingFlags flags;
+    const Scan defaults;
+    flags.add(cli, Scan::settings(), {}, "summary key", &defaults);
     cli.add_option("--out", out, "Output directory")->capture_default_str();
+    app::add_list_settings(cli, Scan::settings(), Scan{}, "docs/explicit.md");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    if (samples % 2 == 0) {
-      throw std::invalid_argument("--samples: got " + std::to_string(samples) +
-                                  ", allowed: odd (the bridge site must be a sample)");
+    Scan scan;
+    flags.apply(Scan::settings(), scan);
+    for (const auto& [list, flag] :
+         {std::pair{&scan.sigma_over_d, "--sigma-over-d"}, std::pair{&scan.forces, "--forces"}}) {
+      if (list->empty()) throw std::invalid_argument(std::string(flag) + ": give at least one");
     }
+    try {
+      scan.path.validate();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--samples: path.") + e.what());
+    }
+    const double sigma_default = explicit_model::AlphaPathOptions{}.sigma_over_d;
+    std::vector<double> sigmas = scan.sigma_over_d, forces = scan.forces;
+    const int samples = scan.path.samples;
     std::sort(sigmas.begin(), sigmas.end());
     std::sort(forces.begin(), forces.end());
     const auto start = std::chrono::steady_clock::now();
@@ -161,6 +192,7 @@ int main(int argc, char** argv) {
                      {"potential", "repulsive Lennard-Jones cut and shifted at 2^(1/6) sigma"},
                      {"path", "hollow (x = 0) -> bridge (x = d/2) -> hollow (x = d), y = d/2"},
                      {"samples", samples},
+                     {"settings", app::settings_echo(scan, Scan::settings())},
                      {"points", points},
                      {"load_dependence", dependence},
                      {"run", {{"wall_s", wall}, {"provenance", app::provenance_json()}}}});

@@ -7,21 +7,37 @@
 #include <stdexcept>
 #include <string>
 
-#include "asperity/core/common/validate.hpp"
+#include "asperity/core/common/settings.hpp"
 #include "asperity/core/explicit/lennard_jones.hpp"
 
 namespace asperity::explicit_model {
 
+const settings::Table<AlphaPathOptions>& AlphaPathOptions::settings() {
+  using R = settings::Range;
+  static const settings::Table<AlphaPathOptions> table = {
+      // Below 0.6 the cutoff (1.12 sigma) no longer reaches past the hollow-site gap of the
+      // lattice (d/sqrt(2)): the atom would fall through; above 1.5 the sum over neighbours
+      // becomes a wall of many atoms, not a lattice.
+      settings::number<AlphaPathOptions>(
+          "sigma_over_d", [](auto& o) -> auto& { return o.sigma_over_d; }, R::closed(0.6, 1.5), "d",
+          "Lennard-Jones sigma (2^(-1/6): cutoff r_c = d)"),
+      // Beyond 1000 eps/sigma the atom is pressed to ~0.8 sigma, deep inside the repulsive wall
+      // (and 1e300 overflows the height search).
+      settings::number<AlphaPathOptions>(
+          "normal_force", [](auto& o) -> auto& { return o.normal_force; },
+          R::open_closed(0.0, 1000.0), "eps/sigma",
+          "normal force Fz pressing the atom onto the lattice"),
+      settings::integer<AlphaPathOptions>(
+          "samples", [](auto& o) -> auto& { return o.samples; }, R::closed(3, 1000001), "",
+          "points along x over one period d (odd: the bridge site is one)", "--samples")};
+  return table;
+}
+
 void AlphaPathOptions::validate() const {
-  // Below 0.6 the cutoff (1.12 sigma) no longer reaches past the hollow-site gap of the
-  // lattice (d/sqrt(2)): the atom would fall through; above 1.5 the sum over neighbours
-  // becomes a wall of many atoms, not a lattice.
-  if (!(sigma_over_d >= 0.6 && sigma_over_d <= 1.5)) {
-    reject("AlphaPathOptions.sigma_over_d", std::to_string(sigma_over_d), "0.6 to 1.5");
-  }
-  require_positive("AlphaPathOptions.normal_force", normal_force);
-  if (samples < 3 || samples % 2 == 0) {
-    reject("AlphaPathOptions.samples", std::to_string(samples), "odd and >= 3");
+  settings::validate(*this, settings());
+  if (samples % 2 == 0) {
+    throw std::invalid_argument("samples = " + std::to_string(samples) +
+                                ": allowed: odd (the bridge site must be a sample)");
   }
 }
 

@@ -18,6 +18,8 @@
 
 #include <vector>
 
+#include "asperity/core/common/settings.hpp"
+
 namespace asperity::explicit_model {
 
 struct AlphaPathOptions {
@@ -25,6 +27,8 @@ struct AlphaPathOptions {
   double normal_force = 1.0;                 // Fz, eps/sigma
   int samples = 401;  // points along x over one period d (odd, so that the bridge is one)
 
+  // The settings (keys "sigma_over_d", "normal_force", "samples"): common/settings.hpp.
+  static const settings::Table<AlphaPathOptions>& settings();
   // Throws std::invalid_argument naming the violated constraint.
   void validate() const;
 };

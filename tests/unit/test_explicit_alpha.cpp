@@ -67,9 +67,18 @@ TEST(ExplicitAlphaPath, RejectsBadOptions) {
   EXPECT_THROW(alpha_path({.normal_force = 0.0}), std::invalid_argument);
   EXPECT_THROW(alpha_path({.normal_force = std::nan("")}), std::invalid_argument);
   EXPECT_THROW(alpha_path({.samples = 200}), std::invalid_argument);
-  try {
-    alpha_path({.samples = 2});
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("samples"), std::string::npos);
-  }
+  // Each refusal names the key and what is allowed (AlphaPathOptions::settings()).
+  const auto message = [](const AlphaPathOptions& o) -> std::string {
+    try {
+      alpha_path(o);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "(no throw)";
+  };
+  EXPECT_EQ(message({.samples = 2}), "samples = 2: allowed: an integer [3, 1000001]");
+  EXPECT_EQ(message({.samples = 200}),
+            "samples = 200: allowed: odd (the bridge site must be a sample)");
+  EXPECT_EQ(message({.sigma_over_d = 0.5}), "sigma_over_d = 0.5: allowed: [0.6, 1.5] d");
+  EXPECT_EQ(message({.normal_force = 2000.0}), "normal_force = 2000: allowed: (0, 1000] eps/sigma");
 }
