@@ -105,6 +105,44 @@ std::string profile_csv(const slide::FlowProfile& profile) {
   return o.str();
 }
 
+// What the check does beyond its slide scene; the solvers compared (--solvers, a list of labels
+// with their own grammar, parse_solver()) are not a table row.
+struct Check {
+  int slip = 1;                       // which slip event of the slide
+  int max_iterations = 200000;        // of the solvers compared
+  int flow_max_iterations = 2000000;  // of the flow
+  bool flow_profile = false;
+
+  static const settings::Table<Check>& settings();
+};
+
+const settings::Table<Check>& Check::settings() {
+  using R = settings::Range;
+  static const settings::Table<Check> table = {
+      settings::integer<Check>(
+          "check.slip", [](auto& c) -> auto& { return c.slip; }, R::closed(1, 10000), "",
+          "which slip event of the slide to check (1: the first)", "--slip"),
+      settings::integer<Check>(
+          "check.max_iterations", [](auto& c) -> auto& { return c.max_iterations; },
+          R::closed(1, 1 << 30), "", "iteration budget of the solvers compared",
+          "--max-iterations"),
+      settings::integer<Check>(
+          "check.flow_max_iterations", [](auto& c) -> auto& { return c.flow_max_iterations; },
+          R::closed(1, 1 << 30), "", "step budget of the flows", "--flow-max-iterations"),
+      // A switch (--flow-profile), which a table's boolean flag (--flag true|false) is not.
+      settings::neutral(settings::boolean<Check>(
+          "check.flow_profile", [](auto& c) -> auto& { return c.flow_profile; },
+          "also write each flow's state after every accepted step (flow_profile*.csv; the switch "
+          "--flow-profile)"))};
+  return table;
+}
+
+// The scene's and the check's rows, one listing (--list-settings).
+std::string settings_listing() {
+  return app::settings_markdown(app::SlideScene{}, app::SlideScene::settings()) +
+         app::settings_markdown(Check{}, Check::settings(), {}, false);
+}
+
 // "flow/interface@0.01" -> "flow_interface_0.01": a file name.
 std::string file_label(std::string label) {
   for (char& c : label) {
@@ -120,39 +158,39 @@ int main(int argc, char** argv) {
     CLI::App cli{"Relax one instability of a slide with every solver and with the reference flow"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/default.toml";
     std::string out = "results/path_check";
-    int event = 1;
-    int max_iterations = 200000, flow_max_iterations = 2000000;
     std::vector<std::string> solvers{"lbfgs/auto", "lbfgs/elastic", "cg", "fire", "newton/auto"};
     cli.add_option("scene", scene_path, "Scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
-    // --a, --R, --alpha, --tolerance, --flow-tolerance: from the slide scene's settings table.
+    // The slide scene's flags (--a, --R, --alpha, --tolerance, --flow-tolerance, ...), each
+    // overriding its key, and the check's own.
     app::SettingFlags flags;
-    flags.add(
-        cli, app::SlideScene::settings(),
-        {"contact.a", "contact.R", "contact.alpha", "solver.tolerance", "solver.flow_tolerance"});
-    cli.add_option("--slip", event, "Which slip event of the slide to check (1: the first)")
-        ->check(CLI::Range(1, 10000))
-        ->capture_default_str();
+    flags.add(cli, app::SlideScene::settings());
+    const Check defaults;
+    flags.add(cli, Check::settings(), {}, "summary key", &defaults);
     cli.add_option("--solvers", solvers,
                    "Solvers to compare: method[/preconditioner][@flow tolerance], e.g. "
                    "lbfgs/interface cg flow/interface@1e-2")
         ->capture_default_str();
-    cli.add_option("--max-iterations", max_iterations, "Iteration budget of the solvers compared")
-        ->check(CLI::Range(1, 1 << 30))
-        ->capture_default_str();
-    cli.add_option("--flow-max-iterations", flow_max_iterations, "Step budget of the flow")
-        ->check(CLI::Range(1, 1 << 30))
-        ->capture_default_str();
     cli.add_option("--out", out, "Output directory")->capture_default_str();
-    bool profile = false;
-    cli.add_flag("--flow-profile", profile,
+    Check check_options;
+    cli.add_flag("--flow-profile", check_options.flow_profile,
                  "Also write each flow's state after every accepted step (GF applications, step, "
                  "largest speed and residual, sites moved) to <out>/flow_profile*.csv");
+    app::add_list_settings(cli, settings_listing, "docs/solvers.md", "scene key and setting");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
-    app::SlideScene s = app::read_slide_scene(scene_path);
+    flags.apply(Check::settings(), check_options);
+    const int event = check_options.slip, max_iterations = check_options.max_iterations,
+              flow_max_iterations = check_options.flow_max_iterations;
+    const bool profile = check_options.flow_profile;
+    app::SlideScene s = app::read_slide_scene(scene_path, false);
     flags.apply(app::SlideScene::settings(), s);
     s.make_slip_minimizer();  // of the final minimiser, as the tools' slides have it
+    // The bracketing slide relaxes its slips on the flow's path, as every tool's does.
+    app::check_slip_relaxation(
+        s.options,
+        flags.given("solver.slip_method") ? "--slip-solver" : scene_path + ": solver.slip_method",
+        flags.given("solver.method") ? "--solver" : scene_path + ": solver.method");
     s.options.minimizer.max_iterations = max_iterations;
     s.contact.validate();
     s.options.validate();
@@ -209,6 +247,9 @@ int main(int argc, char** argv) {
                       {"lines", loops_json(loops_of(s.contact, row.step.state))},
                       {"against_flow", comparison_json(row.against_flow)}});
     }
+    nlohmann::json settings = app::settings_echo(s, app::SlideScene::settings());
+    settings.update(app::settings_echo(check_options, Check::settings()));
+    settings["check.solvers"] = solvers;
     const nlohmann::json j{{"a", s.contact.a},
                            {"R", s.contact.R},
                            {"alpha", s.contact.alpha},
@@ -223,6 +264,7 @@ int main(int argc, char** argv) {
                            {"flow_half_tolerance", step_json(check.flow_half)},
                            {"flow_half_against_flow", comparison_json(check.flow_self)},
                            {"solvers", rows},
+                           {"settings", settings},
                            {"provenance", app::provenance_json()}};
     const auto path = std::filesystem::path(out) / "path_check.json";
     app::write_json(path, j);

@@ -155,5 +155,11 @@ check $gv "hertz.max_iterations" "$(scene g3 <<<$'[hertz]\nmax_iterations = 0')"
 check $gv "bonded_disk.tolerance" "$(scene g4 <<<$'[bonded_disk]\ntolerance = 1')"
 check $gv "--hertz-a" --hertz-a 150
 
+pc=path_check
+check $pc "--slip" --slip 0
+check $pc "--max-iterations" --max-iterations -1
+check $pc "--slip-solver" --solver cg --slip-solver same
+check $pc "contact.a" --a 600 --R 535
+
 echo "$((cases - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]
