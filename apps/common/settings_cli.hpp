@@ -28,8 +28,8 @@ settings::Value parse_setting(const settings::Info& setting, const std::string& 
 // for a tool without one the summary.json echo's.
 std::string setting_help(const settings::Info& setting, const std::string& key_label = "scene key");
 
-// Every setting of `root` as {key: value} (numbers, integers, booleans, choice names): the
-// echo of a run's settings in its summary.json.
+// Every setting of `root` as {key: value} (numbers, integers, booleans, choice names; a choice
+// named by integers, a sign, as its integer): the echo of a run's settings in its summary.json.
 template <class Root>
 nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& table) {
   nlohmann::json out = nlohmann::json::object();
@@ -38,6 +38,12 @@ nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& tabl
     if (s.not_given(v)) {
       out[s.key] = nullptr;
       continue;
+    }
+    if (const auto* name = std::get_if<std::string>(&v)) {
+      if (const auto n = s.integer_choice(*name)) {
+        out[s.key] = *n;
+        continue;
+      }
     }
     std::visit([&](const auto& x) { out[s.key] = x; }, v);
   }

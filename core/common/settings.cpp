@@ -88,17 +88,31 @@ std::string Info::allowed() const {
   return "?";
 }
 
+namespace {
+
+// The integer `t` writes ("-1", "+1", "01"), or nullopt.
+std::optional<long long> integer(const std::string& t) {
+  if (t.starts_with("+-")) return std::nullopt;
+  const char* first = t.data() + (t.starts_with('+') ? 1 : 0);
+  const char* last = t.data() + t.size();
+  long long n = 0;
+  const auto [end, ec] = std::from_chars(first, last, n);
+  if (first == last || ec != std::errc() || end != last) return std::nullopt;
+  return n;
+}
+
+}  // namespace
+
+std::optional<long long> Info::integer_choice(const std::string& name) const {
+  if (kind != Kind::choice || choices.empty()) return std::nullopt;
+  for (const std::string& c : choices) {
+    if (!integer(c)) return std::nullopt;
+  }
+  return integer(name);
+}
+
 std::string Info::choice_named(const std::string& text) const {
   if (std::find(choices.begin(), choices.end(), text) != choices.end()) return text;
-  const auto integer = [](const std::string& t) -> std::optional<long long> {
-    if (t.starts_with("+-")) return std::nullopt;
-    const char* first = t.data() + (t.starts_with('+') ? 1 : 0);
-    const char* last = t.data() + t.size();
-    long long n = 0;
-    const auto [end, ec] = std::from_chars(first, last, n);
-    if (first == last || ec != std::errc() || end != last) return std::nullopt;
-    return n;
-  };
   const std::optional<long long> n = integer(text);
   if (!n) return text;
   for (const std::string& c : choices) {

@@ -89,6 +89,9 @@ struct Info {
   // "-1", "1"), the one equal to it as an integer ("+1", "01"); else `text` unchanged (check()
   // then refuses it).
   [[nodiscard]] std::string choice_named(const std::string& text) const;
+  // For a choice whose names are all integers (a sign: "-1", "1"), the integer `name` writes;
+  // else nullopt. Echoes (summary.json) give such a choice as that number.
+  [[nodiscard]] std::optional<long long> integer_choice(const std::string& name) const;
   // Whether `value` is an optional number's "not given" (NaN in a row with `optional`): echoed
   // as null, listed as "not given", shown without a default.
   [[nodiscard]] bool not_given(const Value& value) const {

@@ -124,6 +124,29 @@ TEST(SceneReader, ListRowsReadFromScenesAndFlags) {
   EXPECT_THROW(parse_setting(table[0], "30,-1"), std::invalid_argument);
 }
 
+// summary.json's echo gives a choice named by integers (a sign) as its number, other choices as
+// their names.
+TEST(SettingFlags, EchoGivesASignAsItsNumber) {
+  struct Holder {
+    int sign = -1;
+    std::string method = "flow";
+  };
+  const settings::Table<Holder> table = {
+      settings::choice<Holder>(
+          "lines.slip_sign", [](auto& h) -> auto& { return h.sign; }, {"-1", "1"},
+          [](int s) { return std::to_string(s); },
+          [](const std::string& s) { return std::stoi(s); }, "sign of the slip"),
+      settings::choice<Holder>(
+          "solver.method", [](auto& h) -> auto& { return h.method; }, {"lbfgs", "flow"}, "method")};
+  Holder h;
+  nlohmann::json echo = settings_echo(h, table);
+  EXPECT_EQ(echo.at("lines.slip_sign"), nlohmann::json(-1));
+  EXPECT_TRUE(echo.at("lines.slip_sign").is_number_integer());
+  EXPECT_EQ(echo.at("solver.method"), nlohmann::json("flow"));
+  h.sign = 1;
+  EXPECT_EQ(settings_echo(h, table).at("lines.slip_sign"), nlohmann::json(1));
+}
+
 // A number that may be left out (settings::optional_number): a flag gives a value (never NaN,
 // which is how the row says "not given"); the echo writes null for it, the Markdown "not given".
 TEST(SettingFlags, OptionalNumbersAreGivenOrLeftOut) {

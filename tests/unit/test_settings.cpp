@@ -138,6 +138,13 @@ TEST(Settings, IntegerChoicesAreNamedByTheirValue) {
   names.choices = {"lbfgs", "flow"};
   EXPECT_EQ(names.choice_named("+1"), "+1");
   EXPECT_EQ(names.choice_named("flow"), "flow");
+  // The integer a sign's name writes (what summary.json echoes); none for named choices, nor
+  // for a choice of mixed names.
+  EXPECT_EQ(row.integer_choice("-1"), -1);
+  EXPECT_EQ(row.integer_choice("1"), 1);
+  EXPECT_EQ(names.integer_choice("flow"), std::nullopt);
+  names.choices = {"1", "auto"};
+  EXPECT_EQ(names.integer_choice("1"), std::nullopt);
 }
 
 // A number that may be left out (std::optional<double>): NaN in the row when not given, allowed
