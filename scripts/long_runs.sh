@@ -59,12 +59,12 @@ build=${BUILD_DIR:-build}
 # (22:43 UTC) r800 was paused for r1700_a510, also on both cores: r800 needs hundreds of hours
 # more, a = 510 d's first slip about 5 (data/reference/regime3_R1700.md), so r1700_a510 was
 # the auto run until that slip was through (2026-11-30 06:34 UTC, finished). R = 1700 d,
-# a = 360 d with the path-faithful default (its committed row is lbfgs's) is the auto run from
-# then on; r800 continues by name.
-table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|
+# a = 360 d with the path-faithful default was the auto run after it (finished 2026-11-30
+# 08:08 UTC, its row committed); since then r800 is the auto run again, the only one left.
+table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto
 r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip|
 r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|
-r1700_a360|regime3_R1700.toml|issue23/r1700_a360|--largest-slip --a 360|auto
+r1700_a360|regime3_R1700.toml|issue23/r1700_a360|--largest-slip --a 360|
 r100_a60|regime3_R100_a60_long.toml|r100/a60_long|--largest-slip|"
 
 pids_of() { pgrep -f -- "--out $runs/$1( |\$)" || true; }
