@@ -30,10 +30,13 @@ std::string setting_help(const settings::Info& setting, const std::string& key_l
 
 // Every setting of `root` as {key: value} (numbers, integers, booleans, choice names; a choice
 // named by integers, a sign, as its integer): the echo of a run's settings in its summary.json.
+// `skip`: keys left out (a sweep's contact.a and contact.R, which its points set).
 template <class Root>
-nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& table) {
+nlohmann::json settings_echo(const Root& root, const settings::Table<Root>& table,
+                             const std::vector<std::string>& skip = {}) {
   nlohmann::json out = nlohmann::json::object();
   for (const settings::Setting<Root>& s : table) {
+    if (std::find(skip.begin(), skip.end(), s.key) != skip.end()) continue;
     const settings::Value v = s.get(root);
     if (s.not_given(v)) {
       out[s.key] = nullptr;

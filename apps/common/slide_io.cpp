@@ -531,6 +531,17 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
   return s;
 }
 
+namespace {
+
+// Every setting of an explicit scene, {key: value}: the slide scene's and the potential's.
+nlohmann::json explicit_settings_echo(const ExplicitSlideScene& scene) {
+  nlohmann::json out = settings_echo(scene.slide, SlideScene::settings());
+  out.update(settings_echo(scene.model, explicit_model::ExplicitScene::settings()));
+  return out;
+}
+
+}  // namespace
+
 std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesystem::path& dir,
                                                                const ExplicitSlideScene& scene,
                                                                const explicit_model::LoadResult& r,
@@ -629,7 +640,8 @@ std::vector<std::filesystem::path> write_explicit_load_outputs(const std::filesy
   write_json(
       dir / "summary.json",
       {{"model", "explicit"},
-       {"stage", "normal loading (sliding at fixed Fz is not implemented for this model yet)"},
+       {"stage", "normal loading (contact_slide --model explicit --slide then slides at fixed Fz)"},
+       {"settings", explicit_settings_echo(scene)},
        {"a", c.a},
        {"R", c.R},
        {"G", c.material.G},

@@ -39,16 +39,12 @@ using namespace asperity;
 
 namespace {
 
-// The slide-scene keys a sweep scene leaves out: each point sets them from [sweep] (and --a and
-// --R are the sweep's lists).
-const std::vector<std::string> kPointKeys{"contact.a", "contact.R"};
-
-// The slide-scene keys a sweep scene takes, with their flags.
+// The slide-scene keys a sweep scene takes, with their flags: all but the points' own.
 std::vector<std::string> sweep_slide_keys() {
+  const auto& skip = app::SweepScene::point_keys();
   std::vector<std::string> keys;
   for (const auto& s : app::SlideScene::settings()) {
-    if (std::find(kPointKeys.begin(), kPointKeys.end(), s.key) == kPointKeys.end())
-      keys.push_back(s.key);
+    if (std::find(skip.begin(), skip.end(), s.key) == skip.end()) keys.push_back(s.key);
   }
   return keys;
 }
@@ -118,7 +114,7 @@ int main(int argc, char** argv) {
         cli,
         [] {
           return app::settings_markdown(app::SlideScene{}, app::SlideScene::settings(),
-                                        kPointKeys) +
+                                        app::SweepScene::point_keys()) +
                  app::settings_markdown(app::SweepScene{}, app::SweepScene::settings(), {}, false);
         },
         "docs/settings.md", "scene key");

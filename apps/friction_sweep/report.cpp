@@ -531,6 +531,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
   if (s.runs_explicit()) tables.push_back("sweep_explicit.csv");
   nlohmann::json summary = {{"tool", "friction_sweep"},
                             {"scene", scene_json(s, n.jobs)},
+                            {"settings", s.settings_echo()},
                             {"points", n.points + n.explicit_points},
                             {"explicit_points", n.explicit_points},
                             {"computed", n.computed},

@@ -14,6 +14,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/mpi_points.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/slide_checkpoint.hpp"
 #include "asperity/apps/common/toml_reader.hpp"
 #include "asperity/core/common/line_fit.hpp"
@@ -125,6 +126,12 @@ const settings::Table<SweepScene>& SweepScene::settings() {
     return t;
   }();
   return table;
+}
+
+nlohmann::json SweepScene::settings_echo() const {
+  nlohmann::json out = app::settings_echo(base, SlideScene::settings(), point_keys());
+  out.update(app::settings_echo(*this, settings()));
+  return out;
 }
 
 void SweepScene::validate() const {

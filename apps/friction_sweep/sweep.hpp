@@ -61,6 +61,14 @@ struct SweepScene {
   // The [sweep] and [explicit] settings (common/settings.hpp), flags --R, --a, --a-over-bcore0,
   // --jobs; the slide's own are SlideScene::settings().
   static const settings::Table<SweepScene>& settings();
+  // The slide-scene keys a sweep scene leaves out: each point sets them from [sweep] (and --a
+  // and --R are the sweep's lists).
+  static const std::vector<std::string>& point_keys() {
+    static const std::vector<std::string> keys{"contact.a", "contact.R"};
+    return keys;
+  }
+  // Every setting but the points' own, {key: value} (summary.json's "settings").
+  [[nodiscard]] nlohmann::json settings_echo() const;
   // Throws std::invalid_argument naming the key, value and allowed range: lists non-empty
   // (sweep.R may be empty for the adhesive envelope), values positive and finite, exactly one of
   // a and a_over_bcore0, the explicit model only with the Hertz envelope. The a < R check needs

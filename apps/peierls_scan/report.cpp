@@ -7,6 +7,7 @@
 
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/output_files.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "scan_io.hpp"
 
 namespace asperity::app::peierls_scan {
@@ -110,6 +111,7 @@ void write_summary(const fs::path& json, const ScanSummary& sum) {
     points_wall += r.wall_s;
   app::write_json(json, {{"tool", "peierls_scan"},
                          {"scene", scene_json(sum)},
+                         {"settings", app::settings_echo(sum.scene, scene_settings())},
                          {"points", sum.points},
                          {"computed", sum.computed},
                          {"reused", sum.reused},

@@ -229,6 +229,10 @@ def test_peierls_scan_from_python(tmp_path):
     rows = scan.tables["peierls"]
     assert len(rows) == 2 and set(rows["b_core"]) == {2.0, 3.0}
     assert np.all(rows["tau_P_over_tau_max_pos"] > 0)
+    # Every setting echoed by its key, the keyword arguments (flags) among them.
+    settings = scan.summary["settings"]
+    assert settings["scan.b_core"] == [2.0, 3.0] and settings["scan.theta"] == [0.0]
+    assert settings["cell.L"] == 64
 
 
 def test_fit_regime_two_never_fits_a_lower_bound():

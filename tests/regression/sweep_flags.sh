@@ -24,4 +24,13 @@ grep -q "reused 2 of 2 points" "$out/scene.log" ||
 # And the scene's own values (alpha = 0.7) are not those rows.
 "$bin" "$scene" --plan --out "$out/sweep" > "$out/plan.log" 2>&1 || { cat "$out/plan.log"; exit 1; }
 grep -q "kept: 0" "$out/plan.log" || { echo "rows of other settings kept:"; cat "$out/plan.log"; exit 1; }
+# The sweep's summary echoes every setting by its key, the flags' values among them, but the
+# points' own contact.a and contact.R.
+python3 - "$out/sweep/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))["settings"]
+assert s["contact.alpha"] == 0.6 and s["solver.tolerance"] == 1e-7 and s["slide.distance"] == 1.0, s
+assert s["sweep.a"] == [4.0, 6.0] and s["sweep.R"] == [535.0], s
+assert "contact.a" not in s and "contact.R" not in s, s
+PY
 echo "flags = scene keys: rows reused"

@@ -21,4 +21,12 @@ TEST(ExplicitLoadRegression, MatchesReference) {
     const double tol = ref.at(key).at("tolerance").get<double>();
     EXPECT_LE(std::abs(value - want), tol) << key << ": " << value << " vs " << want;
   }
+  // Every setting echoed by its key, the run's flag (--threads 1) among them, the potential's
+  // with the slide scene's.
+  const auto& settings = summary.at("settings");
+  EXPECT_EQ(settings.at("fft.threads"), 1);
+  EXPECT_EQ(settings.at("contact.a").get<double>(), summary.at("a").get<double>());
+  EXPECT_EQ(settings.at("explicit.sigma_over_d").get<double>(),
+            summary.at("sigma_over_d").get<double>());
+  EXPECT_TRUE(settings.contains("solver.tolerance"));
 }
