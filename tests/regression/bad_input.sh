@@ -80,8 +80,8 @@ check $cs "fft.planner" "$(scene s24 <<<$'[fft]\nplanner = "fast"')"
 check $cs "s25.toml:2" "$(scene s25 <<<$'[contact]\na = = 3')"
 check $cs "a (line 1)" "$(scene s26 <<<$'a = 3')"
 check $cs "contact.a" "$(scene s27 <<<$'[contact]\na = [1, 2]')"
-check $cs "--a" --a -1
-check $cs "--a" --a nan
+check $cs "--a: contact.a" --a -1
+check $cs "--a: contact.a" --a nan
 check $cs "--R" --R inf
 check $cs "--alpha" --alpha 0
 check $cs "--nu" --nu 0.7
@@ -93,7 +93,7 @@ check $cs "--tolerance" --tolerance 0
 check $cs "--threads" --threads 0
 check $cs "--distance" --distance -1
 check $cs "--bogus" --bogus
-check $cs "scene" "$work/no_such_scene.toml"
+check $cs "scene: File does not exist" "$work/no_such_scene.toml"
 check $cs "contact.R" --R 1e10
 # The tip's lattice (issue 27): ranges, flags, and the explicit tip's spacing against the cutoff.
 check $cs "contact.tip_angle" "$(scene t1 <<<$'[contact]\ntip_angle = 50')"

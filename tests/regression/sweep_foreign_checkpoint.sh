@@ -14,5 +14,6 @@ grep -q "starting the point over (the old checkpoint is kept as $point/checkpoin
   "$out.log" || { echo "no message about the kept checkpoint:"; cat "$out.log"; exit 1; }
 [ "$(cat "$point/checkpoint.replaced.cbor")" = 'not a checkpoint' ] || { echo "not kept"; exit 1; }
 [ ! -e "$point/checkpoint.cbor" ] || { echo "the finished point left its checkpoint"; exit 1; }
-grep -q '^4,' "$out/sweep.csv" || grep -q ',4,' "$out/sweep.csv" || { cat "$out/sweep.csv"; exit 1; }
+# Column a comes first (as sweep_adopt.sh reads it).
+grep -q '^4,' "$out/sweep.csv" || { cat "$out/sweep.csv"; exit 1; }
 echo "foreign checkpoint kept, point computed"
