@@ -32,9 +32,9 @@ enum class Regime { one = 1, two = 2, three = 3 };
 std::string to_string(Regime r);  // "I", "II", "III"
 
 struct Model {
-  double c0 = 0.0;   // Regime II nucleation distance / b_core*
-  PeierlsLaw law;    // Regime III
-  double f_P = 0.5;  // fraction of the local Peierls stress, (0, 1]
+  double c0 = 0.0;                       // Regime II nucleation distance / b_core*
+  PeierlsLaw law;                        // Regime III
+  double f_P = kDefaultPeierlsFraction;  // fraction of the local Peierls stress, (0, 1]
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };

@@ -30,6 +30,10 @@
 
 namespace asperity::nucleation {
 
+// The fraction f_P of the local Peierls stress the integrated Regime III prediction takes by
+// default (MODEL.md 8: "default f_P 0.5").
+inline constexpr double kDefaultPeierlsFraction = 0.5;
+
 // E_n(x) for n >= 0 and x > 0 (n = 0, 1 need x > 0; continued fraction for x > 1, series below).
 double exponential_integral_en(int n, double x);
 
@@ -120,7 +124,8 @@ double regime_three_log_error(RegimeThreeForm form, double beta, const PeierlsLa
 
 struct RegimeThreeFitOptions {
   RegimeThreeForm form = RegimeThreeForm::integrated;
-  double f_P = 0.5;  // fraction of the local Peierls stress (integrated form only), in (0, 1]
+  // fraction of the local Peierls stress (integrated form only), in (0, 1]
+  double f_P = kDefaultPeierlsFraction;
   int max_function_evaluations = 2000;  // LM cap
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint

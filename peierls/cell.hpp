@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "asperity/core/elastic/material.hpp"
+#include "asperity/core/elastic/surface_gf.hpp"
 #include "asperity/core/fft/fft_engine.hpp"
 #include "asperity/core/minimize/stiffness_minimizer.hpp"
 
@@ -62,8 +63,9 @@ struct CellOptions {
   double b_core = 4.0;                   // core width d G / tau_max (d); sets tau_max
   elastic::Material material;            // G (unit of stress) and nu
   CellModel model = CellModel::reduced;  // see the header
-  int alias_images = 12;                 // reciprocal images per direction in the periodic kernel
-  int threads = 1;                       // FFT threads (full model)
+  int alias_images = elastic::kDefaultAliasImages;  // reciprocal images per direction in the
+                                                    // periodic kernel
+  int threads = 1;                                  // FFT threads (full model)
 
   // The settings of a scan's cell (keys "cell.L", "cell.model", "cell.alias_images",
   // "material.G", "material.nu"); b_core and (mx, my) are a point's own, threads the run's.

@@ -37,12 +37,13 @@ struct Options {
   std::vector<std::string> sweeps;  // sweep.csv files or friction_sweep output folders
   std::string peierls;              // peierls_scan summary.json or its folder; empty: k1, k2 given
   std::optional<double> k1, k2;     // Peierls law (dimensionless); override the summary
-  double k1_error = 0.0, k2_error = 0.0;  // their errors when given
-  std::optional<double> correlation;      // of k1 and k2 when given, in [-1, 1]
-  double f_P = 0.5;                       // fraction of the local Peierls stress, (0, 1]
+  double k1_error = 0.0, k2_error = 0.0;             // their errors when given
+  std::optional<double> correlation;                 // of k1 and k2 when given, in [-1, 1]
+  double f_P = nucleation::kDefaultPeierlsFraction;  // fraction of the local Peierls stress
   std::vector<double> window;  // Regime II window in a/b_core^0 (2 values); empty: automatic
-  int bootstrap = 4000;        // bootstrap resamples for c0
-  long long seed = 20240909;   // bootstrap seed
+  // bootstrap resamples for c0, and their seed: the fit's own defaults
+  int bootstrap = nucleation::RegimeTwoFitOptions{}.bootstrap_samples;
+  long long seed = static_cast<long long>(nucleation::RegimeTwoFitOptions{}.seed);
   // Regime map ranges (d); empty: from the data (a/2 .. 3 a_max or past the crossovers, R/2 .. 2
   // R).
   std::vector<double> map_a, map_R;

@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "asperity/apps/common/lines_json.hpp"
+#include "asperity/core/elastic/material.hpp"
+#include "asperity/core/interface/lfm.hpp"
 #include "asperity/nucleation/comparison.hpp"
 #include "asperity/nucleation/regime_map.hpp"
 #include "asperity/nucleation/regime_three.hpp"
@@ -342,7 +344,8 @@ void bind_analysis(py::module_& m) {
   m.def("control_parameter", py::vectorize([](double a, double R, double alpha, double nu) {
           return value_errors([&] { return nucleation::control_parameter(a, R, alpha, nu); });
         }),
-        py::arg("a"), py::arg("R"), py::arg("alpha") = 0.7, py::arg("nu") = 0.5,
+        py::arg("a"), py::arg("R"), py::arg("alpha") = interface::ContactScene{}.alpha,
+        py::arg("nu") = elastic::Material{}.nu,
         "a/b_core^0 = c alpha a^2/(R d), c = 4/(pi (1 - nu)) (MODEL.md 3), lengths in d");
   m.def(
       "predict",
@@ -358,8 +361,8 @@ void bind_analysis(py::module_& m) {
                         py::arg("regime") = nucleation::to_string(p.regime));
       },
       py::arg("a_over_bcore0"), py::arg("beta"), py::arg("c0"), py::arg("k1"), py::arg("k2"),
-      py::arg("f_P") = 0.5, py::arg("k1_error") = 0.0, py::arg("k2_error") = 0.0,
-      py::arg("correlation") = 0.0,
+      py::arg("f_P") = nucleation::kDefaultPeierlsFraction, py::arg("k1_error") = 0.0,
+      py::arg("k2_error") = 0.0, py::arg("correlation") = 0.0,
       "mu/alpha predicted across Regimes I-III at a/b_core^0 and beta = b_core^0/d, and the "
       "regime (MODEL.md 8; fit_scaling's regime map)");
   m.def(
@@ -386,7 +389,8 @@ void bind_analysis(py::module_& m) {
                         py::arg("undetermined") = f.undetermined);
       },
       py::arg("a"), py::arg("R"), py::arg("c0"), py::arg("k1"), py::arg("k2"),
-      py::arg("alpha") = 0.7, py::arg("nu") = 0.5, py::arg("f_P") = 0.5, py::arg("c0_error") = 0.0,
+      py::arg("alpha") = interface::ContactScene{}.alpha, py::arg("nu") = elastic::Material{}.nu,
+      py::arg("f_P") = nucleation::kDefaultPeierlsFraction, py::arg("c0_error") = 0.0,
       py::arg("k1_error") = 0.0, py::arg("k2_error") = 0.0, py::arg("correlation") = 0.0,
       py::arg("b_min") = 0.0, py::arg("b_max") = 0.0,
       "The prediction at a contact of radius a on a sphere of radius R (d) without data, as "
@@ -396,7 +400,8 @@ void bind_analysis(py::module_& m) {
       "law_extrapolated (0: unknown)");
   m.def("fit_regime_two", &fit_regime_two, py::arg("a_over_bcore0"), py::arg("mu_over_alpha"),
         py::arg("a") = py::none(), py::arg("R") = py::none(), py::arg("window") = py::none(),
-        py::arg("bootstrap") = 4000, py::arg("seed") = 20240909LL,
+        py::arg("bootstrap") = nucleation::RegimeTwoFitOptions{}.bootstrap_samples,
+        py::arg("seed") = static_cast<long long>(nucleation::RegimeTwoFitOptions{}.seed),
         py::arg("lower_bound") = py::none(),
         "Fit of c0 to the Regime II law over a window (automatic unless given), with its "
         "bootstrap error, as fit_scaling fits it; lower_bound: nonzero where mu_over_alpha is "

@@ -142,8 +142,9 @@ void bind_gf(py::module_& m) {
              });
              return s;
            }),
-           py::arg("shape"), py::arg("components") = "in_plane", py::arg("G") = 1.0,
-           py::arg("nu") = 0.5, py::arg("d") = 1.0, py::arg("threads") = 1,
+           py::arg("shape"), py::arg("components") = "in_plane",
+           py::arg("G") = elastic::Material{}.G, py::arg("nu") = elastic::Material{}.nu,
+           py::arg("d") = 1.0, py::arg("threads") = 1,
            "shape: (n0, n1) sites along x and y; components: 'in_plane', 'normal' or 'full'; "
            "G (unit of stress), nu in [0, 0.5]; d the lattice spacing; threads of the FFTs")
       .def(
@@ -194,9 +195,10 @@ void bind_gf(py::module_& m) {
              });
              return s;
            }),
-           py::arg("cell"), py::arg("components") = "in_plane", py::arg("G") = 1.0,
-           py::arg("nu") = 0.5, py::arg("d") = 1.0, py::arg("threads") = 1,
-           py::arg("alias_images") = 12,
+           py::arg("cell"), py::arg("components") = "in_plane",
+           py::arg("G") = elastic::Material{}.G, py::arg("nu") = elastic::Material{}.nu,
+           py::arg("d") = 1.0, py::arg("threads") = 1,
+           py::arg("alias_images") = elastic::kDefaultAliasImages,
            "cell: (L0, L1) sites per period; alias_images: reciprocal vectors per direction in "
            "the lattice sum (its error falls as alias_images^-2)")
       .def(

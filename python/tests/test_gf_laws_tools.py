@@ -271,3 +271,46 @@ def test_friction_sweep_takes_the_slide_flags(tmp_path):
     assert point["settings"]["slide.step_growth"] == 2
     with pytest.raises(RuntimeError, match="--tip-angle and --tip-angles"):
         tools.friction_sweep(scene, out=tmp_path / "bad", tip_angle=1, tip_angles=[2, 3])
+
+
+def test_stub_defaults_are_the_modules():
+    # _asperity.pyi restates every default of the compiled module for type checkers; the module
+    # takes them from the C++ structs (Material, ContactScene, RegimeTwoFitOptions, ...). Each
+    # default in the stub must be the one the module's own signature shows.
+    import ast
+    import re
+
+    import asperity._asperity as compiled
+
+    stub = pathlib.Path(compiled.__file__).with_name("_asperity.pyi")
+    tree = ast.parse(stub.read_text())
+    checked = 0
+
+    def runtime_defaults(obj):
+        first = obj.__doc__.splitlines()[0]
+        return {m.group(1): m.group(2)
+                for m in re.finditer(r"(\w+): [^=,()\[\]]+(?:\[[^\]]*\])? = ([^,)]+)", first)}
+
+    def compare(node, obj, where):
+        nonlocal checked
+        args = node.args.args
+        defaults = dict(zip([a.arg for a in args[len(args) - len(node.args.defaults):]],
+                            node.args.defaults))
+        shown = runtime_defaults(obj)
+        for name, value in defaults.items():
+            if not isinstance(value, ast.Constant):
+                continue
+            assert name in shown, f"{where}: {name} has no default in the module: {shown}"
+            assert ast.literal_eval(value) == ast.literal_eval(shown[name]), (where, name)
+            checked += 1
+
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef) and hasattr(compiled, node.name):
+            compare(node, getattr(compiled, node.name), node.name)
+        elif isinstance(node, ast.ClassDef) and hasattr(compiled, node.name):
+            for item in node.body:
+                if isinstance(item, ast.FunctionDef) and item.name == "__init__":
+                    compare(item, getattr(compiled, node.name).__init__, node.name)
+    # GF constructors, find_lines, front_stresses, control_parameter, predict, forecast,
+    # fit_regime_two: dozens of defaults.
+    assert checked >= 30, checked
