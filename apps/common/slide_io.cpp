@@ -71,6 +71,23 @@ const settings::Table<SlideScene>& SlideScene::settings() {
   return table;
 }
 
+const settings::Table<RunControl>& RunControl::settings() {
+  using R = settings::Range;
+  static const settings::Table<RunControl> table = {
+      settings::neutral(settings::number<RunControl>(
+          "run.checkpoint_every", [](auto& r) -> auto& { return r.checkpoint_every; },
+          R::non_negative(), "s",
+          "run time between checkpoints of a running slide (0: after every step)",
+          "--checkpoint-every")),
+      settings::neutral(settings::number<RunControl>(
+          "run.progress_every", [](auto& r) -> auto& { return r.progress_every; },
+          R::non_negative(), "s",
+          "run time between progress lines of a running point, also from inside a long "
+          "relaxation (0: none)",
+          "--progress-every"))};
+  return table;
+}
+
 void SlideScene::make_slip_minimizer() {
   if (slip_method == "same") {
     options.slip_minimizer.reset();

@@ -109,6 +109,16 @@ struct SlideOutputOptions {
 // the slip at Dx = 4.6260 d, iteration 3200".
 std::string describe_progress(const slide::SlideProgressInfo& info);
 
+// How a long run reports and saves itself: not a result's setting (left out of fingerprints, so
+// a run continues its checkpoint whatever they are), one description for contact_slide's and
+// friction_sweep's flags (--checkpoint-every, --progress-every).
+struct RunControl {
+  double checkpoint_every = 300.0;  // s of run time between checkpoints (0: every step)
+  double progress_every = 60.0;     // s between progress lines of a running point (0: none)
+
+  static const settings::Table<RunControl>& settings();
+};
+
 // Which progress reports get a line: the first, then one when `every_s` seconds of the slide's
 // wall time have passed since the last line, and (each_slip) one at every new slip event.
 class ProgressLines {

@@ -172,7 +172,7 @@ struct Run {
   bool resume = false;
   bool adopt = false;  // --adopt: the checkpoint may be of another build or numerical settings
   bool plan = false;   // --plan: read, validate and describe the run, then stop
-  double checkpoint_every = 300.0;
+  double checkpoint_every = app::RunControl{}.checkpoint_every;
   const app::SettingFlags* flags = nullptr;
   int argc = 0;
   char** argv = nullptr;
@@ -498,7 +498,7 @@ int main(int argc, char** argv) {
     flags.add(cli, app::SlideScene::settings());
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     bool resume = false;
-    double checkpoint_every = 300.0;
+    app::RunControl control;
     auto* resume_opt = cli.add_flag(
         "--resume", resume,
         "Continue the interrupted run whose checkpoint is in the output directory (same "
@@ -515,10 +515,10 @@ int main(int argc, char** argv) {
                  "new build, or given a longer distance); recorded in <out>/adopted.json, the "
                  "adopted file kept beside it")
         ->needs(resume_opt);
-    cli.add_option("--checkpoint-every", checkpoint_every,
-                   "Seconds of run time between checkpoints (0: after every step)")
-        ->check(app::non_negative())
-        ->capture_default_str();
+    // Its progress lines are every 10 s (0.2 s on a terminal), not --progress-every's.
+    const app::RunControl control_defaults;
+    flags.add(cli, app::RunControl::settings(), {"run.checkpoint_every"}, "setting",
+              &control_defaults);
     std::string model = "lfm";
     cli.add_option("--model", model,
                    "lfm (lateral force model) | explicit (LJ atomistic tip, MODEL.md 4)")
@@ -531,6 +531,7 @@ int main(int argc, char** argv) {
     app::add_list_settings(cli, app::SlideScene::settings(), app::SlideScene{}, "docs/settings.md",
                            "scene key");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
+    flags.apply(app::RunControl::settings(), control);
     if (explicit_slide && model != "explicit") {
       throw std::invalid_argument("--slide: only with --model explicit (the LFM always slides)");
     }
@@ -549,7 +550,7 @@ int main(int argc, char** argv) {
                   .resume = resume,
                   .adopt = adopt,
                   .plan = plan,
-                  .checkpoint_every = checkpoint_every,
+                  .checkpoint_every = control.checkpoint_every,
                   .flags = &flags,
                   .argc = argc_,
                   .argv = argv_,

@@ -99,15 +99,8 @@ int main(int argc, char** argv) {
         "far); reads while the sweep runs, runs nothing");
     peek_opt->excludes("--plan");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
-    cli.add_option("--checkpoint-every", o.checkpoint_every,
-                   "Seconds of run time between checkpoints of each running point (0: every step)")
-        ->check(app::non_negative())
-        ->capture_default_str();
-    cli.add_option("--progress-every", o.progress_every,
-                   "Seconds of run time between progress lines of each running point, also from "
-                   "inside a long relaxation (0: none)")
-        ->check(app::non_negative())
-        ->capture_default_str();
+    const app::RunControl control_defaults;
+    flags.add(cli, app::RunControl::settings(), {}, "setting", &control_defaults);
     // A sweep scene is a slide scene without contact.a and contact.R (its points set them) and
     // the [sweep] and [explicit] tables.
     app::add_list_settings(
@@ -142,6 +135,7 @@ int main(int argc, char** argv) {
     if (flags.given("contact.tip_angle")) s.tip_angle.reset();
     if (flags.given("contact.tip_mismatch")) s.tip_mismatch.reset();
     flags.apply(app::SweepScene::settings(), s);
+    flags.apply(app::RunControl::settings(), o.control);
     flags.apply(app::SlideScene::settings(), s.base);
     // The slip minimiser is made from the final minimiser (--solver, --tolerance, --slip-solver).
     s.base.make_slip_minimizer();

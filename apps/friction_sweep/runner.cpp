@@ -523,8 +523,8 @@ class SweepRunner {
   // million sites in thousands of iterations): a line now and then says where each is and that
   // it runs.
   slide::SlideProgress progress_of(const Job& job, const SweepPoint& point) {
-    if (!(o_.progress_every > 0.0)) return {};
-    return [this, job, point, lines = ProgressLines(o_.progress_every)](
+    if (!(o_.control.progress_every > 0.0)) return {};
+    return [this, job, point, lines = ProgressLines(o_.control.progress_every)](
                const slide::SlideProgressInfo& info) mutable {
       if (!lines.due(info)) return;
       const std::lock_guard lock(table_mutex_);
@@ -666,7 +666,7 @@ class SweepRunner {
               if (!paused) fs::remove(step_file, ec);
               last_checkpoint_paused = paused;
             },
-        .checkpoint_every_s = o_.checkpoint_every,
+        .checkpoint_every_s = o_.control.checkpoint_every,
         .stop_requested = stop_requested,
         .start = start ? &start->state : nullptr,
         .frames = sinks.sink()};

@@ -15,11 +15,10 @@
 namespace asperity::app {
 
 struct SweepRunOptions {
-  std::filesystem::path out;      // output directory
-  bool figures = false;           // per point also figures and snapshots (as contact_slide)
-  bool largest_slip = false;      // per point the states of its largest slip
-  double checkpoint_every = 300;  // seconds of run time between a point's checkpoints
-  double progress_every = 60;     // seconds between progress lines of a running point (0: none)
+  std::filesystem::path out;  // output directory
+  bool figures = false;       // per point also figures and snapshots (as contact_slide)
+  bool largest_slip = false;  // per point the states of its largest slip
+  RunControl control;         // checkpoints and progress lines of the running points
   // Continue points' checkpoints and keep finished rows of another build or of other slide.*,
   // solver.* and fft.* settings of the same problem (slide_checkpoint.hpp, adoption)
   bool adopt = false;
