@@ -127,10 +127,16 @@ class SettingFlags {
       if (s.flag.empty()) continue;
       if (!only.empty() && std::find(only.begin(), only.end(), s.key) == only.end()) continue;
       const settings::Info info = s;
+      // A boolean's flag alone means true ("--xyz"), as a switch, so that it also takes the
+      // Python layer's True (tools.py passes a bare flag); "--xyz false" still says false.
+      const bool boolean = info.kind == settings::Kind::boolean;
       CLI::Option* option =
           cli.add_option_function<std::string>(
-                 s.flag, [this, info](const std::string& text) { given_[info.key] = text; },
-                 setting_help(s, key_label))
+                 s.flag,
+                 [this, info, boolean](const std::string& text) {
+                   given_[info.key] = boolean && text.empty() ? "true" : text;
+                 },
+                 setting_help(s, key_label) + (boolean ? " (the flag alone: true)" : ""))
               ->check(CLI::Validator(
                   [info](std::string& text) -> std::string {
                     try {
@@ -143,12 +149,19 @@ class SettingFlags {
                   ""))
               ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
                           : info.kind == settings::Kind::integer ? "INT"
-                          : info.kind == settings::Kind::boolean ? "BOOL"
+                          : info.kind == settings::Kind::boolean ? "[BOOL]"
                           : info.kind == settings::Kind::numbers ? "LIST"
                                                                  : "NUMBER");
+      if (boolean) option->expected(0, 1);
       if (defaults != nullptr) {
         const settings::Value v = s.get(*defaults);
-        if (!s.not_given(v)) option->default_str(settings::to_string(v));
+        // A boolean's default goes into its help: as CLI11's default it would be what the flag
+        // alone gives.
+        if (boolean) {
+          option->description(option->get_description() + "; default " + settings::to_string(v));
+        } else if (!s.not_given(v)) {
+          option->default_str(settings::to_string(v));
+        }
       }
     }
   }

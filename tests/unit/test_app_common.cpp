@@ -147,6 +147,50 @@ TEST(SettingFlags, EchoGivesASignAsItsNumber) {
   EXPECT_EQ(settings_echo(h, table).at("lines.slip_sign"), nlohmann::json(1));
 }
 
+// A boolean's flag alone is true (the Python layer passes True as a bare flag); with a value it
+// is that value; a value other than true/false is refused by the key. The default shows in the
+// help, not as CLI11's default (which a bare flag would take).
+TEST(SettingFlags, ABooleanFlagAloneIsTrue) {
+  struct Holder {
+    bool xyz = false;
+    double tolerance = 1e-5;
+  };
+  const settings::Table<Holder> table = {
+      settings::boolean<Holder>(
+          "output.xyz", [](auto& h) -> auto& { return h.xyz; }, "also write XYZ", "--xyz"),
+      settings::number<Holder>(
+          "solver.tolerance", [](auto& h) -> auto& { return h.tolerance; }, Range::positive(), "",
+          "tolerance", "--tolerance")};
+  const auto parse = [&](std::vector<std::string> args) {
+    CLI::App cli;
+    SettingFlags flags;
+    const Holder defaults;
+    flags.add(cli, table, {}, "summary key", &defaults);
+    std::string out;
+    cli.add_option("--out", out);
+    std::reverse(args.begin(), args.end());
+    cli.parse(args);
+    Holder h;
+    flags.apply(table, h);
+    return h;
+  };
+  EXPECT_TRUE(parse({"--xyz"}).xyz);
+  EXPECT_TRUE(parse({"--xyz", "--out", "x"}).xyz);
+  EXPECT_TRUE(parse({"--xyz", "--tolerance", "1e-6"}).xyz);
+  EXPECT_EQ(parse({"--xyz", "--tolerance", "1e-6"}).tolerance, 1e-6);
+  EXPECT_TRUE(parse({"--xyz", "true"}).xyz);
+  EXPECT_FALSE(parse({"--xyz", "false"}).xyz);
+  EXPECT_FALSE(parse({}).xyz);
+  EXPECT_THROW(parse({"--xyz", "yes"}), CLI::ValidationError);
+  CLI::App cli;
+  SettingFlags flags;
+  const Holder defaults;
+  flags.add(cli, table, {}, "summary key", &defaults);
+  const std::string help = cli.help();
+  EXPECT_NE(help.find("(the flag alone: true); default false"), std::string::npos) << help;
+  EXPECT_EQ(help.find("--xyz [BOOL]="), std::string::npos) << help;
+}
+
 // A number that may be left out (settings::optional_number): a flag gives a value (never NaN,
 // which is how the row says "not given"); the echo writes null for it, the Markdown "not given".
 TEST(SettingFlags, OptionalNumbersAreGivenOrLeftOut) {
