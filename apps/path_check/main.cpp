@@ -129,11 +129,11 @@ const settings::Table<Check>& Check::settings() {
       settings::integer<Check>(
           "check.flow_max_iterations", [](auto& c) -> auto& { return c.flow_max_iterations; },
           R::closed(1, 1 << 30), "", "step budget of the flows", "--flow-max-iterations"),
-      // A switch (--flow-profile), which a table's boolean flag (--flag true|false) is not.
       settings::neutral(settings::boolean<Check>(
           "check.flow_profile", [](auto& c) -> auto& { return c.flow_profile; },
-          "also write each flow's state after every accepted step (flow_profile*.csv; the switch "
-          "--flow-profile)"))};
+          "also write each flow's state after every accepted step (GF applications, step, "
+          "largest speed and residual, sites moved) to <out>/flow_profile*.csv",
+          "--flow-profile"))};
   return table;
 }
 
@@ -174,9 +174,6 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     Check check_options;
-    cli.add_flag("--flow-profile", check_options.flow_profile,
-                 "Also write each flow's state after every accepted step (GF applications, step, "
-                 "largest speed and residual, sites moved) to <out>/flow_profile*.csv");
     app::add_list_settings(cli, settings_listing, "docs/solvers.md", "scene key and setting");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     flags.apply(Check::settings(), check_options);

@@ -37,16 +37,14 @@ int main(int argc, char** argv) {
     CLI::App cli{"Peierls stress of an interfacial dislocation versus core width and line angle"};
     std::string scene_path = ASPERITY_DATA_DIR "/scenes/peierls_default.toml";
     std::string out = "results/peierls_scan";
-    bool snapshots = false, list_angles = false;
+    bool list_angles = false;
     cli.add_option("scene", scene_path, "Scan scene file (TOML)")
         ->check(CLI::ExistingFile)
         ->capture_default_str();
     // --b-core, --theta, --L, --L-tolerance, --max-L, --model, --nu, --precision, --tolerance,
-    // --jobs: from the scene's settings table.
+    // --jobs, --snapshots: from the scene's settings table.
     app::SettingFlags flags;
     flags.add(cli, scene_settings());
-    // A switch without a value, which a table's boolean flag (--flag true|false) is not.
-    cli.add_flag("--snapshots", snapshots, "NetCDF snapshots of each point's cell");
     cli.add_flag("--list-angles", list_angles, "Print the angles the cell offers and exit");
     cli.add_option("--out", out, "Output directory")->capture_default_str();
     app::add_list_settings(cli, scene_settings(), Scene{}, "docs/peierls.md", "scene key");
@@ -54,7 +52,6 @@ int main(int argc, char** argv) {
 
     Scene s = read_scene(scene_path);
     flags.apply(scene_settings(), s);
-    if (snapshots) s.snapshots = true;
     s.options.validate();
     s.cell_size.validate();
     if (list_angles) {

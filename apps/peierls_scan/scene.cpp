@@ -36,7 +36,7 @@ const settings::Table<Scene>& scene_settings() {
         "--jobs")));
     t.push_back(settings::neutral(settings::boolean<Scene>(
         "scan.snapshots", [](auto& s) -> auto& { return s.snapshots; },
-        "NetCDF snapshots of each point's cell")));
+        "NetCDF snapshots of each point's cell", "--snapshots")));
     t.push_back(settings::number<Scene>(
         "cell.min_line_spacing", [](auto& s) -> auto& { return s.min_line_spacing; }, R::positive(),
         "d", "smallest distance between a line and its periodic images"));
