@@ -524,6 +524,19 @@ struct FrameOptions {
           settings::Range::closed(0, 1000000), "",
           "a figure (and with --profiles, --front their tables) every N frames; 0: none",
           "--plot-every"))};
+      t.push_back(settings::neutral(settings::boolean<FrameOptions>(
+          "profiles", [](auto& o) -> auto& { return o.profiles; },
+          "per plotted frame also the stress along x and along y through the tip centre "
+          "(profile_NNNN.csv, profile_x/y_NNNN.png): tau_x / (alpha p0), +-alpha p and the "
+          "cores (the seed's Fig. 9)",
+          "--profiles")));
+      t.push_back(settings::neutral(settings::boolean<FrameOptions>(
+          "front", [](auto& o) -> auto& { return o.front; },
+          "per plotted frame also the stress held all along every line, from stretches of it "
+          "(front_NNNN.csv, front_NNNN.png: around each loop, against the local Peierls stress "
+          "at its angle with --peierls), and where the front moved since the previous frame, "
+          "with what it held there (front_moves_NNNN.csv)",
+          "--front")));
       settings::lift(
           t, tracking::DetectOptions::settings(), "lines.",
           [](auto& o) -> auto& { return o.detect; });
@@ -724,8 +737,6 @@ nlohmann::json summary_json(const nlohmann::json& inputs, const FrameOptions& o,
                             const Tally& tally, const std::map<std::string, int>& counts,
                             double wall) {
   nlohmann::json options = app::settings_echo(o, FrameOptions::settings());
-  options["profiles"] = o.profiles;
-  options["front"] = o.front;
   options["peierls"] = peierls_json;
   return {{"inputs", inputs},
           {"options", options},
@@ -772,16 +783,6 @@ int main(int argc, char** argv) {
     app::SettingFlags flags;
     const FrameOptions defaults;
     flags.add(cli, FrameOptions::settings(), {}, "summary key", &defaults);
-    bool& profiles = o.profiles;
-    cli.add_flag("--profiles", profiles,
-                 "Per plotted frame also the stress along x and along y through the tip centre "
-                 "(profile_NNNN.csv, profile_x/y_NNNN.png): tau_x / (alpha p0), +-alpha p and the "
-                 "cores (the seed's Fig. 9)");
-    cli.add_flag("--front", o.front,
-                 "Per plotted frame also the stress held all along every line, from stretches "
-                 "of it (front_NNNN.csv, front_NNNN.png: around each loop, against the local "
-                 "Peierls stress at its angle with --peierls), and where the front moved since "
-                 "the previous frame, with what it held there (front_moves_NNNN.csv)");
     std::string peierls_path;
     cli.add_option("--peierls", peierls_path,
                    "peierls_scan summary.json or its folder: with --profiles, draw the local "
@@ -798,7 +799,7 @@ int main(int argc, char** argv) {
     settings::validate(o, FrameOptions::settings());
     nlohmann::json peierls_json = nullptr;
     if (!peierls_path.empty()) {
-      if (!profiles && !o.front)
+      if (!o.profiles && !o.front)
         throw std::invalid_argument("--peierls is drawn beside --profiles or --front: add one");
       peierls_json = read_local_peierls(peierls_path, o.peierls);
     }
