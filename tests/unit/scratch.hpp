@@ -1,5 +1,5 @@
-// Test helpers shared by the file-writing unit tests: a scratch directory per test, and the
-// message of an expected std::invalid_argument.
+// Test helpers shared by the file-writing unit tests: a scratch directory per test, and (from
+// messages.hpp) the message of an expected std::invalid_argument.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -12,20 +12,9 @@
 #include <string>
 
 #include "asperity/apps/common/output_files.hpp"
+#include "../common/messages.hpp"
 
 namespace asperity::test_support {
-
-// Runs f, which must throw std::invalid_argument; returns its message.
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument thrown";
-  return {};
-}
 
 // A fresh, empty directory per test (named after the process and the test), removed after it.
 class ScratchDirTest : public ::testing::Test {

@@ -10,22 +10,11 @@
 
 #include "asperity/core/contact/bonded.hpp"
 #include "asperity/core/contact/normal_contact.hpp"
+#include "common/messages.hpp"
 
 using namespace asperity;
 
-namespace {
-
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "(no throw)";
-}
-
-}  // namespace
+using asperity::test_support::invalid_argument_message;
 
 TEST(ContactOptions, DefaultsAreAllowed) {
   EXPECT_NO_THROW(contact::NormalContactOptions{}.validate());
@@ -35,31 +24,35 @@ TEST(ContactOptions, DefaultsAreAllowed) {
 }
 
 TEST(ContactOptions, ChecksNameTheKeyAndTheAllowedSet) {
-  EXPECT_EQ(message_of([] { contact::NormalContactOptions{.tolerance = 0.0}.validate(); }),
-            "tolerance = 0: allowed: (0, 1)");
-  EXPECT_EQ(message_of([] { contact::NormalContactOptions{.tolerance = 1.0}.validate(); }),
-            "tolerance = 1: allowed: (0, 1)");
-  EXPECT_EQ(message_of([] { contact::NormalContactOptions{.max_iterations = 0}.validate(); }),
+  EXPECT_EQ(
+      invalid_argument_message([] { contact::NormalContactOptions{.tolerance = 0.0}.validate(); }),
+      "tolerance = 0: allowed: (0, 1)");
+  EXPECT_EQ(
+      invalid_argument_message([] { contact::NormalContactOptions{.tolerance = 1.0}.validate(); }),
+      "tolerance = 1: allowed: (0, 1)");
+  EXPECT_EQ(invalid_argument_message(
+                [] { contact::NormalContactOptions{.max_iterations = 0}.validate(); }),
             "max_iterations = 0: allowed: an integer [1, 1000000000]");
-  EXPECT_EQ(message_of([] { contact::BondedOptions{.tolerance = -1e-9}.validate(); }),
+  EXPECT_EQ(invalid_argument_message([] { contact::BondedOptions{.tolerance = -1e-9}.validate(); }),
             "tolerance = -1e-09: allowed: (0, 1)");
-  EXPECT_EQ(message_of([] { contact::BondedOptions{.max_iterations = -3}.validate(); }),
-            "max_iterations = -3: allowed: an integer [1, 1000000000]");
+  EXPECT_EQ(
+      invalid_argument_message([] { contact::BondedOptions{.max_iterations = -3}.validate(); }),
+      "max_iterations = -3: allowed: an integer [1, 1000000000]");
 }
 
 TEST(ContactOptions, SolversRefuseBadOptionsBeforeWork) {
   elastic::FreeSurfaceGF gf(elastic::Material{}, elastic::Components::normal, Shape2{8, 8});
   const std::vector<double> heights(gf.size(), 0.0);
-  EXPECT_EQ(
-      message_of([&] { contact::solve_normal_contact(gf, heights, 1.0, {.tolerance = 2.0}); }),
-      "tolerance = 2: allowed: (0, 1)");
+  EXPECT_EQ(invalid_argument_message(
+                [&] { contact::solve_normal_contact(gf, heights, 1.0, {.tolerance = 2.0}); }),
+            "tolerance = 2: allowed: (0, 1)");
   EXPECT_EQ(gf.applications(), 0U);
 
   elastic::FreeSurfaceGF shear(elastic::Material{}, elastic::Components::in_plane, Shape2{8, 8});
   const std::vector<std::uint8_t> mask(shear.region().n0 * shear.region().n1, 1);
   const std::vector<double> prescribed(shear.size(), 1.0);
-  EXPECT_EQ(
-      message_of([&] { contact::solve_bonded(shear, mask, prescribed, {.max_iterations = 0}); }),
-      "max_iterations = 0: allowed: an integer [1, 1000000000]");
+  EXPECT_EQ(invalid_argument_message(
+                [&] { contact::solve_bonded(shear, mask, prescribed, {.max_iterations = 0}); }),
+            "max_iterations = 0: allowed: an integer [1, 1000000000]");
   EXPECT_EQ(shear.applications(), 0U);
 }

@@ -17,19 +17,14 @@
 #include "asperity/nucleation/regime_three.hpp"
 #include "asperity/nucleation/regime_two.hpp"
 #include "asperity/nucleation/statistics.hpp"
+#include "common/messages.hpp"
 
 using namespace asperity::nucleation;
 
 namespace {
 
 std::string message_of(auto&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument";
-  return {};
+  return asperity::test_support::invalid_argument_message(f);
 }
 
 // A synthetic branch: Regime I (mu/alpha = 1) up to the crossover, the law with c0 after it, and
