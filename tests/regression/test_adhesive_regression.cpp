@@ -3,8 +3,9 @@
 // and adhesive_tau0p4.csv (sweep_adhesive_tau0p4.toml: tau0 = 0.4 G, b_core = 2.5 d).
 //
 // - friction_sweep recomputes the table's five cheapest points (a/b_core = 0.4 ... 6.4, a = 2 ...
-//   32 d, seconds) from the same scene: tau_fric/tau0 within kTolerance of the stored rows, the
-//   same contact-site areas and slip events. The tolerance: the minimiser stops at a residual of
+//   32 d, seconds) from the same scene, and with --tau0 0.4 the other table's at the same
+//   a/b_core (a = 1 ... 16 d): tau_fric/tau0 within kTolerance of the stored rows, the same
+//   contact-site areas and slip events; and the two recomputed strengths collapse as below. The tolerance: the minimiser stops at a residual of
 //   1e-6 G d^2 per site, which moves Fx/A by ~1e-6 tau0 here; 1e-4 leaves room for another
 //   compiler's round-off to change a peak refinement's path and is far below a change of physics
 //   (neighbouring points differ by 5% or more).
@@ -54,9 +55,10 @@ double log_slope(const std::vector<double>& x, const std::vector<double>& y) {
 
 }  // namespace
 
-TEST(AdhesiveRegression, SweepRecomputesTheCommittedRows) {
-  const CsvTable stored = CsvTable::read(REFERENCE);
-  const CsvTable now = CsvTable::read(SWEEP_DIR "/sweep.csv");
+namespace {
+
+// The fixture's five points of one strength against the committed table's rows at the same a.
+void expect_committed_rows(const CsvTable& now, const CsvTable& stored) {
   ASSERT_EQ(now.rows(), 5u);
   for (std::size_t i = 0; i < now.rows(); ++i) {
     ASSERT_EQ(now.text(i, "envelope"), "adhesive");
@@ -74,6 +76,33 @@ TEST(AdhesiveRegression, SweepRecomputesTheCommittedRows) {
     EXPECT_EQ(now.integer(i, "slip_events"), stored.integer(k, "slip_events"));
     // No load: mu is undefined, never a number.
     EXPECT_TRUE(std::isnan(now.number(i, "mu")));
+  }
+}
+
+}  // namespace
+
+TEST(AdhesiveRegression, SweepRecomputesTheCommittedRows) {
+  expect_committed_rows(CsvTable::read(SWEEP_DIR "/sweep.csv"), CsvTable::read(REFERENCE));
+  // The same targets of a/b_core at tau0 = 0.4 G (the scene with --tau0 0.4): a at half the
+  // radii, the committed tau0 = 0.4 table's rows.
+  expect_committed_rows(CsvTable::read(SWEEP_DIR "_tau0p4/sweep.csv"),
+                        CsvTable::read(REFERENCE_TAU0P4));
+}
+
+// The collapse as the code makes it now (the committed tables' collapse is checked below):
+// the fixture's two strengths at the same five a/b_core, within the tolerances below.
+TEST(AdhesiveRegression, TheRecomputedStrengthsCollapse) {
+  const CsvTable weak = CsvTable::read(SWEEP_DIR "/sweep.csv"),
+                 strong = CsvTable::read(SWEEP_DIR "_tau0p4/sweep.csv");
+  ASSERT_EQ(weak.rows(), 5u);
+  ASSERT_EQ(strong.rows(), 5u);
+  for (std::size_t i = 0; i < weak.rows(); ++i) {
+    const double x = weak.number(i, "a_over_bcore0");
+    ASSERT_NEAR(strong.number(i, "a_over_bcore0") / x, 1.0, 1e-12);
+    EXPECT_NEAR(strong.number(i, "a") / weak.number(i, "a"), 0.5, 1e-12);
+    const double d = std::abs(
+        strong.number(i, "tau_fric_over_tau0") / weak.number(i, "tau_fric_over_tau0") - 1.0);
+    EXPECT_LE(d, x >= 4.0 ? 0.025 : 0.05) << "a/b_core = " << x;
   }
 }
 
