@@ -124,7 +124,9 @@ const settings::Table<Check>& Check::settings() {
           "which slip event of the slide to check (1: the first)", "--slip"),
       settings::integer<Check>(
           "check.max_iterations", [](auto& c) -> auto& { return c.max_iterations; },
-          R::closed(1, 1 << 30), "", "iteration budget of the solvers compared",
+          R::closed(1, 1 << 30), "",
+          "iteration budget of the solvers compared (replaces the scene's solver.max_iterations, "
+          "which is sized for a slide's steps, not for relaxing a whole slip)",
           "--max-iterations"),
       settings::integer<Check>(
           "check.flow_max_iterations", [](auto& c) -> auto& { return c.flow_max_iterations; },
