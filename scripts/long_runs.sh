@@ -13,8 +13,10 @@
 #                                          the pace of its last 10 slips (slips computed and d
 #                                          of Dx an hour, GF a computed slip; replayed slips are
 #                                          not counted), the stress the held loops' cores hold
-#                                          on the axes (loop_stress_x, _y) and where its figures
-#                                          are (slips.png, slips_loops.png)
+#                                          on the axes (loop_stress_x, _y), where its figures
+#                                          are (slips.png, slips_loops.png) and, for a point with
+#                                          a reference table (the committed first run of r800),
+#                                          whether its slips so far retrace that run's rows
 #   scripts/long_runs.sh stop [name...]    checkpoint and stop (SIGUSR1, exit 3)
 #   scripts/long_runs.sh peek [name...]    what each point's checkpoint holds, also inside a
 #                                          slip (friction_sweep --peek), and the lines of its
@@ -49,7 +51,7 @@ runs=${RUNS:-/work/runs}
 build=${BUILD_DIR:-build}
 
 # name | scene (in data/scenes) | output folder (under $runs) | extra flags | auto (started by a
-# bare `start`)
+# bare `start`) | reference slips of a point (point:table in the repository, for status)
 # Issue 23: Regime III at R = 800 d from a = 300 d, with step growth (data/reference/regime3_R800.md);
 # R = 100 d past the crossover (data/reference/regime3_R100.md); R = 1700 d, a = 510 d
 # (data/reference/regime3_R1700.md: the seed's Fig. 7(d) and Fig. 9); R = 100 d, a = 60 d with
@@ -61,7 +63,9 @@ build=${BUILD_DIR:-build}
 # the auto run until that slip was through (2026-11-30 06:34 UTC, finished). R = 1700 d,
 # a = 360 d with the path-faithful default was the auto run after it (finished 2026-11-30
 # 08:08 UTC, its row committed); since then r800 is the auto run again, the only one left.
-table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto
+# r800's reference is the first run's table: every run since has retraced its path (status says
+# whether this one still does).
+table="r800|regime3_R800_growth.toml|issue23/regime3_R800_g|--largest-slip|auto|a300_R800:data/reference/regime3_R800_a300_slips.csv
 r100|regime3_R100_past_crossover.toml|r100/out|--largest-slip|
 r1700_a510|regime3_R1700.toml|issue23/r1700_a510|--largest-slip --a 510|
 r1700_a360|regime3_R1700.toml|issue23/r1700_a360|--largest-slip --a 360|
@@ -170,8 +174,44 @@ adopt() {
   echo "$name: $(launch "$bin" "$out" "$scene" "$flags --adopt")"
 }
 
+# Whether a point's slips so far are those of a reference table (a committed earlier run of the
+# same point): every column both tables have, as text, but the cost columns (gf_applications,
+# wall_s: another machine's) and cells the reference leaves empty. Prints one line.
+compare_slips() {
+  local table=$1 reference=$2
+  awk -F, -v ref="$(basename "$reference")" '
+    FNR == 1 {
+      for (i = 1; i <= NF; ++i) {
+        if (FILENAME == ARGV[1]) rcol[$i] = i
+        else col[$i] = i
+      }
+      next
+    }
+    FILENAME == ARGV[1] { rrow[FNR - 1] = $0; m = FNR - 1; next }
+    { row[FNR - 1] = $0; n = FNR - 1 }
+    END {
+      shared = 0
+      for (c in col) if ((c in rcol) && c != "gf_applications" && c != "wall_s") names[++shared] = c
+      k = n < m ? n : m
+      for (s = 1; s <= k; ++s) {
+        split(row[s], a, ","); split(rrow[s], b, ",")
+        for (j = 1; j <= shared; ++j) {
+          c = names[j]; x = a[col[c]]; y = b[rcol[c]]
+          if (y != "" && x != y) {
+            printf "    against %s: slip %d differs in %s (%s, the reference %s)\n", ref, s, c, x, y
+            exit
+          }
+        }
+      }
+      if (k == 0) exit
+      printf "    against %s: slips 1-%d equal its rows in the %d columns both have", ref, k, shared
+      if (n > m) printf "; slips %d-%d are past its %d rows", m + 1, n, m
+      printf "\n"
+    }' "$reference" "$table"
+}
+
 status() {
-  local name=$1 out=$3
+  local name=$1 out=$3 reference=${5:-}
   local state="stopped"
   # A stopped run's log was last written when it stopped (or was killed, as at a session's end).
   [ -f "$runs/$out.log" ] && state="stopped since $(date -u -r "$runs/$out.log" +%FT%TZ)"
@@ -234,6 +274,11 @@ status() {
       [ -f "$(dirname "$table")/$fig" ] && figs="$figs${figs:+, }$(dirname "$table")/$fig"
     done
     [ -n "$figs" ] && echo "    figures: $figs"
+    local point
+    point=$(basename "$(dirname "$(dirname "$table")")")
+    if [ -n "$reference" ] && [ "${reference%%:*}" = "$point" ] && [ -f "${reference#*:}" ]; then
+      compare_slips "$table" "${reference#*:}"
+    fi
     # The states kept around each slip (series), if asked for.
     local kept="$runs/$out.series/$(basename "$(dirname "$(dirname "$table")")")"
     if [ -d "$kept" ]; then
@@ -302,7 +347,7 @@ stop() {
 action=${1:-status}
 shift || true
 want=" $* "
-while IFS='|' read -r name scene out flags auto; do
+while IFS='|' read -r name scene out flags auto reference; do
   if [ "$want" != "  " ]; then
     [[ "$want" == *" $name "* ]] || continue
   elif [ "$action" = start ] && [ "$auto" != auto ]; then
@@ -310,7 +355,7 @@ while IFS='|' read -r name scene out flags auto; do
   fi
   case $action in
     start) start "$name" "$scene" "$out" "$flags" ;;
-    status) status "$name" "$scene" "$out" "$flags" ;;
+    status) status "$name" "$scene" "$out" "$flags" "$reference" ;;
     stop) stop "$name" "$scene" "$out" "$flags" ;;
     peek) peek "$name" "$scene" "$out" "$flags" ;;
     series)

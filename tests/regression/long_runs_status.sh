@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/long_runs.sh status on a made-up run folder (RUNS): a point's slips.csv is read by
 # column name (so that columns added at its end, as Dx_before was, change nothing), its latest
-# slip, cost and pace are printed, and so are the slip figures that exist; a run without a log or a
+# slip, cost and pace are printed, and so are the slip figures that exist and whether the slips
+# retrace a reference table (r800's committed first run); a run without a log or a
 # binary says so; peek of a run without its scene copy says so. Nothing is started: status and
 # peek only read.
 set -euo pipefail
@@ -83,6 +84,25 @@ printf 'slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area
 run_status
 grep -q "a300_R800: 2 slips" "$work/out" || fail "the table without cost columns"
 grep -q "pace" "$work/out" && fail "a pace without cost columns"
+# r800's point against its reference table (the committed first run): its first rows, as they
+# are, retrace it; a changed cell is named by slip and column; cost columns are not compared.
+ref="$repo/data/reference/regime3_R800_a300_slips.csv"
+head -4 "$ref" >"$dir/slips.csv"
+sed -i '4 s/^\([^,]*,[^,]*,[^,]*\),[^,]*,/\1,5300,/' "$dir/slips.csv"  # slip 3's Fx_after
+run_status
+grep -q "^    against regime3_R800_a300_slips.csv: slip 3 differs in Fx_after (5300, the reference " "$work/out" ||
+  fail "a slip that differs from the reference"
+head -3 "$ref" | sed '2,3 s/,,,/,1234,56.7,/' >"$dir/slips.csv"  # other cost cells
+run_status
+grep -q "^    against regime3_R800_a300_slips.csv: slips 1-2 equal its rows in the 23 columns both have$" "$work/out" ||
+  fail "slips that retrace the reference"
+# More slips than the reference has: those past it are said to be.
+{ cat "$ref"; tail -1 "$ref" | sed 's/^[0-9]*,/999,/'; } >"$dir/slips.csv"
+rows=$(($(wc -l <"$ref") - 1))
+run_status
+grep -q "^    against regime3_R800_a300_slips.csv: slips 1-$rows equal its rows in the 23 columns both have; slips $((rows + 1))-$((rows + 1)) are past its $rows rows$" "$work/out" ||
+  fail "slips past the reference"
+printf 'slip,Dx,Fx_before,Fx_after,Fz,slipped_sites,loops,loop_area,slipped_area\n1,4.19375,6587.06,5266.85,179999,207953,1,74290.6,208409\n2,4.21375,5282.6,5298.1,179999,6,1,74241,208457\n' >"$dir/slips.csv"
 # The states kept around each slip (long_runs.sh series): counted where they were asked for,
 # no line where they were not.
 grep -q "series:" "$work/out" && fail "a series line without a series"
