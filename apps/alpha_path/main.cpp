@@ -50,14 +50,17 @@ const settings::Table<Scan>& Scan::settings() {
     const auto row = [&](const char* key) -> const auto& {
       return *settings::find(point, key);
     };
-    // The lists take the allowed values of the single point's rows.
+    // sigma/d takes the allowed values of the single point's row.
     settings::Table<Scan> t = {
         settings::numbers<Scan>(
             "scan.sigma_over_d", [](auto& s) -> auto& { return s.sigma_over_d; },
             row("sigma_over_d").range, "d", "Lennard-Jones sigma of the points", "--sigma-over-d"),
+        // Beyond 1000 eps/sigma the atom is pressed to ~0.8 sigma, deep inside the repulsive
+        // wall (and 1e300 overflows the height search): the scan stops there.
         settings::numbers<Scan>(
-            "scan.Fz", [](auto& s) -> auto& { return s.forces; }, row("normal_force").range,
-            "eps/sigma", "normal forces of the points", "--forces")};
+            "scan.Fz", [](auto& s) -> auto& { return s.forces; },
+            settings::Range::open_closed(0.0, 1000.0), "eps/sigma", "normal forces of the points",
+            "--forces")};
     settings::Table<explicit_model::AlphaPathOptions> samples{row("samples")};
     settings::lift(
         t, samples, "path.", [](auto& s) -> auto& { return s.path; });

@@ -44,8 +44,33 @@ nlohmann::json provenance_json() {
 }
 
 bool parse_command_line(CLI::App& app, int argc, char** argv) {
+  std::vector<std::string> args;
+  for (int i = 1; i < argc; ++i)
+    args.emplace_back(argv[i]);
+  return parse_command_line(app, std::move(args));
+}
+
+bool parse_command_line(CLI::App& app, std::vector<std::string> args) {
+  // "--xyz true" for a boolean setting's switch: "--xyz=true" (kBooleanFlagType).
+  std::vector<std::string> switches;
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->get_type_name() != kBooleanFlagType) continue;
+    for (const std::string& name : option->get_lnames())
+      switches.push_back("--" + name);
+  }
+  std::vector<std::string> merged;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const bool is_switch = std::find(switches.begin(), switches.end(), args[i]) != switches.end();
+    if (is_switch && i + 1 < args.size() && (args[i + 1] == "true" || args[i + 1] == "false")) {
+      merged.push_back(args[i] + "=" + args[i + 1]);
+      ++i;
+    } else {
+      merged.push_back(args[i]);
+    }
+  }
+  std::reverse(merged.begin(), merged.end());  // CLI11 takes a vector last argument first
   try {
-    app.parse(argc, argv);
+    app.parse(merged);
     return true;
   } catch (const CLI::Success& e) {
     app.exit(e);

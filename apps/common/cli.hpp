@@ -26,6 +26,7 @@
 #include <iosfwd>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -51,7 +52,13 @@ nlohmann::json provenance_json();
 
 // Parses the command line. Returns false if CLI11 printed help or version text (the tool should
 // then exit with status 0); throws CLI::ParseError for a malformed command line.
+// The type name of a boolean setting's flag (SettingFlags): a switch, "--xyz" alone is true,
+// "--xyz=false" false; parse_command_line() also takes "--xyz true|false" for it, as such a flag
+// took them before it was a switch, without letting it swallow a following file name.
+inline constexpr const char* kBooleanFlagType = "[=true|false]";
 bool parse_command_line(CLI::App& app, int argc, char** argv);
+// The same for arguments in order, without the program's name.
+bool parse_command_line(CLI::App& app, std::vector<std::string> args);
 
 // Runs `body` and returns its exit status. Exceptions become "program: error: message" on stderr
 // and exit status 2 for bad input (std::invalid_argument, CLI::ParseError) or 1 for failures

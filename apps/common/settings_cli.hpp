@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "asperity/apps/common/cli.hpp"
 #include "asperity/core/common/settings.hpp"
 
 namespace asperity::app {
@@ -104,7 +105,11 @@ inline void add_list_settings(CLI::App& cli, std::function<std::string()> table_
           "exit (" + doc + ")");
 }
 
-// The same for one table, with the defaults of `defaults`.
+// The same for one table, with the defaults of `defaults`. The table must outlive the parse (the
+// flag keeps a reference): a settings() table, static; a temporary is refused.
+template <class Root>
+void add_list_settings(CLI::App& cli, settings::Table<Root>&& table, Root defaults,
+                       const std::string& doc, const std::string& what = "setting") = delete;
 template <class Root>
 void add_list_settings(CLI::App& cli, const settings::Table<Root>& table, Root defaults,
                        const std::string& doc, const std::string& what = "setting") {
@@ -127,37 +132,41 @@ class SettingFlags {
       if (s.flag.empty()) continue;
       if (!only.empty() && std::find(only.begin(), only.end(), s.key) == only.end()) continue;
       const settings::Info info = s;
-      // A boolean's flag alone means true ("--xyz"), as a switch, so that it also takes the
-      // Python layer's True (tools.py passes a bare flag); "--xyz false" still says false.
-      const bool boolean = info.kind == settings::Kind::boolean;
-      CLI::Option* option =
-          cli.add_option_function<std::string>(
-                 s.flag,
-                 [this, info, boolean](const std::string& text) {
-                   given_[info.key] = boolean && text.empty() ? "true" : text;
-                 },
-                 setting_help(s, key_label) + (boolean ? " (the flag alone: true)" : ""))
-              ->check(CLI::Validator(
-                  [info](std::string& text) -> std::string {
-                    try {
-                      parse_setting(info, text);
-                    } catch (const std::invalid_argument& e) {
-                      return e.what();
-                    }
-                    return {};
-                  },
-                  ""))
-              ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
-                          : info.kind == settings::Kind::integer ? "INT"
-                          : info.kind == settings::Kind::boolean ? "[BOOL]"
-                          : info.kind == settings::Kind::numbers ? "LIST"
-                                                                 : "NUMBER");
-      if (boolean) option->expected(0, 1);
+      const auto check = CLI::Validator(
+          [info](std::string& text) -> std::string {
+            try {
+              parse_setting(info, text);
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+            return {};
+          },
+          "");
+      CLI::Option* option = nullptr;
+      if (info.kind == settings::Kind::boolean) {
+        // A switch: "--xyz" alone is true, "--xyz=false" false (and "--xyz false", joined by
+        // parse_command_line()); it takes the Python layer's True (a bare flag) and never
+        // swallows a file name after it.
+        option = cli.add_flag(s.flag + "{true}")
+                     ->description(setting_help(s, key_label) + " (the flag alone: true)")
+                     ->type_name(kBooleanFlagType);
+        option->each([this, key = info.key](const std::string& text) { given_[key] = text; });
+        option->check(check);
+      } else {
+        option =
+            cli.add_option_function<std::string>(
+                   s.flag, [this, key = info.key](const std::string& text) { given_[key] = text; },
+                   setting_help(s, key_label))
+                ->check(check)
+                ->type_name(info.kind == settings::Kind::choice    ? "CHOICE"
+                            : info.kind == settings::Kind::integer ? "INT"
+                            : info.kind == settings::Kind::numbers ? "LIST"
+                                                                   : "NUMBER");
+      }
       if (defaults != nullptr) {
         const settings::Value v = s.get(*defaults);
-        // A boolean's default goes into its help: as CLI11's default it would be what the flag
-        // alone gives.
-        if (boolean) {
+        // A switch's default goes into its help: CLI11's is what the flag alone gives.
+        if (info.kind == settings::Kind::boolean) {
           option->description(option->get_description() + "; default " + settings::to_string(v));
         } else if (!s.not_given(v)) {
           option->default_str(settings::to_string(v));

@@ -151,9 +151,9 @@ SlideScene read_slide_scene_text(std::string_view text, const std::string& sourc
   return read_whole_slide_scene(reader, true);
 }
 
-SlideScene read_slide_scene(SceneReader& reader) {
+SlideScene read_slide_scene(SceneReader& reader, bool check_slips) {
   SlideScene s = read_slide_keys(reader);
-  check_relations(s, reader.source_name());
+  check_relations(s, reader.source_name(), check_slips);
   return s;
 }
 
@@ -550,9 +550,10 @@ ExplicitSlideScene read_explicit_scene(const std::string& path, bool check_slips
 
 namespace {
 
-// Every setting of an explicit scene, {key: value}: the slide scene's and the potential's.
+// Every setting of an explicit scene, {key: value}: the slide scene's and the potential's, but
+// contact.alpha, which the explicit model does not read (its alpha is the potential's, "alpha").
 nlohmann::json explicit_settings_echo(const ExplicitSlideScene& scene) {
-  nlohmann::json out = settings_echo(scene.slide, SlideScene::settings());
+  nlohmann::json out = settings_echo(scene.slide, SlideScene::settings(), {"contact.alpha"});
   out.update(settings_echo(scene.model, explicit_model::ExplicitScene::settings()));
   return out;
 }

@@ -62,7 +62,7 @@ SlideScene read_slide_scene_text(std::string_view text, const std::string& sourc
 // Reads the slide-scene keys (contact, material, slide, solver, fft) from `reader` and checks
 // their relations, but leaves reject_unknown() to the caller: a tool whose scenes add tables of
 // their own (friction_sweep's [sweep]) reads those too before rejecting unknown keys.
-SlideScene read_slide_scene(SceneReader& reader);
+SlideScene read_slide_scene(SceneReader& reader, bool check_slips = true);
 
 // The global attributes of a slide's snapshot files: model, a, R, alpha, G, nu, a/b_core^0,
 // tolerance, and the flat entries of `extra` (SlideOutputOptions::summary_extra).

@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
         "docs/settings.md", "scene key");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
 
-    app::SweepScene s = app::read_sweep_scene(scene_path);
+    app::SweepScene s = app::read_sweep_scene(scene_path, false);  // slips checked after flags
     // A list on the command line replaces the scene's, and --a or --a-over-bcore0 the other.
     const bool a_given = flags.given("sweep.a"), x_given = flags.given("sweep.a_over_bcore0");
     if (a_given && x_given) {

@@ -168,7 +168,7 @@ int SweepScene::effective_jobs(int hardware_threads) const {
   return std::max(1, hardware_threads / base.options.fft.threads);
 }
 
-SweepScene read_sweep_scene(const std::string& path) {
+SweepScene read_sweep_scene(const std::string& path, bool check_slips) {
   auto r = SceneReader::from_file(path);
   // Each point sets a and R; a value given here would be silently replaced.
   for (const char* key : {"contact.a", "contact.R"}) {
@@ -182,7 +182,7 @@ SweepScene read_sweep_scene(const std::string& path) {
   s.source = path;
   const bool tip_angle = r.optional_number("contact.tip_angle").has_value();
   const bool tip_mismatch = r.optional_number("contact.tip_mismatch").has_value();
-  s.base = read_slide_scene(r);
+  s.base = read_slide_scene(r, check_slips);
   r.read(SweepScene::settings(), s);
   r.reject_unknown();
   // A value the points would silently replace.

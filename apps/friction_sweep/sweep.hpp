@@ -86,7 +86,9 @@ struct SweepScene {
 
 // Reads a sweep scene; unknown keys, wrong types and out-of-range values throw
 // std::invalid_argument naming the file, key, value and range.
-SweepScene read_sweep_scene(const std::string& path);
+// check_slips = false leaves check_slip_relaxation to a caller that applies flags first (a flag
+// may mend the scene's slip pair, --slip-solver).
+SweepScene read_sweep_scene(const std::string& path, bool check_slips = true);
 
 struct SweepPoint {
   double a = 0.0;                // contact radius (d)

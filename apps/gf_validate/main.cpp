@@ -74,8 +74,16 @@ const settings::Table<Scene>& Scene::settings() {
   return table;
 }
 
-// The cross-setting check the table cannot make: a Hertz contact is small-slope (MODEL.md 4).
+// The checks the table cannot make: a Hertz contact is small-slope (MODEL.md 4), and an analytic
+// check needs a converged solve (the solvers' own tables allow any relative tolerance below 1).
 void check_scene(const Scene& s, const std::string& where) {
+  for (const auto& [key, value] : {std::pair{"hertz.tolerance", s.hertz_solver.tolerance},
+                                   std::pair{"bonded_disk.tolerance", s.disk_solver.tolerance}}) {
+    if (!(value < 1e-2)) {
+      throw std::invalid_argument(where + ": " + key + " = " + settings::format_number(value) +
+                                  ": allowed: < 0.01 (the checks compare converged solutions)");
+    }
+  }
   if (s.hertz_a >= 0.1 * s.hertz_R) {
     throw std::invalid_argument(
         where + ": hertz.a = " + settings::format_number(s.hertz_a) +

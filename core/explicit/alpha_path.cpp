@@ -21,12 +21,11 @@ const settings::Table<AlphaPathOptions>& AlphaPathOptions::settings() {
       settings::number<AlphaPathOptions>(
           "sigma_over_d", [](auto& o) -> auto& { return o.sigma_over_d; }, R::closed(0.6, 1.5), "d",
           "Lennard-Jones sigma (2^(-1/6): cutoff r_c = d)"),
-      // Beyond 1000 eps/sigma the atom is pressed to ~0.8 sigma, deep inside the repulsive wall
-      // (and 1e300 overflows the height search).
+      // No upper bound here: a load the atom cannot hold throws std::runtime_error, which the
+      // explicit model's callers turn into alpha = NaN (alpha_path, the tool, caps its scan).
       settings::number<AlphaPathOptions>(
-          "normal_force", [](auto& o) -> auto& { return o.normal_force; },
-          R::open_closed(0.0, 1000.0), "eps/sigma",
-          "normal force Fz pressing the atom onto the lattice"),
+          "normal_force", [](auto& o) -> auto& { return o.normal_force; }, R::positive(),
+          "eps/sigma", "normal force Fz pressing the atom onto the lattice"),
       settings::integer<AlphaPathOptions>(
           "samples", [](auto& o) -> auto& { return o.samples; }, R::closed(3, 1000001), "",
           "points along x over one period d (odd: the bridge site is one)", "--samples")};

@@ -324,3 +324,9 @@ def test_a_boolean_setting_takes_python_true(tmp_path):
     assert sorted(p.stem for p in snapshots.glob("*.xyz")) == sorted(
         p.stem for p in snapshots.glob("*.nc")) != []
     assert slide.summary["settings"]["output.xyz"] is True
+    # "false" (False leaves the flag out) turns off a scene's true.
+    scene = tmp_path / "xyz.toml"
+    scene.write_text("[contact]\na = 8\n[output]\nxyz = true\n[fft]\nthreads = 1\n")
+    off = tools.contact_slide(scene, out=tmp_path / "off", xyz="false")
+    assert off.summary["settings"]["output.xyz"] is False
+    assert not list((tmp_path / "off" / "snapshots").glob("*.xyz"))

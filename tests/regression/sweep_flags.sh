@@ -18,15 +18,17 @@ sed -e 's/^alpha = 0.7$/alpha = 0.6/' -e 's/^distance = 1.2 /distance = 1.0 /' \
 "$bin" "$scene" --alpha 0.6 --tolerance 1e-7 --distance 1.0 --out "$out/sweep" > "$out/flags.log" 2>&1 ||
   { cat "$out/flags.log"; exit 1; }
 grep -q "alpha = 0.6" "$out/flags.log" || { echo "--alpha not applied:"; cat "$out/flags.log"; exit 1; }
+# The flags' run's own summary (the scene's run below rewrites it).
+cp "$out/sweep/summary.json" "$out/flags_summary.json"
 "$bin" "$edited" --out "$out/sweep" > "$out/scene.log" 2>&1 || { cat "$out/scene.log"; exit 1; }
 grep -q "reused 2 of 2 points" "$out/scene.log" ||
   { echo "the scene's run did not reuse the flags' rows:"; cat "$out/scene.log"; exit 1; }
 # And the scene's own values (alpha = 0.7) are not those rows.
 "$bin" "$scene" --plan --out "$out/sweep" > "$out/plan.log" 2>&1 || { cat "$out/plan.log"; exit 1; }
 grep -q "kept: 0" "$out/plan.log" || { echo "rows of other settings kept:"; cat "$out/plan.log"; exit 1; }
-# The sweep's summary echoes every setting by its key, the flags' values among them, but the
-# points' own contact.a and contact.R.
-python3 - "$out/sweep/summary.json" <<'PY'
+# The flags' run's summary echoes every setting by its key, the flags' values among them, but
+# the points' own contact.a and contact.R.
+python3 - "$out/flags_summary.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))["settings"]
 assert s["contact.alpha"] == 0.6 and s["solver.tolerance"] == 1e-7 and s["slide.distance"] == 1.0, s

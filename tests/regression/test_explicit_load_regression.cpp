@@ -29,4 +29,6 @@ TEST(ExplicitLoadRegression, MatchesReference) {
   EXPECT_EQ(settings.at("explicit.sigma_over_d").get<double>(),
             summary.at("sigma_over_d").get<double>());
   EXPECT_TRUE(settings.contains("solver.tolerance"));
+  // Not contact.alpha: the explicit model's alpha is the potential's (summary "alpha").
+  EXPECT_FALSE(settings.contains("contact.alpha"));
 }

@@ -147,10 +147,11 @@ TEST(SettingFlags, EchoGivesASignAsItsNumber) {
   EXPECT_EQ(settings_echo(h, table).at("lines.slip_sign"), nlohmann::json(1));
 }
 
-// A boolean's flag alone is true (the Python layer passes True as a bare flag); with a value it
-// is that value; a value other than true/false is refused by the key. The default shows in the
+// A boolean's flag is a switch: alone it is true (the Python layer passes True as a bare flag),
+// "=false" or " false" (joined by parse_command_line) false; it never takes a file name after it
+// as its value; a value other than true/false is refused by the key. The default shows in the
 // help, not as CLI11's default (which a bare flag would take).
-TEST(SettingFlags, ABooleanFlagAloneIsTrue) {
+TEST(SettingFlags, ABooleanFlagIsASwitch) {
   struct Holder {
     bool xyz = false;
     double tolerance = 1e-5;
@@ -161,15 +162,17 @@ TEST(SettingFlags, ABooleanFlagAloneIsTrue) {
       settings::number<Holder>(
           "solver.tolerance", [](auto& h) -> auto& { return h.tolerance; }, Range::positive(), "",
           "tolerance", "--tolerance")};
+  std::vector<std::string> files;
   const auto parse = [&](std::vector<std::string> args) {
     CLI::App cli;
     SettingFlags flags;
     const Holder defaults;
     flags.add(cli, table, {}, "summary key", &defaults);
+    files.clear();
+    cli.add_option("files", files);
     std::string out;
     cli.add_option("--out", out);
-    std::reverse(args.begin(), args.end());
-    cli.parse(args);
+    EXPECT_TRUE(parse_command_line(cli, std::move(args)));
     Holder h;
     flags.apply(table, h);
     return h;
@@ -178,17 +181,29 @@ TEST(SettingFlags, ABooleanFlagAloneIsTrue) {
   EXPECT_TRUE(parse({"--xyz", "--out", "x"}).xyz);
   EXPECT_TRUE(parse({"--xyz", "--tolerance", "1e-6"}).xyz);
   EXPECT_EQ(parse({"--xyz", "--tolerance", "1e-6"}).tolerance, 1e-6);
-  EXPECT_TRUE(parse({"--xyz", "true"}).xyz);
+  // A file after the switch stays a file.
+  EXPECT_TRUE(parse({"--xyz", "a.nc", "b.nc"}).xyz);
+  EXPECT_EQ(files, (std::vector<std::string>{"a.nc", "b.nc"}));
+  EXPECT_TRUE(parse({"--xyz", "true", "a.nc"}).xyz);
+  EXPECT_EQ(files, (std::vector<std::string>{"a.nc"}));
   EXPECT_FALSE(parse({"--xyz", "false"}).xyz);
+  EXPECT_FALSE(parse({"--xyz=false", "a.nc"}).xyz);
+  EXPECT_EQ(files, (std::vector<std::string>{"a.nc"}));
+  EXPECT_TRUE(parse({"--xyz=true"}).xyz);
   EXPECT_FALSE(parse({}).xyz);
-  EXPECT_THROW(parse({"--xyz", "yes"}), CLI::ValidationError);
+  {
+    CLI::App cli;
+    SettingFlags flags;
+    flags.add(cli, table);
+    EXPECT_THROW(parse_command_line(cli, {"--xyz=yes"}), CLI::ValidationError);
+  }
   CLI::App cli;
   SettingFlags flags;
   const Holder defaults;
   flags.add(cli, table, {}, "summary key", &defaults);
   const std::string help = cli.help();
+  EXPECT_NE(help.find("[=true|false]"), std::string::npos) << help;
   EXPECT_NE(help.find("(the flag alone: true); default false"), std::string::npos) << help;
-  EXPECT_EQ(help.find("--xyz [BOOL]="), std::string::npos) << help;
 }
 
 // A number that may be left out (settings::optional_number): a flag gives a value (never NaN,

@@ -80,5 +80,5 @@ TEST(ExplicitAlphaPath, RejectsBadOptions) {
   EXPECT_EQ(message({.samples = 200}),
             "samples = 200: allowed: odd (the bridge site must be a sample)");
   EXPECT_EQ(message({.sigma_over_d = 0.5}), "sigma_over_d = 0.5: allowed: [0.6, 1.5] d");
-  EXPECT_EQ(message({.normal_force = 2000.0}), "normal_force = 2000: allowed: (0, 1000] eps/sigma");
+  EXPECT_EQ(message({.normal_force = -1.0}), "normal_force = -1: allowed: > 0 eps/sigma");
 }
