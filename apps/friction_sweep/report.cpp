@@ -18,6 +18,7 @@
 #include "asperity/apps/common/cli.hpp"
 #include "asperity/apps/common/output_files.hpp"
 #include "asperity/apps/common/plot.hpp"
+#include "asperity/apps/common/settings_cli.hpp"
 #include "asperity/apps/common/slide_io.hpp"
 #include "asperity/core/interface/lfm.hpp"
 
@@ -546,6 +547,7 @@ int finish_sweep(const fs::path& dir, const SweepScene& s, const std::vector<Swe
                              {{"provenance", provenance_json()},
                               {"wall_s", wall},
                               {"ranks", n.ranks},
+                              {"control", settings_echo(n.control, RunControl::settings())},
                               {"points_wall_s", points_wall},
                               {"point_wall_s", point_times}}}};
   if (s.runs_explicit()) summary["explicit_vs_lfm"] = comparison;

@@ -13,10 +13,11 @@
 namespace asperity::app {
 
 // How many points a sweep had, and how many it computed and reused; how many it ran at once on
-// each of how many MPI ranks (1: one process).
+// each of how many MPI ranks (1: one process), and how they checkpointed and reported.
 struct SweepCounts {
   std::size_t points = 0, explicit_points = 0, computed = 0, reused = 0;
   int jobs = 1, ranks = 1;
+  RunControl control;
 };
 
 // The end of a sweep whose points are all in. Returns the exit status (1 if a point failed).

@@ -307,7 +307,8 @@ class SweepRunner {
                          .computed = order_.size(),
                          .reused = resumed.reused + resumed_x.reused,
                          .jobs = jobs_,
-                         .ranks = ranks_.size()},
+                         .ranks = ranks_.size(),
+                         .control = o_.control},
                         t0);
   }
 

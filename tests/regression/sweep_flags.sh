@@ -2,8 +2,9 @@
 # Regression tier: friction_sweep's slide flags are the scene's keys. The tiny sweep run with
 # --alpha 0.6 --tolerance 1e-7 --distance 1.0 gives rows that the same sweep written as a scene
 # (contact.alpha = 0.6, solver.tolerance = 1e-7, slide.distance = 1.0) reuses as its own: the
-# rows' fingerprints (every setting that changes a result) are equal. A point's summary echoes
-# the flags' values.
+# rows' fingerprints (every setting that changes a result) are equal; --checkpoint-every 120,
+# which changes none, is left out of them and echoed under the summary's run.control. The
+# summary echoes the flags' values.
 # Usage: sweep_flags.sh FRICTION_SWEEP SCENE OUT
 set -euo pipefail
 bin=$1 scene=$2 out=$3
@@ -15,7 +16,7 @@ sed -e 's/^alpha = 0.7$/alpha = 0.6/' -e 's/^distance = 1.2 /distance = 1.0 /' \
 [ "$(diff "$scene" "$edited" | grep -c '^>')" -eq 3 ] ||
   { echo "the scene has not the three lines this test edits:"; diff "$scene" "$edited"; exit 1; }
 
-"$bin" "$scene" --alpha 0.6 --tolerance 1e-7 --distance 1.0 --out "$out/sweep" > "$out/flags.log" 2>&1 ||
+"$bin" "$scene" --alpha 0.6 --tolerance 1e-7 --distance 1.0 --checkpoint-every 120 --out "$out/sweep" > "$out/flags.log" 2>&1 ||
   { cat "$out/flags.log"; exit 1; }
 grep -q "alpha = 0.6" "$out/flags.log" || { echo "--alpha not applied:"; cat "$out/flags.log"; exit 1; }
 # The flags' run's own summary (the scene's run below rewrites it).
@@ -34,5 +35,7 @@ s = json.load(open(sys.argv[1]))["settings"]
 assert s["contact.alpha"] == 0.6 and s["solver.tolerance"] == 1e-7 and s["slide.distance"] == 1.0, s
 assert s["sweep.a"] == [4.0, 6.0] and s["sweep.R"] == [535.0], s
 assert "contact.a" not in s and "contact.R" not in s, s
+run = json.load(open(sys.argv[1]))["run"]["control"]
+assert run == {"run.checkpoint_every": 120.0, "run.progress_every": 60.0}, run
 PY
 echo "flags = scene keys: rows reused"
