@@ -4,6 +4,8 @@
 // run by the class registered for it.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -150,6 +152,64 @@ TEST(Minimizer, LeavesAStateStartedExactlyOnASaddle) {
   std::vector<double> u(c.problem.size(), 0.0), f(c.problem.size(), 0.0);
   const auto r = minimize::minimize(c.problem, u, f, {.stability = minimize::StabilityCheck::none});
   EXPECT_EQ(r.iterations, 0);
+}
+
+// lowest_mode() (Lanczos through Spectra above 60 unknowns) against the dense eigenproblem of
+// the same A = G + G H G, built column by column from the problem's compliance and interface
+// Hessian and solved by Eigen: the saddle of the test above (the tip at d/2, u = 0, lambda > 1),
+// where the rigid mode is unstable, and the minimum a minimiser reaches from it. Tolerance: the
+// Lanczos stop is a relative residual of 1e-6, so the eigenvalue agrees to about 1e-6 of the
+// spectrum's scale (|G| ~ the largest eigenvalue); the direction is A's eigenvector to that
+// residual.
+TEST(Minimizer, LowestModeIsTheDenseHessiansLowestEigenvalue) {
+  const interface::ContactScene scene { .a = 10.0, .R = 100.0 };
+  Contact c(scene, 0.5);
+  const std::size_t n = c.problem.size();
+  ASSERT_GT(n, 60u);  // the Lanczos branch
+  const auto dense_lowest = [&](const std::vector<double>& u) {
+    minimize::InterfaceHessian h;
+    h.at(c.problem, u);
+    Eigen::MatrixXd a(n, n);
+    std::vector<double> e(n, 0.0), z(n), t(n), y(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      std::fill(e.begin(), e.end(), 0.0);
+      e[j] = 1.0;
+      c.problem.compliance(e, z);
+      h.apply(z, t);
+      c.problem.compliance(t, y);
+      for (std::size_t i = 0; i < n; ++i)
+        a(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = y[i] + z[i];
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (a + a.transpose()));
+    return std::pair{es.eigenvalues()(0), es.eigenvalues()(static_cast<Eigen::Index>(n) - 1)};
+  };
+  std::vector<double> u(n, 0.0), f(n, 0.0);
+  for (const bool saddle : {true, false}) {
+    if (!saddle) {
+      ASSERT_EQ(
+          minimize::minimize(c.problem, u, f, {.stability = minimize::StabilityCheck::lanczos})
+              .termination,
+          Termination::converged);
+    }
+    const auto [lowest, highest] = dense_lowest(u);
+    const minimize::Stability s = minimize::lowest_mode(c.problem, u);
+    ASSERT_TRUE(s.converged);
+    std::printf("%s, %zu unknowns: Lanczos %.9g, dense %.9g (largest %.4g)\n",
+                saddle ? "saddle" : "minimum", n, s.lowest, lowest, highest);
+    EXPECT_NEAR(s.lowest, lowest, 1e-6 * highest) << (saddle ? "saddle" : "minimum");
+    EXPECT_EQ(s.lowest < 0.0, saddle);
+    EXPECT_EQ(lowest < 0.0, saddle);
+    // The direction: v = G w, its force image w an eigenvector of A.
+    ASSERT_EQ(s.direction_f.size(), n);
+    std::vector<double> v(n);
+    c.problem.compliance(s.direction_f, v);
+    double dv = 0.0, nv = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      dv = std::max(dv, std::abs(v[i] - s.direction_u[i]));
+      nv = std::max(nv, std::abs(v[i]));
+    }
+    EXPECT_LE(dv, 1e-12 * nv);
+  }
 }
 
 TEST(Minimizer, RejectsBadOptions) {
