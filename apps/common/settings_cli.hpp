@@ -147,7 +147,7 @@ class SettingFlags {
         // A switch: "--xyz" alone is true, "--xyz=false" false (and "--xyz false", joined by
         // parse_command_line()); it takes the Python layer's True (a bare flag) and never
         // swallows a file name after it.
-        option = cli.add_flag(s.flag + "{true}")
+        option = cli.add_flag(s.flag)
                      ->description(setting_help(s, key_label) + " (the flag alone: true)")
                      ->type_name(kBooleanFlagType);
         option->each([this, key = info.key](const std::string& text) { given_[key] = text; });

@@ -511,6 +511,7 @@ struct FrameOptions {
   int plot_every = 1;
   bool profiles = false;
   bool front = false;
+  bool periodic = false;  // every block a whole periodic cell, whatever its file says
   tracking::FrontOptions front_options;
   tracking::CrossingOptions crossing;  // --profiles: the stress each core crossing holds
   LocalPeierls peierls;
@@ -524,6 +525,11 @@ struct FrameOptions {
           settings::Range::closed(0, 1000000), "",
           "a figure (and with --profiles, --front their tables) every N frames; 0: none",
           "--plot-every"))};
+      // Not neutral: a cell's lines close across its sides.
+      t.push_back(settings::boolean<FrameOptions>(
+          "periodic", [](auto& o) -> auto& { return o.periodic; },
+          "treat every block as a whole periodic cell (default: the file's `periodic` attribute)",
+          "--periodic"));
       t.push_back(settings::neutral(settings::boolean<FrameOptions>(
           "profiles", [](auto& o) -> auto& { return o.profiles; },
           "per plotted frame also the stress along x and along y through the tip centre "
@@ -761,7 +767,6 @@ int main(int argc, char** argv) {
     std::vector<std::string> files;
     std::string out = "results/track_loops";
     FrameOptions o;
-    bool force_periodic = false;
     cli.add_option("snapshots", files,
                    "NetCDF snapshot files (contact_slide snapshots/*.nc, peierls_scan cells); "
                    "their frames form one sequence in the order given (required, but for "
@@ -789,9 +794,6 @@ int main(int argc, char** argv) {
                    "Peierls stress of its edge and screw fits at the local pressure; with "
                    "--front, compare every point with its angle's")
         ->check(CLI::ExistingPath);
-    cli.add_flag("--periodic", force_periodic,
-                 "Treat every block as a whole periodic cell (default: the file's `periodic` "
-                 "attribute)");
     app::add_list_settings(cli, FrameOptions::settings(), FrameOptions{}, "docs/tracking.md");
     if (!app::parse_command_line(cli, argc_, argv_)) return 0;
     if (files.empty()) throw std::invalid_argument("snapshots: at least one file is required");
@@ -831,7 +833,7 @@ int main(int argc, char** argv) {
     for (const auto& [file, only] : reads) {
       const std::vector<slide::Snapshot> snaps = app::read_snapshots(file, only);
       if (snaps.empty()) continue;  // no frame of the label
-      const bool periodic = force_periodic || periodic_attribute(file);
+      const bool periodic = o.periodic || periodic_attribute(file);
       inputs.push_back({{"file", fs::absolute(file).string()},
                         {"frames", snaps.size()},
                         {"periodic", periodic}});
