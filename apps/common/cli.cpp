@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
@@ -44,6 +45,8 @@ nlohmann::json provenance_json() {
 }
 
 bool parse_command_line(CLI::App& app, int argc, char** argv) {
+  // The program's name in --help, as CLI11's own parse(argc, argv) sets it.
+  if (app.get_name().empty() && argc > 0) app.name(argv[0]);
   std::vector<std::string> args;
   for (int i = 1; i < argc; ++i)
     args.emplace_back(argv[i]);
@@ -61,7 +64,12 @@ bool parse_command_line(CLI::App& app, std::vector<std::string> args) {
   std::vector<std::string> merged;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const bool is_switch = std::find(switches.begin(), switches.end(), args[i]) != switches.end();
-    if (is_switch && i + 1 < args.size() && (args[i + 1] == "true" || args[i + 1] == "false")) {
+    // Any spelling of a truth value is joined, so that the switch's check refuses the ones it
+    // does not take ("True", "1") by its key rather than as a stray file name.
+    std::string next = i + 1 < args.size() ? args[i + 1] : std::string();
+    std::transform(next.begin(), next.end(), next.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    if (is_switch && (next == "true" || next == "false" || next == "1" || next == "0")) {
       merged.push_back(args[i] + "=" + args[i + 1]);
       ++i;
     } else {

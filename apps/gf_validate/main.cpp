@@ -76,7 +76,8 @@ const settings::Table<Scene>& Scene::settings() {
 
 // The checks the table cannot make: a Hertz contact is small-slope (MODEL.md 4), and an analytic
 // check needs a converged solve (the solvers' own tables allow any relative tolerance below 1).
-void check_scene(const Scene& s, const std::string& where) {
+// `where`: the scene's path; `hertz_flags`: whether --hertz-a or --hertz-R was given.
+void check_scene(const Scene& s, const std::string& where, bool hertz_flags) {
   for (const auto& [key, value] : {std::pair{"hertz.tolerance", s.hertz_solver.tolerance},
                                    std::pair{"bonded_disk.tolerance", s.disk_solver.tolerance}}) {
     if (!(value < 1e-2)) {
@@ -86,9 +87,9 @@ void check_scene(const Scene& s, const std::string& where) {
   }
   if (s.hertz_a >= 0.1 * s.hertz_R) {
     throw std::invalid_argument(
-        where + ": hertz.a = " + settings::format_number(s.hertz_a) +
-        ": allowed: < 0.1 hertz.R = " + settings::format_number(0.1 * s.hertz_R) +
-        " (small-slope contact)");
+        where + (hertz_flags ? " with --hertz-a/--hertz-R" : "") +
+        ": hertz.a = " + settings::format_number(s.hertz_a) + ": allowed: < 0.1 hertz.R = " +
+        settings::format_number(0.1 * s.hertz_R) + " (small-slope contact)");
   }
 }
 
@@ -268,9 +269,7 @@ int main(int argc, char** argv) {
 
     Scene s = read_scene(scene_path);
     flags.apply(Scene::settings(), s);
-    check_scene(s, scene_path + (flags.given("hertz.a") || flags.given("hertz.R")
-                                     ? " with --hertz-a/--hertz-R"
-                                     : ""));
+    check_scene(s, scene_path, flags.given("hertz.a") || flags.given("hertz.R"));
     const fs::path dir = app::ensure_directory(out);
 
     std::cerr << "gf_validate: Hertz contact (R = " << s.hertz_R << " d, a = " << s.hertz_a

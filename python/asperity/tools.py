@@ -87,6 +87,9 @@ def _flags(options):
     argv = []
     for key, value in options.items():
         flag = "--" + key.replace("_", "-")
+        # NumPy's booleans too (np.True_ is not True).
+        if isinstance(value, np.bool_):
+            value = bool(value)
         if value is None or value is False:
             continue
         if value is True:

@@ -317,9 +317,9 @@ def test_stub_defaults_are_the_modules():
 
 
 def test_a_boolean_setting_takes_python_true(tmp_path):
-    # tools.py passes True as a bare flag; a boolean setting's flag alone is true (--xyz), so
-    # xyz=True writes every snapshot as extended XYZ beside its NetCDF file.
-    slide = tools.contact_slide(out=tmp_path / "s", a=8, threads=1, xyz=True)
+    # tools.py passes True (NumPy's too) as a bare flag; a boolean setting's flag alone is true
+    # (--xyz), so xyz=True writes every snapshot as extended XYZ beside its NetCDF file.
+    slide = tools.contact_slide(out=tmp_path / "s", a=8, threads=1, xyz=np.True_)
     snapshots = tmp_path / "s" / "snapshots"
     assert sorted(p.stem for p in snapshots.glob("*.xyz")) == sorted(
         p.stem for p in snapshots.glob("*.nc")) != []

@@ -38,4 +38,14 @@ assert "contact.a" not in s and "contact.R" not in s, s
 run = json.load(open(sys.argv[1]))["run"]["control"]
 assert run == {"run.checkpoint_every": 120.0, "run.progress_every": 60.0}, run
 PY
+# A flag mends the scene's slip pair, as contact_slide's do: the scene's cg with slip_method
+# "same" is refused alone, and runs with --slip-solver flow.
+sed -e 's/^\[solver\]$/[solver]\nmethod = "cg"\nslip_method = "same"/' "$edited" >"$out/pair.toml"
+grep -q '^slip_method = "same"' "$out/pair.toml" || { echo "no [solver] table to edit"; exit 1; }
+edited="$out/pair.toml"
+"$bin" "$edited" --plan --out "$out/mend" >"$out/unmended.log" 2>&1 &&
+  { echo "the scene's slip pair was not refused"; cat "$out/unmended.log"; exit 1; }
+grep -q "solver.slip_method" "$out/unmended.log" || { cat "$out/unmended.log"; exit 1; }
+"$bin" "$edited" --slip-solver flow --plan --out "$out/mend" >"$out/mend.log" 2>&1 ||
+  { echo "--slip-solver did not mend the scene's pair:"; cat "$out/mend.log"; exit 1; }
 echo "flags = scene keys: rows reused"

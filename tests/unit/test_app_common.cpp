@@ -197,6 +197,20 @@ TEST(SettingFlags, ABooleanFlagIsASwitch) {
     flags.add(cli, table);
     EXPECT_THROW(parse_command_line(cli, {"--xyz=yes"}), CLI::ValidationError);
   }
+  // Other spellings of a truth value are the switch's, refused by its key, not a stray file.
+  for (const char* spelling : {"True", "1", "FALSE"}) {
+    CLI::App cli;
+    SettingFlags flags;
+    flags.add(cli, table);
+    try {
+      parse_command_line(cli, {"--xyz", spelling});
+      ADD_FAILURE() << spelling << " accepted";
+    } catch (const CLI::ValidationError& e) {
+      EXPECT_NE(std::string(e.what()).find("output.xyz = " + std::string(spelling)),
+                std::string::npos)
+          << e.what();
+    }
+  }
   CLI::App cli;
   SettingFlags flags;
   const Holder defaults;
