@@ -58,6 +58,19 @@ std::string SceneReader::where(const toml::node& node) const {
   return " (line " + std::to_string(node.source().begin.line) + ")";
 }
 
+bool SceneReader::has(std::string_view key) const {
+  const toml::table* table = &table_;
+  for (std::size_t start = 0;;) {
+    const std::size_t dot = key.find('.', start);
+    const toml::node* node = table->get(key.substr(start, dot - start));
+    if (!node) return false;
+    if (dot == std::string_view::npos) return true;
+    table = node->as_table();
+    if (!table) return false;
+    start = dot + 1;
+  }
+}
+
 const toml::node* SceneReader::find(std::string_view key) {
   read_.emplace(key);
   const toml::table* table = &table_;

@@ -61,6 +61,9 @@ class SceneReader {
     }
   }
 
+  // Whether `key` is present, whatever its value; does not count as reading it.
+  [[nodiscard]] bool has(std::string_view key) const;
+
   // Throws naming every key present in the document that no getter has asked for.
   void reject_unknown() const;
 

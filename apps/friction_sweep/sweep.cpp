@@ -172,7 +172,7 @@ SweepScene read_sweep_scene(const std::string& path, bool check_slips) {
   auto r = SceneReader::from_file(path);
   // Each point sets a and R; a value given here would be silently replaced.
   for (const char* key : {"contact.a", "contact.R"}) {
-    if (r.optional_number(key)) {
+    if (r.has(key)) {
       throw std::invalid_argument(path + ": " + key +
                                   ": not allowed in a sweep scene: the points take a and R from "
                                   "[sweep] (R, and a or a_over_bcore0)");
@@ -180,8 +180,8 @@ SweepScene read_sweep_scene(const std::string& path, bool check_slips) {
   }
   SweepScene s;
   s.source = path;
-  const bool tip_angle = r.optional_number("contact.tip_angle").has_value();
-  const bool tip_mismatch = r.optional_number("contact.tip_mismatch").has_value();
+  const bool tip_angle = r.has("contact.tip_angle");
+  const bool tip_mismatch = r.has("contact.tip_mismatch");
   s.base = read_slide_scene(r, check_slips);
   r.read(SweepScene::settings(), s);
   r.reject_unknown();

@@ -122,6 +122,7 @@ check $cs "output.deflate" "$(scene o3 <<<$'[output]\ndeflate = 10')"
 
 fs=friction_sweep
 check $fs "sweep.R" "$(scene w1 <<<$'[sweep]\nR = []\na = [5]')"
+check $fs "contact.a: not allowed in a sweep scene" "$(scene w1a <<<$'[sweep]\nR = [535]\na = [5]\n[contact]\na = "big"')"
 check $fs "--tolerance" --tolerance 0
 check $fs "--tip-angle and --tip-angles" --tip-angle 1 --tip-angles 2,3
 check $fs "--slip-solver" --solver lbfgs --slip-solver same

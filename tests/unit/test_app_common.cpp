@@ -69,6 +69,14 @@ TEST(SceneReader, ReadsTypedValuesAndDefaults) {
   EXPECT_EQ(s.numbers("contact.loads", {}, Range::positive()), (std::vector<double>{1, 2.5}));
   EXPECT_EQ(s.number("contact.missing", 7.0), 7.0);
   EXPECT_FALSE(s.optional_number("other.missing").has_value());
+  // has(): present whatever the value, absent through a missing or non-table parent; not a read.
+  EXPECT_TRUE(s.has("contact.a"));
+  EXPECT_FALSE(s.has("contact.missing"));
+  EXPECT_FALSE(s.has("contact.a.deeper"));
+  EXPECT_FALSE(s.has("other.missing"));
+  auto only_asked = SceneReader::from_string("[x]\nk = 1\n", "t.toml");
+  EXPECT_TRUE(only_asked.has("x.k"));
+  EXPECT_THROW(only_asked.reject_unknown(), std::invalid_argument);
   EXPECT_NO_THROW(s.reject_unknown());
 }
 
