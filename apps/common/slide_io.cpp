@@ -111,6 +111,18 @@ void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip
   }
 }
 
+void apply_slip_flags(SlideScene& scene, const SettingFlags& flags, const std::string& scene_path) {
+  const bool slip_solver = flags.given("solver.slip_method");
+  const bool solver = flags.given("solver.method");
+  scene.make_slip_minimizer();
+  check_slip_relaxation(
+      scene.options,
+      slip_solver ? std::string("--slip-solver") : scene_path + ": solver.slip_method",
+      solver        ? std::string("--solver")
+      : slip_solver ? scene_path + ": solver.method"
+                    : std::string("solver.method"));
+}
+
 namespace {
 
 // Constraints between keys; checked after reject_unknown() where possible, so that a misspelled

@@ -52,6 +52,13 @@ struct SlideScene {
 void check_slip_relaxation(const slide::SlideOptions& o, const std::string& slip_source,
                            const std::string& method_source);
 
+class SettingFlags;
+// The slip minimiser of a scene read without its slip check (read_slide_scene(path, false))
+// once the flags are applied: made from the final minimiser (SlideScene::make_slip_minimizer),
+// then checked as above, so that a flag (--slip-solver, --solver) can mend a scene's pair; the
+// message names whichever of scene (`scene_path`) and flag set each half, the path once.
+void apply_slip_flags(SlideScene& scene, const SettingFlags& flags, const std::string& scene_path);
+
 // Reads a scene (data/scenes/default.toml documents every key); unknown keys, wrong types and
 // out-of-range values throw std::invalid_argument naming the file, key, value and range.
 // check_slips = false leaves check_slip_relaxation to a caller that applies flags first.

@@ -179,22 +179,6 @@ struct Run {
   const app::MpiSession* mpi = nullptr;
 };
 
-// --slip-solver on a slide scene, after --solver and --tolerance: the slip minimiser is made
-// from the final minimiser (SlideScene::make_slip_minimizer). Checked after every flag, so that
-// a flag can mend a scene's pair; the message names whichever of scene and flag set each half
-// (the scene's path once).
-void apply_slip_solver(const Run& run, app::SlideScene& scene) {
-  const bool slip_solver = run.flags->given("solver.slip_method");
-  const bool solver = run.flags->given("solver.method");
-  scene.make_slip_minimizer();
-  app::check_slip_relaxation(
-      scene.options,
-      slip_solver ? std::string("--slip-solver") : run.scene_path + ": solver.slip_method",
-      solver        ? std::string("--solver")
-      : slip_solver ? run.scene_path + ": solver.method"
-                    : std::string("solver.method"));
-}
-
 // The flags over an explicit scene: the tip's radius and lattice and the substrate's Poisson
 // ratio are the contact's.
 void apply_explicit_flags(const Run& run, app::ExplicitSlideScene& e) {
@@ -270,7 +254,7 @@ int explicit_loading(Run run) {
 int explicit_sliding(Run run) {
   app::ExplicitSlideScene e = explicit_scene(run);
   auto& c = e.slide.contact;
-  apply_slip_solver(run, e.slide);
+  app::apply_slip_flags(e.slide, *run.flags, run.scene_path);
   c.validate();
   e.model.validate();
   e.slide.options.validate();
@@ -374,7 +358,7 @@ int follow_lfm_slide(const Run& run, const app::SlideScene& s,
 int lfm_sliding(const Run& run) {
   app::SlideScene s = app::read_slide_scene(run.scene_path, false);
   run.flags->apply(app::SlideScene::settings(), s);
-  apply_slip_solver(run, s);
+  app::apply_slip_flags(s, *run.flags, run.scene_path);
   const auto method = s.options.minimizer.method;
   if (s.options.minimizer.preconditioner == minimize::Preconditioner::interface &&
       (method == minimize::Method::cg || method == minimize::Method::fire)) {

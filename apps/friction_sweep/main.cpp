@@ -137,13 +137,7 @@ int main(int argc, char** argv) {
     flags.apply(app::SweepScene::settings(), s);
     flags.apply(app::RunControl::settings(), o.control);
     flags.apply(app::SlideScene::settings(), s.base);
-    // The slip minimiser is made from the final minimiser (--solver, --tolerance, --slip-solver).
-    s.base.make_slip_minimizer();
-    const bool slip_flag = flags.given("solver.slip_method"),
-               method_flag = flags.given("solver.method");
-    app::check_slip_relaxation(s.base.options,
-                               slip_flag ? "--slip-solver" : scene_path + ": solver.slip_method",
-                               method_flag ? "--solver" : scene_path + ": solver.method");
+    app::apply_slip_flags(s.base, flags, scene_path);
     s.base.contact.validate();
     s.base.options.validate();
     s.validate();  // the relations of the sweep with the slide's keys (--envelope, sweep.model)

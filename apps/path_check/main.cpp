@@ -184,12 +184,8 @@ int main(int argc, char** argv) {
     const bool profile = check_options.flow_profile;
     app::SlideScene s = app::read_slide_scene(scene_path, false);
     flags.apply(app::SlideScene::settings(), s);
-    s.make_slip_minimizer();  // of the final minimiser, as the tools' slides have it
     // The bracketing slide relaxes its slips on the flow's path, as every tool's does.
-    app::check_slip_relaxation(
-        s.options,
-        flags.given("solver.slip_method") ? "--slip-solver" : scene_path + ": solver.slip_method",
-        flags.given("solver.method") ? "--solver" : scene_path + ": solver.method");
+    app::apply_slip_flags(s, flags, scene_path);
     s.options.minimizer.max_iterations = max_iterations;
     s.contact.validate();
     s.options.validate();
