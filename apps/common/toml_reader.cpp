@@ -58,35 +58,30 @@ std::string SceneReader::where(const toml::node& node) const {
   return " (line " + std::to_string(node.source().begin.line) + ")";
 }
 
-bool SceneReader::has(std::string_view key) const {
+const toml::node* SceneReader::lookup(std::string_view key, bool strict) const {
   const toml::table* table = &table_;
   for (std::size_t start = 0;;) {
     const std::size_t dot = key.find('.', start);
     const toml::node* node = table->get(key.substr(start, dot - start));
-    if (!node) return false;
-    if (dot == std::string_view::npos) return true;
-    table = node->as_table();
-    if (!table) return false;
-    start = dot + 1;
-  }
-}
-
-const toml::node* SceneReader::find(std::string_view key) {
-  read_.emplace(key);
-  const toml::table* table = &table_;
-  const toml::node* node = nullptr;
-  for (std::size_t start = 0;;) {
-    const std::size_t dot = key.find('.', start);
-    node = table->get(key.substr(start, dot - start));
     if (!node || dot == std::string_view::npos) return node;
     table = node->as_table();
     if (!table) {
+      if (!strict) return nullptr;
       throw std::invalid_argument(source_ + ": key '" + std::string(key) + "': '" +
                                   std::string(key.substr(0, dot)) + "' is a " + describe(*node) +
                                   ", not a table" + where(*node));
     }
     start = dot + 1;
   }
+}
+
+bool SceneReader::has(std::string_view key) const {
+  return lookup(key, false) != nullptr;
+}
+
+const toml::node* SceneReader::find(std::string_view key) {
+  read_.emplace(key);
+  return lookup(key, true);
 }
 
 double SceneReader::checked_number(std::string_view key, const toml::node& node,

@@ -70,6 +70,9 @@ class SceneReader {
  private:
   SceneReader(toml::table table, std::string source);
   const toml::node* find(std::string_view key);  // marks the key as read
+  // The node at a dotted key, or nullptr; a parent that is not a table throws when `strict`
+  // (find's reads), else counts as absent (has()).
+  const toml::node* lookup(std::string_view key, bool strict) const;
   double checked_number(std::string_view key, const toml::node& node, const Range& range) const;
   std::string where(const toml::node& node) const;
 
