@@ -66,10 +66,10 @@ bool parse_command_line(CLI::App& app, std::vector<std::string> args) {
     const bool is_switch = std::find(switches.begin(), switches.end(), args[i]) != switches.end();
     // Any spelling of a truth value is joined, so that the switch's check refuses the ones it
     // does not take ("True", "1") by its key rather than as a stray file name.
-    std::string next = i + 1 < args.size() ? args[i + 1] : std::string();
+    std::string next = is_switch && i + 1 < args.size() ? args[i + 1] : std::string();
     std::transform(next.begin(), next.end(), next.begin(),
                    [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-    if (is_switch && (next == "true" || next == "false" || next == "1" || next == "0")) {
+    if (next == "true" || next == "false" || next == "1" || next == "0") {
       merged.push_back(args[i] + "=" + args[i + 1]);
       ++i;
     } else {

@@ -50,12 +50,13 @@ std::string provenance_token();
 // every result so that it can be traced back to the code and machine that produced it.
 nlohmann::json provenance_json();
 
-// Parses the command line. Returns false if CLI11 printed help or version text (the tool should
-// then exit with status 0); throws CLI::ParseError for a malformed command line.
 // The type name of a boolean setting's flag (SettingFlags): a switch, "--xyz" alone is true,
 // "--xyz=false" false; parse_command_line() also takes "--xyz true|false" for it, as such a flag
 // took them before it was a switch, without letting it swallow a following file name.
 inline constexpr const char* kBooleanFlagType = "[=true|false]";
+
+// Parses the command line. Returns false if CLI11 printed help or version text (the tool should
+// then exit with status 0); throws CLI::ParseError for a malformed command line.
 bool parse_command_line(CLI::App& app, int argc, char** argv);
 // The same for arguments in order, without the program's name.
 bool parse_command_line(CLI::App& app, std::vector<std::string> args);
