@@ -163,5 +163,56 @@ check $pc "--max-iterations" --max-iterations -1
 check $pc "--slip-solver" --solver cg --slip-solver same
 check $pc "contact.a" --a 600 --R 535
 
+# The explicit model's normal loading (contact_slide --model explicit without --slide): the
+# slide's flags are refused, and a contact too large for the continuum comparison.
+check $cs "--distance: not available" --model explicit --distance 2
+check $cs "--alpha: not available" --model explicit --alpha 0.5
+check $cs "--protocol: not available" --model explicit --protocol reference
+check $cs "a/R = 0.1075" --model explicit --R 400
+
+ap=alpha_path
+check $ap "--forces" --forces 1e300
+check $ap "--forces" --forces 0
+check $ap "--forces" --forces nan
+check $ap "--sigma-over-d" --sigma-over-d 3
+check $ap "--samples" --samples 4
+
+# fit_scaling: missing or foreign tables, a missing Regime III law, options out of range,
+# damaged peierls_scan summaries (four), mixed alpha, a point given twice, a forecast without its
+# pair or of an adhesive-only set. The committed tables are its inputs.
+ft=fit_scaling
+ref=$(cd "$(dirname "$0")/../../data/reference" && pwd)
+k="--k1 2 --k2 1.8"
+t="$ref/sweep_R535.csv"
+fit='{"fits": {"edge": {"valid": true, "k1": 2.3, "k1_error": 0.1, "k2": 1.8, "k2_error": 0.01, '
+echo "$fit"'"window_b_core": []}}}' >"$work/empty_window.json"
+echo "$fit"'"window_b_core": [6, 2]}}}' >"$work/reversed_window.json"
+echo '{"fits": {"edge": {"valid": true, "k1": "big"}}}' >"$work/k1_text.json"
+echo "$fit"'"window_b_core": [2, 6], "k1_k2_correlation": 1.5}}}' >"$work/correlation.json"
+sed 's/,535,0.7,0.5,/,536,0.6,0.5,/' "$t" >"$work/alpha06.csv"
+echo "$fit"'"window_b_core": [2, 6]}}}' >"$work/law.json"
+
+check $ft "missing.csv: no such sweep table" "$work/missing.csv" $k
+check $ft "not a friction_sweep table (no column 'a')" "$ref/peierls_L128.csv" $k
+check $ft "--peierls or both --k1 and --k2 are required" "$t"
+check $ft "window = [5]: allowed: two values" "$t" $k --window 5
+check $ft "--f-P: f_P = 0" "$t" $k --f-P 0
+check $ft "fewer than 2 points in the given window" "$t" $k --window 1e3,1e4
+check $ft "window_b_core = []: not a pair" "$t" --peierls "$work/empty_window.json"
+check $ft "window_b_core = [6,2]: b_min must be below b_max" "$t" --peierls "$work/reversed_window.json"
+check $ft "fits.edge.k1 = \"big\"" "$t" --peierls "$work/k1_text.json"
+check $ft "k1_k2_correlation = 1.5: not a number in [-1, 1]" "$t" --peierls "$work/correlation.json"
+check $ft "k1_k2_correlation: only with both k1 and k2" "$t" --peierls "$work/correlation.json" \
+  --k1-k2-correlation 0.5
+check $ft "alpha = 0.6 differs" "$t" "$work/alpha06.csv" $k
+check $ft "give --k1 and --k2 together" "$t" --peierls "$work/law.json" --k1 2
+check $ft "--peierls or both --k1 and --k2 are required" "$t" --k2 1.8
+check $ft "give each point once" "$t" "$t" $k
+check $ft "forecast_R and forecast_a: give both or neither" "$t" $k --forecast-R 800
+check $ft "--forecast-a: forecast_a = [0]" "$t" $k --forecast-R 800 --forecast-a 0
+check $ft "forecast_R = [800, 800]: a value is given twice" "$t" $k --forecast-R 800,800 \
+  --forecast-a 300
+check $ft "no table is Hertz" "$ref/adhesive_tau0p2.csv" --forecast-R 800 --forecast-a 300
+
 echo "$((cases - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]
