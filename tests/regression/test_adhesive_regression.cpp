@@ -5,10 +5,10 @@
 // - friction_sweep recomputes the table's five cheapest points (a/b_core = 0.4 ... 6.4, a = 2 ...
 //   32 d, seconds) from the same scene, and with --tau0 0.4 the other table's at the same
 //   a/b_core (a = 1 ... 16 d): tau_fric/tau0 within kTolerance of the stored rows, the same
-//   contact-site areas and slip events; and the two recomputed strengths collapse as below. The tolerance: the minimiser stops at a residual of
-//   1e-6 G d^2 per site, which moves Fx/A by ~1e-6 tau0 here; 1e-4 leaves room for another
-//   compiler's round-off to change a peak refinement's path and is far below a change of physics
-//   (neighbouring points differ by 5% or more).
+//   contact-site areas and slip events; and the two recomputed strengths collapse as below. The
+//   tolerance: the minimiser stops at a residual of 1e-6 G d^2 per site, which moves Fx/A by ~1e-6
+//   tau0 here; 1e-4 leaves room for another compiler's round-off to change a peak refinement's path
+//   and is far below a change of physics (neighbouring points differ by 5% or more).
 // - fit_scaling on both committed tables gives the stored c0 (the tables are committed and the
 //   bootstrap seeded: only a change of the fit or its window moves it), with an error; the law
 //   lies within 10% of every point of its window, recomputed here from adhesive_predictions.csv;

@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "asperity/apps/common/output_files.hpp"
 #include "../common/messages.hpp"
+#include "asperity/apps/common/output_files.hpp"
 
 namespace asperity::test_support {
 
