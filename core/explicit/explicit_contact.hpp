@@ -175,6 +175,7 @@ class ExplicitContact {
   [[nodiscard]] double active_radius() const { return radius_; }
   [[nodiscard]] std::size_t active_sites() const { return sites_.size(); }
   [[nodiscard]] const LatticeBlock& block() const { return block_; }
+  [[nodiscard]] const interface::TipFrame& tip_frame() const { return frame_; }
   // The block fields (component-major x, y, z; G d^2 and d) and the active block sites.
   [[nodiscard]] const std::vector<double>& forces() const { return f_; }
   [[nodiscard]] const std::vector<double>& displacements() const { return u_; }

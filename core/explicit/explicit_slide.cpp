@@ -244,17 +244,12 @@ class ExplicitSlider {
     s.shift = like.shift;
   }
 
-  // Atoms that feel a force at `after` whose x displacement changed by more than d/2.
+  // Atoms that feel a force at `after` whose registry index jumped (registry_slips).
   int slipped_sites(const State& before, const State& after) const {
     const LatticeBlock b = block_of(after);
-    const std::vector<double> ub = map_field(block_of(before), before.u, b, 1);
-    const std::size_t n = b.shape.count();
-    int count = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const bool loaded = after.f[i] != 0.0 || after.f[n + i] != 0.0 || after.f[2 * n + i] != 0.0;
-      if (loaded && std::abs(after.u[i] - ub[i]) > 0.5 * scene_.d) ++count;
-    }
-    return count;
+    const std::vector<double> ub = map_field(block_of(before), before.u, b, 3);
+    return registry_slips(contact_.tip_frame(), scene_.d, b, before.Dx, ub, after.Dx, after.u,
+                          after.f);
   }
 
   slide::Snapshot snapshot(const State& s, std::string label, int iteration = -1) const {
@@ -343,6 +338,36 @@ class ExplicitSlider {
 static_assert(slide::detail::SlideModel<ExplicitSlider>);
 
 }  // namespace
+
+int registry_slips(const interface::TipFrame& frame, double d, const LatticeBlock& block,
+                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   std::span<const double> u_after, std::span<const double> f_after) {
+  const std::size_t n = block.shape.count();
+  if (u_before.size() < 2 * n || u_after.size() < 2 * n || f_after.size() < 2 * n) {
+    throw std::invalid_argument("registry_slips: fields of " + std::to_string(u_before.size()) +
+                                ", " + std::to_string(u_after.size()) + " and " +
+                                std::to_string(f_after.size()) + " values for " +
+                                std::to_string(n) + " block sites (2 or 3 components each)");
+  }
+  const std::size_t comps = f_after.size() / n;
+  const auto n1 = static_cast<std::size_t>(block.shape.n1);
+  int count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool loaded = false;
+    for (std::size_t c = 0; c < comps; ++c)
+      loaded = loaded || f_after[c * n + i] != 0.0;
+    if (!loaded) continue;
+    const double X = block.x(static_cast<int>(i / n1), d), Y = block.y(static_cast<int>(i % n1), d);
+    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0, du1 = 0.0, du2 = 0.0;
+    frame.registry(X + u_before[i] - Dx_before, Y + u_before[n + i], b1, b2);
+    frame.registry(X + u_after[i] - Dx_after, Y + u_after[n + i], a1, a2);
+    frame.to_tip(u_after[i] - u_before[i], u_after[n + i] - u_before[n + i], du1, du2);
+    if ((std::lround(b1) != std::lround(a1) && std::abs(du1) >= 0.25 * d) ||
+        (std::lround(b2) != std::lround(a2) && std::abs(du2) >= 0.25 * d))
+      ++count;
+  }
+  return count;
+}
 
 slide::SlideResult slide_explicit(const ExplicitScene& scene, const ExplicitSlideOptions& eo,
                                   const slide::SlideOptions& options,

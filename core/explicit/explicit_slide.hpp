@@ -12,8 +12,8 @@
 // - the unknowns are the atoms of the active disk of ExplicitContact, which follows the tip and
 //   grows; states live on blocks of different size and origin, and are mapped onto each other
 //   by lattice index (warm starts, slip detection, snapshots);
-// - slip: an atom that feels a force whose x displacement changed by more than d/2 between two
-//   states (it moved to the next hollow of the tip);
+// - slip (MODEL.md 5): an atom that feels a force whose registry index against the tip lattice
+//   changed between two states by a jump (registry_slips below), as in the LFM;
 // - snapshots on a fixed square block around the tip (the same for every frame): displacement
 //   (with u_z), interface force as stress, pressure p = -f_z / d^2 per atom, and
 //   tau_max = alpha p with the alpha of the potential.
@@ -23,6 +23,8 @@
 // Not available for this model: relaxation-path frames (SlideOptions::path_frame_every is
 // ignored).
 #pragma once
+
+#include <span>
 
 #include "asperity/core/explicit/explicit_contact.hpp"
 #include "asperity/core/slide/types.hpp"
@@ -41,6 +43,20 @@ struct ExplicitSlideOptions {
 
   void validate() const;  // throws std::invalid_argument naming the violated constraint
 };
+
+// Atoms that slipped between two states (MODEL.md 5: a slip is a change of a site's registry
+// index): an atom that feels a force in the later state (`f_after`) slipped if round(rho), per
+// axis of the tip lattice, of its relative position s = X + u - (Dx, 0) (TipFrame::registry:
+// s / d for the aligned tip, whose hollows sit over the lattice sites) changed, by a jump: its
+// displacement along that axis changed by at least d/4. The floor is the LFM's
+// (slide/slider.cpp, registry_jumps): it keeps out the smooth crossings that are not
+// instabilities (a whole Regime I contact riding over the barrier top changes every index
+// without a jump), while a gliding core, which carries its atoms across a half-period by less
+// than d/2, counts. Fields on `block`, component-major (x, then y; a third component, u_z, is
+// ignored); `u_before` mapped onto `block` by lattice index.
+int registry_slips(const interface::TipFrame& frame, double d, const LatticeBlock& block,
+                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   std::span<const double> u_after, std::span<const double> f_after);
 
 // Loads, then slides (options: protocol, steps, distance, minimiser, FFT threads). The automatic
 // distance cap is 3 d + 3 alpha Fz / k with k = 8 G a_H / (2 - nu), as in the LFM. Returns the

@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "asperity/core/contact/hertz.hpp"
 #include "asperity/core/explicit/alpha_path.hpp"
 #include "asperity/core/explicit/explicit_slide.hpp"
+#include "asperity/core/interface/tip_lattice.hpp"
 
 using namespace asperity;
 
@@ -151,4 +153,60 @@ TEST(ExplicitSlide, RejectsForeignStartStatesAndBadOptions) {
                std::invalid_argument);
   s.eo.alpha = 0.0;
   EXPECT_THROW(explicit_model::slide_explicit(s.scene, s.eo, s.options), std::invalid_argument);
+}
+
+// The slip test (MODEL.md 5: a slip is a change of a site's registry index round(s/d), which a
+// gliding core makes while no site moves by d/2). Five loaded atoms of a 1 x 5 block at
+// X = 0 ... 4 d (Y = 0; one unloaded where stated); the tip slides from
+// Dx = 0.45 d to 0.55 d, so s = X + u - Dx crosses the half-period of every atom that stays.
+TEST(ExplicitSlide, ASlipIsARegistryJumpNotAHalfPeriodMove) {
+  const double d = 1.0, Dx0 = 0.45, Dx1 = 0.55;
+  const LatticeBlock block{Shape2{5, 1}, 0, 0};
+  const interface::TipFrame aligned(interface::TipLattice{}, d);
+  // x components of u before and after, then y, then z; every atom feels a force.
+  const std::vector<double> f(15, -1e-3);
+  std::vector<double> before(15, 0.0), after(15, 0.0);
+  // Atom 0 stays (u = 0): its index changes with Dx alone, no jump; not a slip.
+  // Atom 1 is dragged with the tip (du = Dx1 - Dx0): same index; not a slip.
+  after[1] = Dx1 - Dx0;
+  // Atom 2, in a gliding core, is carried back by 0.4 d (under d/2): s goes from
+  // 2 - 0.45 = 1.55 (index 2) to 2 - 0.4 - 0.55 = 1.05 (index 1), a jump: a slip.
+  after[2] = -0.4;
+  // Atom 3 creeps by 0.1 d over its barrier top: s from 2.55 (index 3) to 2.35 (index 2), no
+  // jump; not a slip.
+  after[3] = -0.1;
+  // Atom 4 jumps by 0.6 d in y: its index along y goes from 0 to 1; a slip.
+  after[5 + 4] = 0.6;
+  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, before, Dx1, after, f), 2);
+
+  // Atom 2's jump alone is the slip the former test (|du_x| > d/2) missed.
+  std::vector<double> only_core(15, 0.0);
+  only_core[2] = -0.4;
+  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
+                                           Dx1, only_core, f),
+            1);
+  // An atom that feels no force does not count, whatever it does.
+  std::vector<double> f_unloaded = f;
+  f_unloaded[2] = f_unloaded[5 + 2] = f_unloaded[10 + 2] = 0.0;
+  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
+                                           Dx1, only_core, f_unloaded),
+            0);
+  // A move of 0.35 d that stays in its well (s from 1.55 to 1.8, index 2): not a slip.
+  std::vector<double> in_well(15, 0.0);
+  in_well[2] = 0.35;
+  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
+                                           Dx1, in_well, f),
+            0);
+
+  // Out of registry the index and the jump are along the tip's axes: a tip turned by 90 degrees
+  // has its first axis along y, so a jump of 0.4 d in y across its half-period counts.
+  const interface::TipFrame turned(interface::TipLattice{.angle = 90.0, .mismatch = 0.0}, d);
+  std::vector<double> y_jump(15, 0.0), from(15, 0.0);
+  from[5 + 2] = 0.3;    // rho along the tip's first axis: 0.3 (index 0)
+  y_jump[5 + 2] = 0.7;  // 0.7 (index 1), du 0.4 d
+  EXPECT_EQ(explicit_model::registry_slips(turned, d, block, 0.0, from, 0.0, y_jump, f), 1);
+
+  EXPECT_THROW(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(4, 0.0),
+                                              Dx1, after, f),
+               std::invalid_argument);
 }
