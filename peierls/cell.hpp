@@ -133,7 +133,8 @@ struct CoreProfile {
 };
 CoreProfile core_profile(std::span<const double> chain_offset, int mx, int my);
 
-// Continuum Peierls-Nabarro core width of MODEL.md 6 for a half-space against a rigid body:
+// Continuum Peierls-Nabarro core width (b_core of MODEL.md 3) of the cell's line (MODEL.md 6),
+// for a half-space against a rigid body:
 // the line equation A |q| u = tau_max sin(2 pi s / d) with A = K_xx(q)/|q| has the solution
 // u = (d / pi) atan(x / zeta) with zeta = A d / (2 pi tau_max), so the d/4 -> 3d/4 distance is
 //   2 zeta = (b_core / pi) (cos^2 theta + sin^2 theta / (1 - nu))

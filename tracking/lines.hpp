@@ -86,7 +86,7 @@ struct DetectOptions {
   // otherwise edge (degrees).
   double screw_angle_deg = 45.0;
   // Open lines are joined end to start across gaps up to this long (d; 0: never). A core that
-  // runs along the contact's round edge, as the screw lines where loops nucleate (MODEL.md 8),
+  // runs along the contact's round edge, as the screw lines where loops nucleate (MODEL.md 5),
   // leaves the traced cells (those with four sites in contact) wherever the jagged edge cuts
   // into it and comes back a row further in: traced alone it is a piece per lattice row it
   // crosses. Two pieces are joined when the end of one (on the contact edge) lies within this

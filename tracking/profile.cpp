@@ -1,3 +1,8 @@
+// Stress profiles through a snapshot and the stress on dislocation fronts (MODEL.md 3, 6 and 7;
+// design and the quantities in profile.hpp): tau = f / d^2 along a lattice row or column through
+// the tip centre against tau_max = alpha p; the stress a core feels, tau_x weighted by its slip
+// density |du_x/dn| (and tau_y by |du_y/dn|), the Peierls-Nabarro force per Burgers vector; the
+// local Peierls stress it is compared with comes from the caller (nucleation::).
 #include "asperity/tracking/profile.hpp"
 
 #include <algorithm>

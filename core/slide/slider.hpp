@@ -11,9 +11,11 @@
 // - adaptive: steps up to max_step where the response is smooth; a step that produces a slip
 //   event is undone and bisected until the instability is bracketed to min_step, so the static
 //   peak (the last stable state before the slip) is located to min_step in Dx.
-// Slip event: a step after which some contact site's registry index round(s/d) changed by a
-// jump (its displacement changed by d/4 or more; MODEL.md 5, slider.cpp): the state jumped to
-// another minimum. A gliding core counts; a smooth crossing of the barrier top does not.
+// Slip event: a step after which some contact site's registry index round(s/d) changed
+// (MODEL.md 5) by a jump: its displacement changed by d/4 or more (the floor is ours, not the
+// spec's: a contact riding smoothly over the barrier top changes every index; slider.cpp says
+// why d/4). The state jumped to another minimum. A gliding core counts; a smooth crossing of
+// the barrier top does not.
 // Automatic distance: slide until the static peak is established, i.e. until it has held (not
 // been exceeded beyond the trace's resolution) over one period d with `slips_to_stop` slip
 // events after it, stopping at a slip (Regime II: the slips_to_stop-th slip, the cycle repeats

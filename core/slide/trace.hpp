@@ -40,7 +40,8 @@ inline double ratio_of(const TraceRow& row, FrictionMeasure measure) {
   return friction_ratio(row.Fx, row.Fz, row.area, measure);
 }
 
-// Kinetic friction of a trace (MODEL.md 5): the mean of Fx/Fz over Dx (trapezoid: adaptive
+// Kinetic friction of a trace (ours: MODEL.md 1 defines only the static mu; this is the
+// sliding average of the stick-slip of MODEL.md 5): the mean of Fx/Fz over Dx (trapezoid: adaptive
 // steps are uneven) after the first slip; without slips (smooth sliding) over the last whole
 // period d before Dx_end. NaN if neither exists (no slip, slide shorter than d).
 double kinetic_friction(std::span<const TraceRow> t, double Dx_end, double d,
