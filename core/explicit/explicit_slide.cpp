@@ -248,7 +248,8 @@ class ExplicitSlider {
   int slipped_sites(const State& before, const State& after) const {
     const LatticeBlock b = block_of(after);
     const std::vector<double> ub = map_field(block_of(before), before.u, b, 3);
-    return registry_slips(contact_.tip_frame(), scene_.d, b, before.Dx, ub, after.Dx, after.u,
+    const std::vector<double> fb = map_field(block_of(before), before.f, b, 3);
+    return registry_slips(contact_.tip_frame(), scene_.d, b, before.Dx, ub, fb, after.Dx, after.u,
                           after.f);
   }
 
@@ -340,23 +341,26 @@ static_assert(slide::detail::SlideModel<ExplicitSlider>);
 }  // namespace
 
 int registry_slips(const interface::TipFrame& frame, double d, const LatticeBlock& block,
-                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   double Dx_before, std::span<const double> u_before,
+                   std::span<const double> f_before, double Dx_after,
                    std::span<const double> u_after, std::span<const double> f_after) {
   const std::size_t n = block.shape.count();
-  if (u_before.size() < 2 * n || u_after.size() < 2 * n || f_after.size() < 2 * n) {
-    throw std::invalid_argument("registry_slips: fields of " + std::to_string(u_before.size()) +
-                                ", " + std::to_string(u_after.size()) + " and " +
-                                std::to_string(f_after.size()) + " values for " +
-                                std::to_string(n) + " block sites (2 or 3 components each)");
+  for (const auto field : {u_before, f_before, u_after, f_after}) {
+    if (field.size() != 2 * n && field.size() != 3 * n) {
+      throw std::invalid_argument("registry_slips: a field of " + std::to_string(field.size()) +
+                                  " values for " + std::to_string(n) +
+                                  " block sites (2 or 3 components each)");
+    }
   }
-  const std::size_t comps = f_after.size() / n;
+  const auto loaded = [n](std::span<const double> f, std::size_t i) {
+    for (std::size_t c = 0; c < f.size() / n; ++c)
+      if (f[c * n + i] != 0.0) return true;
+    return false;
+  };
   const auto n1 = static_cast<std::size_t>(block.shape.n1);
   int count = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    bool loaded = false;
-    for (std::size_t c = 0; c < comps; ++c)
-      loaded = loaded || f_after[c * n + i] != 0.0;
-    if (!loaded) continue;
+    if (!loaded(f_before, i) || !loaded(f_after, i)) continue;
     const double X = block.x(static_cast<int>(i / n1), d), Y = block.y(static_cast<int>(i % n1), d);
     double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0, du1 = 0.0, du2 = 0.0;
     frame.registry(X + u_before[i] - Dx_before, Y + u_before[n + i], b1, b2);

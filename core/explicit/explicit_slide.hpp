@@ -45,17 +45,20 @@ struct ExplicitSlideOptions {
 };
 
 // Atoms that slipped between two states (MODEL.md 5: a slip is a change of a site's registry
-// index): an atom that feels a force in the later state (`f_after`) slipped if round(rho), per
-// axis of the tip lattice, of its relative position s = X + u - (Dx, 0) (TipFrame::registry:
-// s / d for the aligned tip, whose hollows sit over the lattice sites) changed, by a jump: its
-// displacement along that axis changed by at least d/4. The floor is the LFM's
-// (slide/slider.cpp, registry_jumps): it keeps out the smooth crossings that are not
+// index). An atom that feels a force in both states (in the contact at both tip positions, as
+// the LFM asks; an atom outside the earlier state's block has no force there) slipped if
+// round(rho), per axis of the tip lattice, of its relative position s = X + u - (Dx, 0)
+// (TipFrame::registry: s / d for the aligned tip, whose hollows sit over the lattice sites)
+// changed, by a jump: its displacement along that axis changed by at least d/4. The floor is
+// the LFM's (slide/slider.cpp, registry_jumps): it keeps out the smooth crossings that are not
 // instabilities (a whole Regime I contact riding over the barrier top changes every index
 // without a jump), while a gliding core, which carries its atoms across a half-period by less
-// than d/2, counts. Fields on `block`, component-major (x, then y; a third component, u_z, is
-// ignored); `u_before` mapped onto `block` by lattice index.
+// than d/2, counts. Fields on `block`, component-major (x, y, and z for forces: an atom is
+// loaded if any component is nonzero; u_z is ignored); the earlier state's fields mapped onto
+// `block` by lattice index (0 where its block had no site).
 int registry_slips(const interface::TipFrame& frame, double d, const LatticeBlock& block,
-                   double Dx_before, std::span<const double> u_before, double Dx_after,
+                   double Dx_before, std::span<const double> u_before,
+                   std::span<const double> f_before, double Dx_after,
                    std::span<const double> u_after, std::span<const double> f_after);
 
 // Loads, then slides (options: protocol, steps, distance, minimiser, FFT threads). The automatic

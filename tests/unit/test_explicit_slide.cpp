@@ -156,57 +156,103 @@ TEST(ExplicitSlide, RejectsForeignStartStatesAndBadOptions) {
 }
 
 // The slip test (MODEL.md 5: a slip is a change of a site's registry index round(s/d), which a
-// gliding core makes while no site moves by d/2). Five loaded atoms of a 1 x 5 block at
-// X = 0 ... 4 d (Y = 0; one unloaded where stated); the tip slides from
-// Dx = 0.45 d to 0.55 d, so s = X + u - Dx crosses the half-period of every atom that stays.
+// gliding core makes while no site moves by d/2). A 3 x 4 block whose origin is at lattice site
+// (10, -2): X = (10 + i0) d, Y = (-2 + i1) d. For the aligned tip X and Y are whole multiples of
+// d and drop out of every index change, so only the fields' components are tested there; the
+// positions are tested out of registry (a mismatched tip, at the end). The tip slides from
+// Dx = 10.45 d to 10.55 d, so s_x = X + u_x - Dx crosses the half-period of every atom that
+// stays put.
 TEST(ExplicitSlide, ASlipIsARegistryJumpNotAHalfPeriodMove) {
-  const double d = 1.0, Dx0 = 0.45, Dx1 = 0.55;
-  const LatticeBlock block{Shape2{5, 1}, 0, 0};
+  const double d = 1.0, Dx0 = 10.45, Dx1 = 10.55;
+  const LatticeBlock block{Shape2{3, 4}, 10, -2};
+  const std::size_t n = block.shape.count();
+  const auto site = [&](int i0, int i1) { return block.shape.index(i0, i1); };
   const interface::TipFrame aligned(interface::TipLattice{}, d);
-  // x components of u before and after, then y, then z; every atom feels a force.
-  const std::vector<double> f(15, -1e-3);
-  std::vector<double> before(15, 0.0), after(15, 0.0);
-  // Atom 0 stays (u = 0): its index changes with Dx alone, no jump; not a slip.
-  // Atom 1 is dragged with the tip (du = Dx1 - Dx0): same index; not a slip.
-  after[1] = Dx1 - Dx0;
-  // Atom 2, in a gliding core, is carried back by 0.4 d (under d/2): s goes from
-  // 2 - 0.45 = 1.55 (index 2) to 2 - 0.4 - 0.55 = 1.05 (index 1), a jump: a slip.
-  after[2] = -0.4;
-  // Atom 3 creeps by 0.1 d over its barrier top: s from 2.55 (index 3) to 2.35 (index 2), no
-  // jump; not a slip.
-  after[3] = -0.1;
-  // Atom 4 jumps by 0.6 d in y: its index along y goes from 0 to 1; a slip.
-  after[5 + 4] = 0.6;
-  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, before, Dx1, after, f), 2);
+  const std::vector<double> loaded(3 * n, -1e-3), zero(3 * n, 0.0);
+  const auto slips = [&](const std::vector<double>& ub, const std::vector<double>& ua,
+                         const std::vector<double>& fb = std::vector<double>(),
+                         const std::vector<double>& fa = std::vector<double>()) {
+    return explicit_model::registry_slips(aligned, d, block, Dx0, ub, fb.empty() ? loaded : fb, Dx1,
+                                          ua, fa.empty() ? loaded : fa);
+  };
+  // Nothing moves: every index along x changes with Dx alone (s_x from 0.55 - 1 ... to
+  // 0.45 + ...), without a jump: no slip.
+  EXPECT_EQ(slips(zero, zero), 0);
+  // Every atom dragged with the tip (du_x = Dx1 - Dx0): same indices, no slip.
+  std::vector<double> dragged = zero;
+  for (std::size_t i = 0; i < n; ++i)
+    dragged[i] = Dx1 - Dx0;
+  EXPECT_EQ(slips(zero, dragged), 0);
 
-  // Atom 2's jump alone is the slip the former test (|du_x| > d/2) missed.
-  std::vector<double> only_core(15, 0.0);
-  only_core[2] = -0.4;
-  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
-                                           Dx1, only_core, f),
-            1);
-  // An atom that feels no force does not count, whatever it does.
-  std::vector<double> f_unloaded = f;
-  f_unloaded[2] = f_unloaded[5 + 2] = f_unloaded[10 + 2] = 0.0;
-  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
-                                           Dx1, only_core, f_unloaded),
-            0);
-  // A move of 0.35 d that stays in its well (s from 1.55 to 1.8, index 2): not a slip.
-  std::vector<double> in_well(15, 0.0);
-  in_well[2] = 0.35;
-  EXPECT_EQ(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(15, 0.0),
-                                           Dx1, in_well, f),
-            0);
+  // Atom (1, 2) at X = 11 d, in a gliding core, is carried back by 0.4 d, under d/2: s_x goes
+  // from 0.55 (index 1) to 0.05 (index 0), a jump: one slip, which the former test (|du_x| >
+  // d/2) missed.
+  std::vector<double> glide = zero;
+  glide[site(1, 2)] = -0.4;
+  EXPECT_EQ(slips(zero, glide), 1);
+  // The floor is d/4: 0.26 d back is a slip (s_x 0.55 -> 0.19), 0.24 d is not (0.55 -> 0.21:
+  // the index changes, the atom only crept over its barrier top).
+  glide[site(1, 2)] = -0.26;
+  EXPECT_EQ(slips(zero, glide), 1);
+  glide[site(1, 2)] = -0.24;
+  EXPECT_EQ(slips(zero, glide), 0);
+  // A move of 0.35 d within its well (s_x from 0.55 to 0.8, index 1 both): not a slip.
+  glide[site(1, 2)] = 0.35;
+  EXPECT_EQ(slips(zero, glide), 0);
+
+  // Along y (the second component of the fields): atom (2, 3) at Y = 1 d moves by 0.6 d in y,
+  // from index 1 to 2: a slip; (0, 1) at Y = -1 d moving by +0.3 d stays at index -1
+  // (s_y = -0.7): not a slip.
+  std::vector<double> along_y = zero;
+  along_y[n + site(2, 3)] = 0.6;
+  along_y[n + site(0, 1)] = 0.3;
+  EXPECT_EQ(slips(zero, along_y), 1);
+  // The same move from u_y = 0.4 d (s_y = -0.6, index -1, to -0.3, index 0): a slip.
+  std::vector<double> from_y = zero, to_y = zero;
+  from_y[n + site(0, 1)] = 0.4;
+  to_y[n + site(0, 1)] = 0.7;
+  EXPECT_EQ(slips(from_y, to_y), 1);
+
+  // Only atoms that feel a force in both states count: one unloaded before (outside the earlier
+  // state's block, or not yet in contact) or after does not.
+  glide[site(1, 2)] = -0.4;
+  std::vector<double> unloaded = loaded;
+  for (std::size_t c = 0; c < 3; ++c)
+    unloaded[c * n + site(1, 2)] = 0.0;
+  EXPECT_EQ(slips(zero, glide, unloaded, loaded), 0);
+  EXPECT_EQ(slips(zero, glide, loaded, unloaded), 0);
+  // A force in one component (here z, the load) is enough.
+  std::vector<double> z_only = zero;
+  for (std::size_t i = 0; i < n; ++i)
+    z_only[2 * n + i] = -1e-3;
+  EXPECT_EQ(slips(zero, glide, z_only, z_only), 1);
 
   // Out of registry the index and the jump are along the tip's axes: a tip turned by 90 degrees
   // has its first axis along y, so a jump of 0.4 d in y across its half-period counts.
   const interface::TipFrame turned(interface::TipLattice{.angle = 90.0, .mismatch = 0.0}, d);
-  std::vector<double> y_jump(15, 0.0), from(15, 0.0);
-  from[5 + 2] = 0.3;    // rho along the tip's first axis: 0.3 (index 0)
-  y_jump[5 + 2] = 0.7;  // 0.7 (index 1), du 0.4 d
-  EXPECT_EQ(explicit_model::registry_slips(turned, d, block, 0.0, from, 0.0, y_jump, f), 1);
+  std::vector<double> y_from = zero, y_to = zero;
+  y_from[n + site(1, 2)] = 0.3;  // Y = 0: rho along the tip's first axis 0.3 (index 0)
+  y_to[n + site(1, 2)] = 0.7;    // 0.7 (index 1), du 0.4 d
+  EXPECT_EQ(
+      explicit_model::registry_slips(turned, d, block, 0.0, y_from, loaded, 0.0, y_to, loaded), 1);
+
+  // Positions: a tip of spacing 1.1 d (mismatch 0.1, Dx = 0) puts the registry at
+  // rho_x = (X + u_x) / 1.1. Atom (1, 3) at X = 11 d, Y = 1 d moving by 0.3 d in x goes from
+  // rho_x = 10.27 (index 10) to 10.55 (11): a slip. Read at X = 1 d (the block's origin left
+  // out, or i0 and i1 exchanged) it would go from 1.18 to 1.45, index 1 both: none.
+  const interface::TipFrame wider(interface::TipLattice{.angle = 0.0, .mismatch = 0.1}, d);
+  std::vector<double> x_from = zero, x_to = zero;
+  x_from[site(1, 3)] = 0.3;
+  x_to[site(1, 3)] = 0.6;
+  EXPECT_EQ(explicit_model::registry_slips(wider, d, block, 0.0, x_from, loaded, 0.0, x_to, loaded),
+            1);
+  // The floor holds along the tip's axis: 0.2 d from 0.4 d (rho_x 10.36 -> 10.55, index 10 ->
+  // 11) is under d/4: not a slip.
+  x_from[site(1, 3)] = 0.4;
+  EXPECT_EQ(explicit_model::registry_slips(wider, d, block, 0.0, x_from, loaded, 0.0, x_to, loaded),
+            0);
 
   EXPECT_THROW(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(4, 0.0),
-                                              Dx1, after, f),
+                                              loaded, Dx1, zero, loaded),
                std::invalid_argument);
 }
