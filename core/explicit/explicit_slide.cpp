@@ -97,7 +97,9 @@ class ExplicitSlider {
     contact_.clear_forces();
     contact_.place(Dx, s.h, start_radius(s, Dx));
     contact_.set_forces(map_field(block_of(s), s.f, contact_.block(), 3));
-    // Slip watch: x displacement at the start, by lattice index.
+    // Slip watch: x displacement at the start, by lattice index. This only stops a trial early
+    // (an atom moved by d/2: a slip is likely, the slip minimiser or the bisection takes it from
+    // there); whether a step slipped is slipped_sites()'s verdict on the end state.
     const LatticeBlock start_block = contact_.block();
     const std::vector<double> start_ux(
         contact_.displacements().begin(),

@@ -12,8 +12,8 @@
 // - the unknowns are the atoms of the active disk of ExplicitContact, which follows the tip and
 //   grows; states live on blocks of different size and origin, and are mapped onto each other
 //   by lattice index (warm starts, slip detection, snapshots);
-// - slip (MODEL.md 5): an atom that feels a force whose registry index against the tip lattice
-//   changed between two states by a jump (registry_slips below), as in the LFM;
+// - slip (MODEL.md 5): an atom that feels a force in both states whose registry index against
+//   the tip lattice changed between them by a jump (registry_slips below), as in the LFM;
 // - snapshots on a fixed square block around the tip (the same for every frame): displacement
 //   (with u_z), interface force as stress, pressure p = -f_z / d^2 per atom, and
 //   tau_max = alpha p with the alpha of the potential.

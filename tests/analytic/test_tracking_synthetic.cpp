@@ -324,7 +324,7 @@ TEST(Sequence, TwoLoopsMergeAndSplit) {
 // disk of radius r_s = 59 d inside the contact of radius 60 d, with the sides covered by two
 // ellipses centred on the contact edge at (+-60, 0) (semi-axes 25 and 35 d): inside the contact
 // the core is then two arcs of the circle r = r_s, at the top and bottom, 1 d from the edge, the
-// seed's "two screw lines at the top and bottom" (MODEL.md 8), ending where the ellipses cut them
+// seed's "two screw lines at the top and bottom" (MODEL.md 5), ending where the ellipses cut them
 // (and along the ellipses' short pieces out to the edge). The marching squares trace only cells
 // with four sites in contact, and along a circle 1 d inside the edge such cells break off at
 // every row where the staircase of the edge steps inward: traced alone, each arc is 17 pieces

@@ -6,7 +6,7 @@
 // target; known/hdf5_crash_in_nc_open.nc is one). That is outside asperity and cannot be fixed
 // here, so each input is first read with the netCDF library alone in a child process, and inputs
 // on which the library crashes or hangs there are skipped. Then read_snapshots runs on the input
-// in this process, under the sanitizers. The child costs most of an execution: about 5 inputs a
+// in this process, under the sanitizers. The child costs most of an execution: about 2 inputs a
 // second (2026-12-01, beside a long run), against thousands for the other two targets.
 #include <netcdf.h>
 #include <sanitizer/common_interface_defs.h>

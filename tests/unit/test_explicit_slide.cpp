@@ -236,21 +236,28 @@ TEST(ExplicitSlide, ASlipIsARegistryJumpNotAHalfPeriodMove) {
   EXPECT_EQ(
       explicit_model::registry_slips(turned, d, block, 0.0, y_from, loaded, 0.0, y_to, loaded), 1);
 
-  // Positions: a tip of spacing 1.1 d (mismatch 0.1, Dx = 0) puts the registry at
-  // rho_x = (X + u_x) / 1.1. Atom (1, 3) at X = 11 d, Y = 1 d moving by 0.3 d in x goes from
-  // rho_x = 10.27 (index 10) to 10.55 (11): a slip. Read at X = 1 d (the block's origin left
-  // out, or i0 and i1 exchanged) it would go from 1.18 to 1.45, index 1 both: none.
-  const interface::TipFrame wider(interface::TipLattice{.angle = 0.0, .mismatch = 0.1}, d);
-  std::vector<double> x_from = zero, x_to = zero;
-  x_from[site(1, 3)] = 0.3;
-  x_to[site(1, 3)] = 0.6;
-  EXPECT_EQ(explicit_model::registry_slips(wider, d, block, 0.0, x_from, loaded, 0.0, x_to, loaded),
-            1);
-  // The floor holds along the tip's axis: 0.2 d from 0.4 d (rho_x 10.36 -> 10.55, index 10 ->
-  // 11) is under d/4: not a slip.
-  x_from[site(1, 3)] = 0.4;
-  EXPECT_EQ(explicit_model::registry_slips(wider, d, block, 0.0, x_from, loaded, 0.0, x_to, loaded),
-            0);
+  // Positions: a tip of spacing 1.15 d (mismatch 0.15, Dx = 0) puts the registry at
+  // rho = (X + u_x, Y + u_y) / 1.15, where a position off by whole d no longer drops out. Atom
+  // (1, 3), at X = 11 d and Y = 1 d, makes four moves that are each a slip there, chosen so that
+  // every wrong position tried (X read as 1, -1, 0, 3, 10, 12 or 13 d: the origin left out,
+  // origin1 for origin0, i0 and i1 exchanged, off by one; Y read as 3, 13, -1, 0, 2 or 11 d) is
+  // not a slip in at least one of them:
+  //   x from -0.1 to 0.2 d: rho_x 9.48 -> 9.74 (index 9 -> 10); x from 0 to -0.5 d: 9.57 -> 9.13;
+  //   y from -0.15 to -0.55 d: rho_y 0.74 -> 0.39 (1 -> 0); y from 0.25 to 0.75 d: 1.09 -> 1.52.
+  const interface::TipFrame wider(interface::TipLattice{.angle = 0.0, .mismatch = 0.15}, d);
+  const auto moved = [&](std::size_t component, double from, double to) {
+    std::vector<double> ub = zero, ua = zero;
+    ub[component * n + site(1, 3)] = from;
+    ua[component * n + site(1, 3)] = to;
+    return explicit_model::registry_slips(wider, d, block, 0.0, ub, loaded, 0.0, ua, loaded);
+  };
+  EXPECT_EQ(moved(0, -0.1, 0.2), 1);
+  EXPECT_EQ(moved(0, 0.0, -0.5), 1);
+  EXPECT_EQ(moved(1, -0.15, -0.55), 1);
+  EXPECT_EQ(moved(1, 0.25, 0.75), 1);
+  // The floor holds along the tip's axis: x from -0.1 to 0.1 d (rho_x 9.48 -> 9.65, index
+  // 9 -> 10) is under d/4: not a slip.
+  EXPECT_EQ(moved(0, -0.1, 0.1), 0);
 
   EXPECT_THROW(explicit_model::registry_slips(aligned, d, block, Dx0, std::vector<double>(4, 0.0),
                                               loaded, Dx1, zero, loaded),
