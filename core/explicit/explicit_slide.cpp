@@ -246,7 +246,7 @@ class ExplicitSlider {
     s.shift = like.shift;
   }
 
-  // Atoms that feel a force at `after` whose registry index jumped (registry_slips).
+  // Atoms that feel a force in both states whose registry index jumped (registry_slips).
   int slipped_sites(const State& before, const State& after) const {
     const LatticeBlock b = block_of(after);
     const std::vector<double> ub = map_field(block_of(before), before.u, b, 3);
@@ -364,12 +364,11 @@ int registry_slips(const interface::TipFrame& frame, double d, const LatticeBloc
   for (std::size_t i = 0; i < n; ++i) {
     if (!loaded(f_before, i) || !loaded(f_after, i)) continue;
     const double X = block.x(static_cast<int>(i / n1), d), Y = block.y(static_cast<int>(i % n1), d);
-    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0, du1 = 0.0, du2 = 0.0;
+    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;
     frame.registry(X + u_before[i] - Dx_before, Y + u_before[n + i], b1, b2);
     frame.registry(X + u_after[i] - Dx_after, Y + u_after[n + i], a1, a2);
-    frame.to_tip(u_after[i] - u_before[i], u_after[n + i] - u_before[n + i], du1, du2);
-    if ((std::lround(b1) != std::lround(a1) && std::abs(du1) >= 0.25 * d) ||
-        (std::lround(b2) != std::lround(a2) && std::abs(du2) >= 0.25 * d))
+    if (frame.registry_jumped(b1, b2, a1, a2, u_after[i] - u_before[i],
+                              u_after[n + i] - u_before[n + i]))
       ++count;
   }
   return count;

@@ -49,13 +49,13 @@ struct ExplicitSlideOptions {
 // the LFM asks; an atom outside the earlier state's block has no force there) slipped if
 // round(rho), per axis of the tip lattice, of its relative position s = X + u - (Dx, 0)
 // (TipFrame::registry: s / d for the aligned tip, whose hollows sit over the lattice sites)
-// changed, by a jump: its displacement along that axis changed by at least d/4. The floor is
-// the LFM's (slide/slider.cpp, registry_jumps): it keeps out the smooth crossings that are not
-// instabilities (a whole Regime I contact riding over the barrier top changes every index
-// without a jump), while a gliding core, which carries its atoms across a half-period by less
-// than d/2, counts. Fields on `block`, component-major (x, y, and z for forces: an atom is
-// loaded if any component is nonzero; u_z is ignored); the earlier state's fields mapped onto
-// `block` by lattice index (0 where its block had no site).
+// changed, by a jump: its displacement along that axis changed by at least d/4
+// (TipFrame::registry_jumped, the LFM's test too). The floor keeps out the smooth crossings
+// that are not instabilities (a whole Regime I contact riding over the barrier top changes
+// every index without a jump), while a gliding core, which carries its atoms across a
+// half-period by less than d/2, counts. Fields on `block`, component-major (x, y, and z for
+// forces: an atom is loaded if any component is nonzero; u_z is ignored); the earlier state's
+// fields mapped onto `block` by lattice index (0 where its block had no site).
 int registry_slips(const interface::TipFrame& frame, double d, const LatticeBlock& block,
                    double Dx_before, std::span<const double> u_before,
                    std::span<const double> f_before, double Dx_after,

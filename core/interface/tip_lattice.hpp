@@ -58,6 +58,17 @@ class TipFrame {
     rho1 = (c_ * sx + s_ * sy) / d_tip_;
     rho2 = (c_ * sy - s_ * sx) / d_tip_;
   }
+  // The slip test of both models (MODEL.md 5; slide/slider.cpp says why the floor): a site whose
+  // registry coordinates went from (b1, b2) to (a1, a2) (registry() of its relative positions)
+  // by the displacement (dux, duy) jumped if round(rho) changed along a tip axis while it moved
+  // by d/4 or more along that axis. For the aligned tip rho = s / d and the axes are x and y.
+  [[nodiscard]] bool registry_jumped(double b1, double b2, double a1, double a2, double dux,
+                                     double duy) const {
+    double du1 = 0.0, du2 = 0.0;
+    to_tip(dux, duy, du1, du2);
+    return (std::lround(b1) != std::lround(a1) && std::abs(du1) >= 0.25 * d_) ||
+           (std::lround(b2) != std::lround(a2) && std::abs(du2) >= 0.25 * d_);
+  }
   // A vector along the tip's axes, in the substrate's frame: Q(theta) (v1, v2).
   void to_substrate(double v1, double v2, double& vx, double& vy) const {
     if (aligned_) {

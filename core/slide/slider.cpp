@@ -759,37 +759,21 @@ int registry_jumps(const interface::ContactScene& scene, const LatticeBlock& blo
   interface::LateralForceModel at_after(scene, block), at_before = at_after;
   at_after.set_tip(Dx_after);
   at_before.set_tip(Dx_before);
-  const double d = scene.d;
-  const auto jumped = [&](double s_before, double s_after, double du) {
-    return std::lround(s_before / d) != std::lround(s_after / d) && std::abs(du) >= 0.25 * d;
-  };
-  // Out of registry the index is round(rho) per tip axis (tip_lattice.hpp) and the jump the
-  // displacement along that axis.
+  // The index is round(rho) per tip axis (round(s / d) for the aligned tip) and the jump the
+  // displacement along that axis (TipFrame::registry_jumped).
   const interface::TipFrame& frame = at_after.tip_frame();
-  const auto jumped_tip = [&](std::size_t i) {
-    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0, du1 = 0.0, du2 = 0.0;
-    at_before.registry(i, u_before[i], u_before[n + i], b1, b2);
-    at_after.registry(i, u_after[i], u_after[n + i], a1, a2);
-    frame.to_tip(u_after[i] - u_before[i], u_after[n + i] - u_before[n + i], du1, du2);
-    return (std::lround(b1) != std::lround(a1) && std::abs(du1) >= 0.25 * d) ||
-           (std::lround(b2) != std::lround(a2) && std::abs(du2) >= 0.25 * d);
-  };
   const std::size_t first_new_row =
       static_cast<std::size_t>(block.shape.n0 - std::clamp(entered_rows, 0, block.shape.n0));
   int count = 0;
   for (std::size_t i : at_after.contact_sites()) {
     if (i / static_cast<std::size_t>(block.shape.n1) >= first_new_row) continue;
     if (at_before.tau_max()[i] <= 0.0) continue;  // entered the contact in this step
-    if (!frame.aligned()) {
-      if (jumped_tip(i)) ++count;
-      continue;
-    }
-    if (jumped(at_before.sx(i, u_before[i]), at_after.sx(i, u_after[i]),
-               u_after[i] - u_before[i]) ||
-        jumped(at_before.sy(i, u_before[n + i]), at_after.sy(i, u_after[n + i]),
-               u_after[n + i] - u_before[n + i])) {
+    double b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;
+    at_before.registry(i, u_before[i], u_before[n + i], b1, b2);
+    at_after.registry(i, u_after[i], u_after[n + i], a1, a2);
+    if (frame.registry_jumped(b1, b2, a1, a2, u_after[i] - u_before[i],
+                              u_after[n + i] - u_before[n + i]))
       ++count;
-    }
   }
   return count;
 }
