@@ -18,6 +18,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -218,6 +219,22 @@ void lift(Table<Root>& into, const Table<Part>& part, const std::string& prefix,
     s.set = [set = p.set, project](Root& r, const Value& v) { set(project(r), v); };
     into.push_back(std::move(s));
   }
+}
+
+// A tool's narrower allowed range for a row it lifted: gf_validate compares converged solutions
+// with analytic ones, so it allows tolerances below 0.01 where the solvers' own tables allow any
+// relative tolerance below 1. Narrowing the row (not checking after reading) keeps the range in
+// one place: the reader's and the flags' messages, validate() and the tool's --list-settings all
+// give it. `why` is appended to the row's meaning. Throws std::logic_error if `key` has no row.
+template <class Root>
+void narrow(Table<Root>& table, std::string_view key, Range range, const std::string& why) {
+  for (Setting<Root>& s : table) {
+    if (s.key != key) continue;
+    s.range = range;
+    s.meaning += " (" + why + ")";
+    return;
+  }
+  throw std::logic_error("settings::narrow: no row " + std::string(key));
 }
 
 // Every row of the table checked on `root`: throws for the first value not allowed.

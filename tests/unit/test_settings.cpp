@@ -73,6 +73,30 @@ TEST(Settings, TablesComposeWithPrefixesAndSetThroughTheirRows) {
   EXPECT_NE(settings::fingerprint(o, t), all);
 }
 
+// A tool narrows a row it lifted (gf_validate: solver tolerances below 0.01): the lifted row
+// refuses what the core row allows, gives the narrower range and its reason, and the core
+// table is left as it was.
+TEST(Settings, NarrowTightensALiftedRowOnly) {
+  struct Tool {
+    minimize::MinimizerOptions solver;
+  };
+  settings::Table<Tool> t;
+  settings::lift(
+      t, minimize::MinimizerOptions::settings(), "solver.",
+      [](auto& s) -> auto& { return s.solver; });
+  settings::narrow(t, "solver.tolerance", settings::Range::open(0.0, 1e-2), "converged");
+  const auto& row = *settings::find(t, "solver.tolerance");
+  EXPECT_EQ(message_of([&] { row.check(settings::Value(0.5)); }),
+            "solver.tolerance = 0.5: allowed: (0, 0.01) G d^2");
+  EXPECT_NO_THROW(row.check(settings::Value(1e-3)));
+  EXPECT_NE(row.meaning.find("(converged)"), std::string::npos);
+  const auto& core = *settings::find(minimize::MinimizerOptions::settings(), "tolerance");
+  EXPECT_NO_THROW(core.check(settings::Value(0.5)));
+  EXPECT_EQ(core.meaning.find("(converged)"), std::string::npos);
+  EXPECT_THROW(settings::narrow(t, "solver.no_such_key", settings::Range::any(), ""),
+               std::logic_error);
+}
+
 TEST(Settings, CheckRefusesWrongKindsAndOutOfRangeValues) {
   const auto& t = minimize::MinimizerOptions::settings();
   const auto& memory = *settings::find(t, "memory");
