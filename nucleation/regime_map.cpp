@@ -119,16 +119,9 @@ Crossover regime_two_three_crossover(double R, double alpha, double nu, const Mo
 }
 
 double regime_one_two_boundary(double c0) {
-  const auto side = [c0](double x) {
-    const double mu = nucleation_condition(x, c0).mu_over_alpha;
-    return nearer_of_one_two(x, mu, c0) == Regime::one;
-  };
-  double lo = 1e-3, hi = 1e4;
-  for (int it = 0; it < 200 && hi / lo > 1.0 + 1e-12; ++it) {
-    const double mid = std::sqrt(lo * hi);
-    (side(mid) ? lo : hi) = mid;
-  }
-  return std::sqrt(lo * hi);
+  require_positive("regime_one_two_boundary.c0", c0);
+  // 3 (2 c0)^(2/3) x^(-2/3) = 1 (see the header: the nearer asymptote changes there).
+  return 2.0 * std::pow(3.0, 1.5) * c0;
 }
 
 std::optional<Model> moved_model(const Model& model, double c0_error, int direction,

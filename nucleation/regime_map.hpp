@@ -55,8 +55,13 @@ Prediction predict(double a_over_bcore0, double beta, const Model& model);
 // I or II by the nearer asymptote (see above).
 Regime nearer_of_one_two(double a_over_bcore0, double mu_over_alpha, double c0);
 
-// a / b_core^0 on the predicted I/II boundary: where the nucleation condition is as far (in ln)
-// from mu/alpha = 1 as from the Regime II law, i.e. mu = sqrt(law) (bisection in ln x to 1e-12).
+// a / b_core^0 on the predicted I/II boundary, where nearer_of_one_two() changes along the
+// nucleation condition: 2 * 3^(3/2) * c0 = 10.39 c0, where the Regime II law reaches 1. The
+// condition lies below the law everywhere (their ratio is ((1 + x*) / 2)^(2/3) < 1), so where
+// the law is >= 1 the condition is nearer 1 than the law, and where the law is < 1 it is below
+// the law and nearer it: the two asymptotes meet at the boundary. (A simulated point between
+// the law and 1 is instead split at mu = sqrt(law).) The condition itself reaches 1 earlier,
+// at 9.44 c0 (regime_two.hpp: Regime I by the condition).
 double regime_one_two_boundary(double c0);
 
 // The model with its parameters moved by `errors` standard errors along one of three

@@ -6,9 +6,9 @@
 //   mu / alpha = 3 (2 c0)^(2/3) (a / b_core^0)^(-2/3),
 // which is linear in the single unknown ln c0 after taking logarithms with the slope fixed:
 //   ln(mu/alpha) + (2/3) ln(a/b_core^0) - ln 3 = (2/3) ln(2 c0).
-// fit_regime_two() estimates ln(2 c0) as the mean of the left side over the points of a window
-// (closed-form least squares), with a bootstrap-over-points standard error (statistics.hpp says
-// how it is reported).
+// fit_regime_two() estimates m = (2/3) ln(2 c0) as the mean of the left side over the points of a
+// window (closed-form least squares), with a bootstrap-over-points standard error (statistics.hpp
+// says how it is reported).
 //
 // The same condition without the expansion: bonded rigid-disk traction (MODEL.md 2)
 //   tau(r) = Fx / (2 pi a^2) (1 - r^2/a^2)^(-1/2),  Hertz strength alpha p0 (1 - r^2/a^2)^(1/2),
@@ -116,11 +116,12 @@ struct RegimeTwoFit {
   bool valid = false;
   std::string reason;  // why there is no fit, when !valid
   double c0 = 0.0;
-  // Reported error: bootstrap standard error of ln(2 c0), scaled by sqrt(n / (n - 1)) (the
-  // bootstrap's small-sample bias) and by t_factor(n - 1), carried to c0 by c0' = 1.5 c0 (ln 2c0)'.
+  // Reported error: bootstrap standard error of the window mean m = (2/3) ln(2 c0), scaled by
+  // sqrt(n / (n - 1)) (the bootstrap's small-sample bias) and by t_factor(n - 1), carried to c0
+  // by dc0 = 1.5 c0 dm (c0 = exp(1.5 m) / 2).
   double c0_error = 0.0;
   double c0_se_bootstrap = 0.0;     // the plain bootstrap standard error of c0
-  double c0_lo = 0.0, c0_hi = 0.0;  // c0 at ln(2 c0) -+ 2 reported errors (asymmetric interval)
+  double c0_lo = 0.0, c0_hi = 0.0;  // c0 at m -+ 2 reported errors (asymmetric interval)
   double prefactor = 0.0, prefactor_error = 0.0;  // 3 (2 c0)^(2/3) and its reported error
   double window_lo = 0.0, window_hi = 0.0;        // a / b_core^0 of the first and last point used
   bool window_automatic = true;

@@ -81,6 +81,8 @@ Analysis analyse(const std::vector<DataPoint>& pts, const LawSource& law, const 
   const std::vector<nuc::Regime> simulated =
       nuc::simulated_regimes(an.points, an.fit.c0, o.rise_tolerance);
   an.comparisons = nuc::compare_points(an.points, simulated, an.model, an.fit.c0_error);
+  for (std::size_t i : an.fit.used)
+    if (simulated[i] == nuc::Regime::three) an.window_rising.push_back(i);
   an.agreement = nuc::map_agreement(an.comparisons);
 
   // Crossovers: Regime I (a/b_core^0, any R), II -> III per R of the data.

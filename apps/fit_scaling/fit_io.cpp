@@ -305,6 +305,11 @@ LawSource read_law(const Options& o) {
     // errors of the predictions.
     if (fit.correlation_missing)
       j["correlation_missing"] = "taken as 0 (a peierls_scan summary without k1_k2_correlation)";
+    // Without the number of points (a fit of two parameters needs three) the degrees of freedom
+    // are unknown: the errors are taken as reported errors, which understates them.
+    if (fit.points < 3)
+      j["points_missing"] =
+          "reported_error_factor taken as 1 (a peierls_scan summary without the fit's points)";
   }
   if (o.k1.has_value() != o.k2.has_value()) {
     // k1 and k2 come from one fit, with correlated errors: one of them replaced would leave a

@@ -139,6 +139,9 @@ struct Analysis {
   nucleation::RegimeTwoFit fit;
   nucleation::Model model;    // c0 fitted, the law's errors on the reported footing
   std::set<double> window_R;  // R of the points in the Regime II window
+  // Points of the Regime II window on a rising branch (simulated Regime III): the automatic
+  // window stops before an upturn, a --window given by hand can hold them.
+  std::vector<std::size_t> window_rising;
   std::vector<nucleation::PointComparison> comparisons;  // per point
   nucleation::MapAgreement agreement;
   double x_one = 0.0;      // a/b_core^0 where the nucleation condition reaches mu = alpha

@@ -138,8 +138,8 @@ nlohmann::json fit_json(const nuc::RegimeTwoFit& fit, const nuc::RegimeTwoLaw& l
           {"c0", fit.c0},
           {"c0_error", fit.c0_error},
           {"error_kind",
-           "bootstrap over points of ln(2 c0), x sqrt(n/(n-1)) x t_{n-1}(Phi(2))/2: +-2 errors "
-           "is the 95.45% interval"},
+           "bootstrap over points of m = (2/3) ln(2 c0), x sqrt(n/(n-1)) x t_{n-1}(Phi(2))/2, "
+           "dc0 = 1.5 c0 dm: +-2 errors is the 95.45% interval"},
           {"c0_se_bootstrap", fit.c0_se_bootstrap},
           {"c0_interval_2_errors", {fit.c0_lo, fit.c0_hi}},
           {"prefactor", fit.prefactor},
@@ -224,6 +224,12 @@ nlohmann::json regime_two_json(const Analysis& an, const Options& o) {
   for (double R : an.window_R)
     window_R.push_back(R);
   j["window_R"] = window_R;
+  nlohmann::json rising = nlohmann::json::array();
+  for (std::size_t i : an.window_rising) {
+    const nuc::ScalingPoint& p = an.points[i];
+    rising.push_back({{"a", p.a}, {"R", p.R}, {"mu_over_alpha", p.mu_over_alpha}});
+  }
+  j["window_regime_three"] = rising;
   return j;
 }
 
@@ -318,9 +324,12 @@ nlohmann::json fit_three_json(const nuc::RegimeThreeFrictionFit& f) {
                 {"k1_error", f3.law.k1_error},
                 {"k2", f3.law.k2},
                 {"k2_error", f3.law.k2_error},
+                {"k1_se", f3.k1_se},
+                {"k2_se", f3.k2_se},
                 {"correlation", f3.correlation},
                 {"window_bcore0", {f3.beta_min, f3.beta_max}},
                 {"dof", f3.dof},
+                {"t_factor", f3.t_factor},
                 {"rms_log_residual", f3.rms_log_residual}});
   } else {
     out["reason"] = f3.reason;
@@ -423,6 +432,13 @@ void print_hertz(const LawSource& law, const Analysis& an, const Options& o) {
                   ? (", automatic window, " + std::to_string(fit.trimmed) + " trimmed").c_str()
                   : "",
               100.0 * fit.max_relative_deviation);
+  if (!an.window_rising.empty())
+    std::fprintf(stderr,
+                 "fit_scaling: warning: %zu point%s of the window (--window) lie%s on a rising "
+                 "branch, simulated Regime III: the Regime II law does not hold there "
+                 "(summary.json: regime_two.window_regime_three)\n",
+                 an.window_rising.size(), an.window_rising.size() == 1 ? "" : "s",
+                 an.window_rising.size() == 1 ? "s" : "");
   if (!fit.within_max_deviation)
     std::fprintf(stderr,
                  "fit_scaling: warning: the Regime II law misses a point of the window by "
@@ -434,8 +450,12 @@ void print_hertz(const LawSource& law, const Analysis& an, const Options& o) {
         "  free log-log slope %.3f +- %.3f (law: -2/3); c0 lower / upper half of the "
         "window %.4f / %.4f\n",
         fit.free_slope, fit.free_slope_error, fit.c0_lower_half, fit.c0_upper_half);
-  std::printf("Peierls law: k1 = %.4g +- %.2g, k2 = %.4g +- %.2g; f_P = %g\n", law.law.k1,
-              law.law.k1_error, law.law.k2, law.law.k2_error, o.f_P);
+  // The reported errors, on c0's footing (the scan's plain standard errors times the t factor).
+  std::printf(
+      "Peierls law: k1 = %.4g +- %.2g, k2 = %.4g +- %.2g (reported errors: plain x %.3g); "
+      "f_P = %g\n",
+      an.model.law.k1, an.model.law.k1_error, an.model.law.k2, an.model.law.k2_error,
+      law.error_factor, o.f_P);
   std::printf("Regime I boundary: a/b_core^0 = %.3g (condition reaches mu = alpha at %.3g)\n",
               an.x_one_two, an.x_one);
   for (const nuc::CrossoverEstimate& e : an.crossovers) {

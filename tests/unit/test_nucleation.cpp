@@ -483,11 +483,15 @@ TEST(RegimeMap, MovedModelStepsAlongTheLawsPrincipalAxes) {
   EXPECT_THROW(moved_model(m, 0.1, 3, 1.0), std::invalid_argument);
 }
 
-// The I/II boundary: the regime by the nearer asymptote changes there (docs/nucleation.md:
-// 2.26 at c0 = 0.2176).
+// The I/II boundary: the regime by the nearer asymptote changes there along the nucleation
+// condition (docs/nucleation.md: 2.26 at c0 = 0.2176), which is where the Regime II law reaches
+// 1, since the condition lies below the law everywhere.
 TEST(RegimeMap, RegimeOneTwoBoundaryIsWhereTheNearerAsymptoteChanges) {
   const double c0 = 0.2176, x = regime_one_two_boundary(c0);
   EXPECT_NEAR(x, 2.26, 0.01);
+  EXPECT_NEAR(regime_two_law(x, c0), 1.0, 1e-12);
+  for (const double y : {0.5 * x, x, 2.0 * x, 10.0 * x, 1e3 * x})
+    EXPECT_LT(nucleation_condition(y, c0).mu_over_alpha, regime_two_law(y, c0)) << y;
   const auto regime = [&](double y) {
     return nearer_of_one_two(y, nucleation_condition(y, c0).mu_over_alpha, c0);
   };
