@@ -140,8 +140,8 @@ class SlideResult:
 
     @property
     def snapshots(self):
-        """The snapshots as xarray Datasets keyed by label, as the tools' files: "peak",
-        "slip_NNN_before", "slip_NNN_after" (one frame each) and "slip_NNN_path" (the frames of
+        """The snapshots as xarray Datasets keyed by label, as the tools' files: "start" (the
+        first relaxed state), "peak", "slip_NNN_before", "slip_NNN_after" (one frame each) and "slip_NNN_path" (the frames of
         a slip's relaxation path, as the tools' paths.nc holds them under that label)."""
         if self._snapshots is None:
             groups = {}

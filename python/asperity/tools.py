@@ -2,7 +2,8 @@
 README's set-up builds into build/bin) with the given options and returns what it wrote:
 summary.json as a dict, its CSV tables as NumPy record arrays, and the paths of its figures and
 other files. The numbers are the tools' numbers by construction; the runs are resumable and
-interruptible as on the command line (Ctrl-C stops the tool, which keeps what it finished).
+interruptible as on the command line (Ctrl-C stops the tool, which keeps what it finished:
+the call waits for it and then raises KeyboardInterrupt with its message).
 
     import asperity.tools as t
     scan = t.peierls_scan(b_core=[2, 3, 4], theta=[0, 90], out="ps")
@@ -11,7 +12,8 @@ interruptible as on the command line (Ctrl-C stops the tool, which keeps what it
     lines = t.track_loops(["out/snapshots/paths.nc"], label="slip_001_path")
 
 Options are the tools' flags without the dashes, underscores for dashes (b_core -> --b-core);
-lists become comma-separated values, True a bare switch (--snapshots), False leaves it out.
+lists become comma-separated values, True a bare switch (--snapshots), False leaves it out; a
+ToolResult or any path stands for its folder or file (peierls=scan).
 The folder of the executables is ASPERITY_BIN if set, else the build's (asperity/_build.py).
 """
 
@@ -19,6 +21,7 @@ import csv
 import json
 import os
 import pathlib
+import signal
 import subprocess
 import tempfile
 
@@ -61,11 +64,13 @@ def read_table(path):
 
 class ToolResult:
     """What a tool wrote: `out` (its folder), `summary` (summary.json, or None), `tables`
-    (name -> record array, one per CSV file in `out`), `files` (every file it wrote), `stdout`."""
+    (name -> record array, one per CSV file in `out`), `files` (every file it wrote), `stdout`,
+    `stderr` (its progress and warnings)."""
 
-    def __init__(self, out, stdout):
+    def __init__(self, out, stdout, stderr=""):
         self.out = pathlib.Path(out)
         self.stdout = stdout
+        self.stderr = stderr
         summary = self.out / "summary.json"
         self.summary = json.loads(summary.read_text()) if summary.exists() else None
         self.files = sorted(p for p in self.out.rglob("*") if p.is_file())
@@ -79,8 +84,17 @@ class ToolResult:
         """Another JSON file of the output (lines.json for track_loops)."""
         return json.loads((self.out / name).read_text())
 
+    def __fspath__(self):
+        """The output folder: a result stands for it where a path is expected (a peierls_scan
+        result as fit_scaling's or track_loops' peierls=)."""
+        return str(self.out)
+
     def __repr__(self):
         return f"ToolResult({self.out}, tables={list(self.tables)}, {len(self.files)} files)"
+
+
+def _text(value):
+    return os.fspath(value) if isinstance(value, os.PathLike) else str(value)
 
 
 def _flags(options):
@@ -95,9 +109,9 @@ def _flags(options):
         if value is True:
             argv.append(flag)
         elif isinstance(value, (list, tuple, np.ndarray)):
-            argv += [flag, ",".join(str(v) for v in value)]
+            argv += [flag, ",".join(_text(v) for v in value)]
         else:
-            argv += [flag, str(value)]
+            argv += [flag, _text(value)]
     return argv
 
 
@@ -110,12 +124,36 @@ def run(tool, *arguments, out=None, **options):
         raise FileNotFoundError(f"{exe}: not built (run scripts/setup.sh, or set ASPERITY_BIN)")
     if out is None:
         out = tempfile.mkdtemp(prefix=f"asperity_{tool}_")
-    argv = [str(exe), *map(str, arguments), *_flags(options), "--out", str(out)]
-    done = subprocess.run(argv, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"{tool} failed (exit {done.returncode}): {' '.join(argv)}\n"
-                           f"{done.stderr.strip()}")
-    return ToolResult(out, done.stdout)
+    argv = [str(exe), *map(_text, arguments), *_flags(options), "--out", str(out)]
+    # Its own process group: a terminal's Ctrl-C reaches the tool once, through _wait, not also
+    # directly (a second SIGINT ends a tool at once, without its checkpoint).
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            process_group=0)
+    stdout, stderr, interrupted = _wait(proc)
+    if interrupted:
+        raise KeyboardInterrupt(f"{tool} stopped (exit {proc.returncode}): {' '.join(argv)}\n"
+                                f"{stderr.strip()}")
+    if proc.returncode != 0:
+        raise RuntimeError(f"{tool} failed (exit {proc.returncode}): {' '.join(argv)}\n"
+                           f"{stderr.strip()}")
+    return ToolResult(out, stdout, stderr)
+
+
+def _wait(proc):
+    """The tool's stdout and stderr once it has exited, and whether it was interrupted. Ctrl-C
+    (KeyboardInterrupt, from a terminal or a notebook) is passed on as one SIGINT, and the tool
+    is waited for while it stops cleanly (a checkpoint, the points in progress); a second
+    Ctrl-C passes a second SIGINT, which ends the tool at once, as on the command line.
+    (subprocess.run instead kills the tool 0.25 s after a KeyboardInterrupt.)"""
+    interrupted = False
+    while True:
+        try:
+            stdout, stderr = proc.communicate()
+            return stdout, stderr, interrupted
+        except KeyboardInterrupt:
+            if proc.poll() is None:
+                proc.send_signal(signal.SIGINT)
+            interrupted = True
 
 
 def peierls_scan(scene=None, out=None, **options):

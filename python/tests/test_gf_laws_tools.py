@@ -4,6 +4,9 @@ import json
 import math
 import os
 import pathlib
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -183,7 +186,7 @@ def test_forecast_in_process_equals_fit_scalings(tmp_path):
     # summary's reported_error_factor, its correlation and its window, as docs/python.md says.
     scan = tools.peierls_scan(out=tmp_path / "ps")
     run = tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=tmp_path / "g",
-                            peierls=scan.out, forecast_R=[800], forecast_a=[150, 300, 450])
+                            peierls=scan, forecast_R=[800], forecast_a=[150, 300, 450])
     law = run.summary["peierls"]
     factor = law["reported_error_factor"]
     assert factor > 1.0
@@ -206,6 +209,49 @@ def test_forecast_in_process_equals_fit_scalings(tmp_path):
         asperity.forecast(-1, 800, c0=c0, k1=3.0, k2=1.2)
 
 
+def test_a_scan_summary_without_its_points_is_flagged(tmp_path):
+    # The scan's errors are plain standard errors, scaled by the t factor of the fit's degrees
+    # of freedom (points - 2); a summary without the points leaves them unscaled, which the
+    # summary says, as it says a missing correlation.
+    law = {"fits": {"edge": {"valid": True, "k1": 2.3, "k1_error": 0.1, "k2": 1.8,
+                             "k2_error": 0.01, "window_b_core": [2, 6]}}}
+    (tmp_path / "law.json").write_text(json.dumps(law))
+    run = tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=tmp_path / "o",
+                            peierls=tmp_path / "law.json")
+    peierls = run.summary["peierls"]
+    assert peierls["reported_error_factor"] == 1.0
+    assert "points_missing" in peierls and "correlation_missing" in peierls
+    law["fits"]["edge"].update(points=6, k1_k2_correlation=0.9)
+    (tmp_path / "law6.json").write_text(json.dumps(law))
+    run = tools.fit_scaling([DATA / "reference" / "sweep_R535.csv"], out=tmp_path / "o6",
+                            peierls=tmp_path / "law6.json")
+    peierls = run.summary["peierls"]
+    # t_4(Phi(2)) / 2 for 6 points (statistics.hpp): Student's t with 4 degrees of freedom at
+    # Phi(2) = 0.97725 is 2.8693 (its density integrated numerically), so 1.4347.
+    assert peierls["reported_error_factor"] == pytest.approx(1.4347, abs=1e-3)
+    assert "points_missing" not in peierls and "correlation_missing" not in peierls
+
+
+def test_a_window_by_hand_names_its_regime_three_points(tmp_path):
+    # --window takes every measured point inside it: at R = 40 d, a/b_core^0 4..60 reaches the
+    # rising branch (simulated Regime III from a = 28 d, regime3_R40_fill.md), which the
+    # summary lists and the tool warns of; the automatic window stops before the upturn.
+    tables = [DATA / "reference" / name
+              for name in ("sweep_R535.csv", "regime3_R40.csv", "regime3_R40_fill.csv")]
+    auto = tools.fit_scaling(tables, out=tmp_path / "auto", k1=2.3, k2=1.8)
+    assert auto.summary["regime_two"]["window_regime_three"] == []
+    assert "rising branch" not in auto.stderr
+    given = tools.fit_scaling(tables, out=tmp_path / "given", k1=2.3, k2=1.8, window=[4, 60])
+    rising = given.summary["regime_two"]["window_regime_three"]
+    assert rising and all(p["R"] == 40.0 and p["a"] >= 28.0 for p in rising)
+    # The same points as predictions.csv's rows in the window and simulated III.
+    table = given.tables["predictions"]
+    expected = sorted((r["a"], r["R"]) for r in table
+                      if r["in_window"] == 1 and r["simulated_regime"] == "III")
+    assert sorted((p["a"], p["R"]) for p in rising) == expected
+    assert "rising branch" in given.stderr
+
+
 def test_read_table_empty_cells(tmp_path):
     # A numeric column with empty cells (slips.csv's cost columns in rows an earlier build wrote)
     # stays numeric, NaN where empty; text, and a column with no value at all, stay str.
@@ -220,8 +266,37 @@ def test_read_table_empty_cells(tmp_path):
 
 
 def test_tool_errors_raise_with_the_tools_message(tmp_path):
-    with pytest.raises(RuntimeError, match="fit_scaling failed"):
+    # The tool's own words (its stderr), not only the wrapper's "fit_scaling failed" prefix.
+    with pytest.raises(RuntimeError, match="missing.csv: no such sweep table"):
         tools.fit_scaling([tmp_path / "missing.csv"], out=tmp_path / "o")
+
+
+def test_ctrl_c_stops_a_tool_cleanly_and_it_resumes(tmp_path):
+    # Ctrl-C in Python (here SIGINT to this process, as a notebook's interrupt sends it) reaches
+    # the tool as one SIGINT; the call waits while the tool saves its checkpoint, then raises
+    # KeyboardInterrupt with the tool's "continue with" message. (subprocess.run would kill the
+    # tool 0.25 s after the interrupt, before its checkpoint.) The resumed slide gives the
+    # uninterrupted slide's mu. a = 43 d, R = 535 d: about two seconds; the signal is sent once
+    # the first state is written (snapshots/start.nc, after the tool's stop handlers are in).
+    full = tools.contact_slide(out=tmp_path / "full", a=43, R=535, threads=1)
+    out = tmp_path / "cut"
+    start = out / "snapshots" / "start.nc"
+
+    def interrupt_once_started():
+        deadline = time.monotonic() + 60
+        while not start.exists() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Thread(target=interrupt_once_started)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt, match="continue with") as stopped:
+        tools.contact_slide(out=out, a=43, R=535, threads=1)
+    timer.join()
+    assert "--resume" in str(stopped.value)
+    assert (out / "checkpoint.cbor").exists()
+    resumed = tools.contact_slide(out=out, a=43, R=535, threads=1, resume=True)
+    assert resumed.summary["mu"] == full.summary["mu"]
 
 
 def test_peierls_scan_from_python(tmp_path):
@@ -314,6 +389,62 @@ def test_stub_defaults_are_the_modules():
     # GF constructors, find_lines, front_stresses, control_parameter, predict, forecast,
     # fit_regime_two: dozens of defaults.
     assert checked >= 30, checked
+
+
+def test_stub_names_are_the_modules():
+    # The stub describes the whole module: every public name of the module is in it, every
+    # function, class, method and attribute of the stub is in the module, and each function's
+    # and method's parameters (names, in order) are those of the module's own signature (the
+    # first line of its pybind11 docstring).
+    import ast
+    import re
+
+    import asperity._asperity as compiled
+
+    stub = pathlib.Path(compiled.__file__).with_name("_asperity.pyi")
+    tree = ast.parse(stub.read_text())
+
+    def runtime_names(obj):
+        first = (obj.__doc__ or "").splitlines()[0] if obj.__doc__ else ""
+        m = re.match(r"[\w.]+\((.*)\)\s*->", first)
+        assert m and not m.group(1).startswith("*args"), f"no single signature: {first!r}"
+        return [n for n in re.findall(r"(?:^|, )(\**\w+): ", m.group(1)) if n != "self"]
+
+    def stub_names(node):
+        a = node.args
+        return [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs if x.arg != "self"]
+
+    stubbed, compared, attributes = set(), 0, 0
+    for node in tree.body:
+        if isinstance(node, ast.AnnAssign):
+            stubbed.add(node.target.id)
+            assert hasattr(compiled, node.target.id), node.target.id
+        if not isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            continue
+        stubbed.add(node.name)
+        assert hasattr(compiled, node.name), f"{node.name}: in the stub, not in the module"
+        if isinstance(node, ast.FunctionDef):
+            assert stub_names(node) == runtime_names(getattr(compiled, node.name)), node.name
+            compared += 1
+            continue
+        cls = getattr(compiled, node.name)
+        for item in node.body:
+            name = item.target.id if isinstance(item, ast.AnnAssign) else getattr(item, "name", None)
+            if name is None:
+                continue
+            where = f"{node.name}.{name}"
+            assert hasattr(cls, name), f"{where}: in the stub, not in the module"
+            is_property = isinstance(item, ast.FunctionDef) and any(
+                isinstance(d, ast.Name) and d.id == "property" for d in item.decorator_list)
+            if isinstance(item, ast.AnnAssign) or is_property:
+                attributes += 1
+            elif name == "__init__" or not name.startswith("__"):
+                assert stub_names(item) == runtime_names(getattr(cls, name)), where
+                compared += 1
+    public = {n for n in dir(compiled) if not n.startswith("_")}
+    assert public <= stubbed, f"not in the stub: {sorted(public - stubbed)}"
+    # 21 signatures and 8 attributes when this test was written.
+    assert compared >= 20 and attributes >= 8, (compared, attributes)
 
 
 def test_a_boolean_setting_takes_python_true(tmp_path):
