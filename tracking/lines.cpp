@@ -673,6 +673,8 @@ FrameLines Tracer::run() {
   FrameLines out;
   out.d = f_.d;
   out.periodic = f_.periodic;
+  if (f_.periodic) out.cell = {n0_ * f_.d, n1_ * f_.d};
+  out.unit_burgers = {frame_.spacing() * frame_.cos(), frame_.spacing() * frame_.sin()};
   find_crossings();
   out.core_crossings = crossings_.size();
   out.registry_crossings = registry_crossings_;

@@ -144,6 +144,12 @@ struct FrameLines {
   std::vector<std::vector<std::int64_t>> regions;
   double d = 1.0;
   bool periodic = false;
+  // The Burgers vector of a line with burgers = 1 (d): d_tip along the tip's first axis,
+  // (d, 0) for the aligned tip. A line's b is burgers times it.
+  Point unit_burgers{1.0, 0.0};
+  // A periodic cell's sides (d). Its lines are unwrapped from their first crossing, so the same
+  // line can sit one image away in the next frame: the tracker compares lines by minimum image.
+  Point cell;
   Point contact_centre;         // centroid of the contact sites (d)
   double contact_radius = 0.0;  // radius of the disk of the same area (d)
   std::size_t contact_sites = 0;

@@ -95,6 +95,16 @@ std::size_t intersection_size(const std::vector<std::int64_t>& a,
   return count;
 }
 
+// The shift (a multiple of the cell's sides) that brings `p` nearest `ref`: zero outside a
+// periodic cell.
+Point image_shift(Point p, Point ref, const FrameLines& frame) {
+  if (!frame.periodic) return {};
+  const auto shift = [](double delta, double L) {
+    return L > 0.0 ? L * std::round(delta / L) : 0.0;
+  };
+  return {shift(ref.x - p.x, frame.cell.x), shift(ref.y - p.y, frame.cell.y)};
+}
+
 Point mean_point(const std::vector<Point>& points) {
   Point m;
   for (const Point& p : points) {
@@ -160,9 +170,12 @@ std::vector<int> Tracker::add(const FrameLines& frame) {
     for (std::size_t j = 0; j < n; ++j) {
       const Kept& b = now[j];
       if (std::abs(a.burgers) != std::abs(b.burgers)) continue;
-      const double distance = std::hypot(a.centroid.x - b.centroid.x, a.centroid.y - b.centroid.y);
-      const double gap_x = std::max({0.0, a.x_min - b.x_max, b.x_min - a.x_max});
-      const double gap_y = std::max({0.0, a.y_min - b.y_max, b.y_min - a.y_max});
+      // By minimum image in a periodic cell (FrameLines::cell): b's image nearest a.
+      const Point s = image_shift(b.centroid, a.centroid, frame);
+      const double distance =
+          std::hypot(a.centroid.x - b.centroid.x - s.x, a.centroid.y - b.centroid.y - s.y);
+      const double gap_x = std::max({0.0, a.x_min - b.x_max - s.x, b.x_min + s.x - a.x_max});
+      const double gap_y = std::max({0.0, a.y_min - b.y_max - s.y, b.y_min + s.y - a.y_max});
       const double gap = std::hypot(gap_x, gap_y);
       const bool linked =
           distance <= options_.max_centroid_distance ||
@@ -204,13 +217,19 @@ std::vector<int> Tracker::add(const FrameLines& frame) {
     e.frame = frame_index;
     std::vector<Point> where;
     double area_before = 0.0, area_after = 0.0;
+    // The centroids' images nearest the first one (a periodic cell), for their mean.
+    const auto near_first = [&](Point p) {
+      if (where.empty()) return p;
+      const Point s = image_shift(p, where.front(), frame);
+      return Point{p.x + s.x, p.y + s.y};
+    };
     for (const std::size_t i : O) {
       e.before.push_back(previous_[i].id);
-      where.push_back(previous_[i].centroid);
+      where.push_back(near_first(previous_[i].centroid));
       area_before += previous_[i].slipped_area;
     }
     for (const std::size_t j : N) {
-      where.push_back(now[j].centroid);
+      where.push_back(near_first(now[j].centroid));
       area_after += now[j].slipped_area;
     }
     e.where = mean_point(where);

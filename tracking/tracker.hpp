@@ -3,13 +3,14 @@
 // Lines of consecutive frames are linked when they have the same |b| and either their slipped
 // regions overlap (overlap coefficient |A n B| / min(|A|, |B|) >= min_overlap, for lines whose
 // bounding boxes, grown by max_motion, meet) or their centroids are within
-// max_centroid_distance. Of these candidates each line keeps its best (nearest bounding box,
-// then nearest centroid) on the other side. The links form a bipartite graph (Boost.Graph); each
-// connected component is one story: 0 -> 1 nucleation, 1 -> 0 annihilation, 1 -> 1 the same line
-// (same persistent id), n -> 1 merge, 1 -> n split, n -> m reconnection. Merged, split and
-// reconnected lines get new ids. A line that keeps its id is classified each interval by the
-// change of its slipped area: growth (slip spreads), retreat, or arrest (change below
-// arrest_area); an event is recorded when that state changes.
+// max_centroid_distance (in a periodic cell by minimum image: lines are unwrapped from their
+// first crossing, so a loop gliding across the cell's side jumps by a side). Of these candidates
+// each line keeps its best (nearest bounding box, then nearest centroid) on the other side. The
+// links form a bipartite graph (Boost.Graph); each connected component is one story: 0 -> 1
+// nucleation, 1 -> 0 annihilation, 1 -> 1 the same line (same persistent id), n -> 1 merge, 1 -> n
+// split, n -> m reconnection. Merged, split and reconnected lines get new ids. A line that keeps
+// its id is classified each interval by the change of its slipped area: growth (slip spreads),
+// retreat, or arrest (change below arrest_area); an event is recorded when that state changes.
 #pragma once
 
 #include <map>

@@ -533,6 +533,40 @@ TEST(Tracker, FirstFrameLinesGetIdsWithoutEvents) {
   EXPECT_EQ(to_string(LineKind::wrapping), "wrapping");
 }
 
+// A loop gliding across the side of a periodic cell: find_lines unwraps it from its first
+// crossing (the lowest site index), so its centroid jumps by the cell's side (64 d) once it no
+// longer touches x = 0. Compared by minimum image it stays one line, one id, with no
+// nucleation or annihilation.
+TEST(Tracker, ALoopGlidingAcrossAPeriodicSideKeepsItsId) {
+  SyntheticOptions o;
+  o.block = LatticeBlock{.shape = {64, 64}, .origin0 = 0, .origin1 = 0};
+  o.periodic = true;
+  Tracker t;
+  int id = -1;
+  double first_x = 0.0, lowest_x = 1e9, highest_x = -1e9;
+  for (int step = 0; step <= 14; ++step) {
+    const double cx = 2.0 - step;  // 2 d ... -12 d
+    const FrameLines f = find_lines(synthetic_field(o, {{cx, 0, 8, 8}}).view());
+    ASSERT_EQ(f.lines.size(), 1u) << "cx " << cx;
+    EXPECT_EQ(f.cell.x, 64.0);
+    const auto ids = t.add(f);
+    if (step == 0) {
+      id = ids[0];
+      first_x = f.lines[0].centroid.x;
+    }
+    EXPECT_EQ(ids[0], id) << "cx " << cx;
+    lowest_x = std::min(lowest_x, f.lines[0].centroid.x);
+    highest_x = std::max(highest_x, f.lines[0].centroid.x);
+  }
+  // The jump the minimum image absorbs did happen.
+  EXPECT_NEAR(first_x, 2.0, 0.5);
+  EXPECT_GT(highest_x - lowest_x, 32.0);
+  for (const Event& e : t.events()) {
+    EXPECT_NE(e.type, EventType::nucleation);
+    EXPECT_NE(e.type, EventType::annihilation);
+  }
+}
+
 }  // namespace
 
 // The stress held along a whole loop (front_stresses) on a synthetic elliptical loop in a
@@ -646,7 +680,9 @@ TEST(Profile, FrontSamplesAWholeLoopInOrder) {
       EXPECT_TRUE(p.cut) << p.at.x << ", " << p.at.y;
       EXPECT_FALSE(p.resolved());
     } else if (std::abs(std::abs(p.at.x) - 30.0) < 4.0) {  // the loops' tops and bottoms
+      // 24 d inside the edge and over 30 d from the other loop: the window is not cut.
       ++free;
+      EXPECT_FALSE(p.cut) << p.at.x << ", " << p.at.y;
     }
   }
   EXPECT_GT(facing, 0);
