@@ -20,7 +20,10 @@ nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameL
           : 0.0;
   return {{"id", id},
           {"kind", tracking::to_string(l.kind)},
-          {"burgers_x", l.burgers * f.d},
+          // b = burgers unit_burgers: d_tip along the tip's first axis (x and d when aligned).
+          {"burgers", l.burgers},
+          {"burgers_x", l.burgers * f.unit_burgers.x},
+          {"burgers_y", l.burgers * f.unit_burgers.y},
           {"registry_consistency", l.registry_consistency},
           {"interior_ends", l.interior_ends},
           {"pieces", l.pieces},

@@ -91,12 +91,17 @@ std::string vtk_lines_text(const VtkLinesFrame& f) {
     out += "CELL_DATA " + cells + "\nSCALARS line_id int 1\nLOOKUP_TABLE default\n";
     for (const auto& l : f.lines)
       out += std::to_string(l.id) + '\n';
-    out += "FIELD FieldData 3\nkind 1 " + cells + " int\n";
+    out += "FIELD FieldData 4\nkind 1 " + cells + " int\n";
     for (const auto& l : f.lines)
       out += std::to_string(l.kind) + '\n';
     out += "burgers_x 1 " + cells + " double\n";
     for (const auto& l : f.lines) {
       put(out, l.burgers_x);
+      out += '\n';
+    }
+    out += "burgers_y 1 " + cells + " double\n";
+    for (const auto& l : f.lines) {
+      put(out, l.burgers_y);
       out += '\n';
     }
     out += "length 1 " + cells + " double\n";
@@ -111,7 +116,9 @@ std::string vtk_lines_text(const VtkLinesFrame& f) {
               });
     per_point("VECTORS burgers double\n", [&](const VtkPolyline& l, std::size_t) {
       put(out, l.burgers_x);
-      out += " 0 0";
+      out += ' ';
+      put(out, l.burgers_y);
+      out += " 0";
     });
     out += "FIELD FieldData 3\n";
     per_point(("angle_deg 1 " + points + " double\n"),

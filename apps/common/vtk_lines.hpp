@@ -16,8 +16,10 @@
 //   character  0 screw (angle < 30), 1 mixed, 2 edge (angle > 60): the classes of the figures;
 //   line_id    the tracker's id, the same across frames (lines.json "id", events.csv);
 //   kind       0 loop, 1 open, 2 wrapping (tracking::LineKind);
-//   burgers    the Burgers vector (burgers_x, 0, 0) in d (VECTORS);
-// per cell (polyline): line_id, kind, burgers_x, length (d). Field data: frame, iteration, Dx.
+//   burgers    the Burgers vector (burgers_x, burgers_y, 0) in d (VECTORS): d_tip along the
+//              tip's first axis per unit of lines.json's integer `burgers`, (d, 0) aligned;
+// per cell (polyline): line_id, kind, burgers_x, burgers_y, length (d). Field data: frame,
+// iteration, Dx.
 // `character` and `line_id` are the active scalars of the points and cells (what ParaView colours
 // by at first), `burgers` the active vectors; the others are FIELD arrays of the same sections,
 // which vtkPolyDataReader reads with its defaults (it reads only the first SCALARS).
@@ -35,7 +37,7 @@ struct VtkPolyline {
   int id = 0;
   int kind = 0;         // 0 loop, 1 open, 2 wrapping
   bool closed = false;  // the last point joins the first (loops)
-  double burgers_x = 0.0, length = 0.0;
+  double burgers_x = 0.0, burgers_y = 0.0, length = 0.0;  // b (d); length (d)
   std::vector<std::array<double, 2>> points;
   // Per segment: points[k] -> points[k + 1], and for a closed line also the closing one.
   std::vector<double> angle_deg;

@@ -594,7 +594,8 @@ void write_vtk(const fs::path& dir, const slide::Snapshot& s, int index,
     app::VtkPolyline p{.id = ids[j],
                        .kind = static_cast<int>(l.kind),
                        .closed = l.kind == tracking::LineKind::loop,
-                       .burgers_x = l.burgers * f.d,
+                       .burgers_x = l.burgers * f.unit_burgers.x,
+                       .burgers_y = l.burgers * f.unit_burgers.y,
                        .length = l.length,
                        .points = {},
                        .angle_deg = l.angle_deg};
@@ -854,8 +855,10 @@ int main(int argc, char** argv) {
     app::write_json(dir / "lines.json",
                     {{"description",
                       "per frame of the sequence: the dislocation lines found (MODEL.md 7); "
-                      "lengths in d, areas in d^2, angles in degrees from b = burgers_x x-hat "
-                      "(0: screw, 90: edge); ids persist across frames (events.csv)"},
+                      "lengths in d, areas in d^2, angles in degrees from b = (burgers_x, "
+                      "burgers_y) = burgers d_tip along the tip's first axis, (burgers d, 0) for "
+                      "the aligned tip (0: screw, 90: edge); ids persist across frames "
+                      "(events.csv)"},
                      {"frames", frames_json}});
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

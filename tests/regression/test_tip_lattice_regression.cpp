@@ -143,7 +143,10 @@ TEST(TipLatticeRegression, RotatedTipHoldsScrewMisfitDislocationsBeforeSliding) 
   double y_sum = 0.0;
   for (const json& l : lines) {
     EXPECT_EQ(l["kind"], "open");
-    EXPECT_EQ(std::abs(l["burgers_x"].get<double>()), 1.0);
+    // b = d_tip along the tip's first axis, rotated by 2 degrees: (cos 2, sin 2) d.
+    EXPECT_EQ(std::abs(l["burgers"].get<int>()), 1);
+    EXPECT_NEAR(std::abs(l["burgers_x"].get<double>()), std::cos(2.0 * M_PI / 180.0), 1e-12);
+    EXPECT_NEAR(std::abs(l["burgers_y"].get<double>()), std::sin(2.0 * M_PI / 180.0), 1e-12);
     EXPECT_EQ(l["registry_consistency"].get<double>(), 1.0);
     EXPECT_LT(l["mean_angle_deg"].get<double>(), 10.0);  // screw: along b
     EXPECT_GT(l["length"].get<double>(), 60.0);          // across the contact
@@ -164,7 +167,10 @@ TEST(TipLatticeRegression, MismatchedTipHoldsEdgeMisfitDislocationsBeforeSliding
   double x_sum = 0.0;
   for (const json& l : lines) {
     EXPECT_EQ(l["kind"], "open");
-    EXPECT_EQ(std::abs(l["burgers_x"].get<double>()), 1.0);
+    // b = d_tip = 1.04 d along x (the tip is not rotated).
+    EXPECT_EQ(std::abs(l["burgers"].get<int>()), 1);
+    EXPECT_NEAR(std::abs(l["burgers_x"].get<double>()), 1.04, 1e-12);
+    EXPECT_EQ(l["burgers_y"].get<double>(), 0.0);
     EXPECT_EQ(l["registry_consistency"].get<double>(), 1.0);
     EXPECT_GT(l["mean_angle_deg"].get<double>(), 80.0);  // edge: across b
     EXPECT_GT(l["length"].get<double>(), 60.0);

@@ -76,9 +76,10 @@ def test_vtk_reads_the_lines_of_lines_json():
             assert np.array_equal(angle[ids], per_point)
             assert np.array_equal(char[ids], character(per_point))
             assert np.all(line_id[ids] == line["id"])
-            assert np.all(burgers[ids] == [line["burgers_x"], 0.0, 0.0])
+            assert np.all(burgers[ids] == [line["burgers_x"], line["burgers_y"], 0.0])
             assert vtk_to_numpy(cd.GetArray("line_id"))[j] == line["id"]
             assert vtk_to_numpy(cd.GetArray("kind"))[j] == KINDS[line["kind"]]
             assert vtk_to_numpy(cd.GetArray("burgers_x"))[j] == line["burgers_x"]
+            assert vtk_to_numpy(cd.GetArray("burgers_y"))[j] == line["burgers_y"]
     # The slip the fixture tracks has lines, and loops among them: the check saw them.
     assert total_lines > 0 and loops > 0, (total_lines, loops)
