@@ -35,8 +35,8 @@ namespace asperity::app {
 
 struct VtkPolyline {
   int id = 0;
-  int kind = 0;         // 0 loop, 1 open, 2 wrapping
-  bool closed = false;  // the last point joins the first (loops)
+  int kind = 0;                                           // 0 loop, 1 open, 2 wrapping
+  bool closed = false;                                    // the last point joins the first (loops)
   double burgers_x = 0.0, burgers_y = 0.0, length = 0.0;  // b (d); length (d)
   std::vector<std::array<double, 2>> points;
   // Per segment: points[k] -> points[k + 1], and for a closed line also the closing one.
