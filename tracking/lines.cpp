@@ -399,7 +399,7 @@ void Tracer::build_line(const std::vector<std::size_t>& nodes, const Graph& g, L
     cur = next;
   }
   const double L0 = n0_ * f_.d, L1 = n1_ * f_.d;
-  const auto wrap = [](double delta, double L) { return delta - L * std::round(delta / L); };
+  const auto wrap = [](double delta, double L) { return delta - image_offset(delta, L); };
   line.points.clear();
   line.points.reserve(order.size());
   line.points.push_back(crossings_[order.front()].at);

@@ -21,6 +21,7 @@
 // Only the tracking/ library: plain fields in, plain structs out (apps/ reads and writes files).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -36,6 +37,12 @@ namespace asperity::tracking {
 struct Point {
   double x = 0.0, y = 0.0;  // lattice coordinates (d)
 };
+
+// The multiple of a periodic side L nearest a coordinate difference `delta`: delta minus it is
+// the minimum image. 0 where L <= 0 (no period along that axis).
+inline double image_offset(double delta, double L) {
+  return L > 0.0 ? L * std::round(delta / L) : 0.0;
+}
 
 // One frame's per-site fields on a block of lattice sites, block-major (i0 * n1 + i1) like
 // slide::Snapshot. Views: the caller keeps the data alive during find_lines().
@@ -161,6 +168,11 @@ struct FrameLines {
 
 // Throws std::invalid_argument if the field or the options are invalid.
 FrameLines find_lines(const FieldView& field, const DetectOptions& options = {});
+
+// A line's Burgers vector (d): burgers times the frame's unit_burgers.
+inline Point burgers_vector(const Line& line, const FrameLines& frame) {
+  return {line.burgers * frame.unit_burgers.x, line.burgers * frame.unit_burgers.y};
+}
 
 // Where a point sits relative to the contact, for nucleation and annihilation sites: "centre"
 // (within centre_fraction of the radius), else "side" (|y - yc| > |x - xc|), "front" (ahead in

@@ -83,8 +83,8 @@ SyntheticField synthetic_field(const SyntheticOptions& o, const std::vector<Isla
       for (const Island& e : islands) {
         double dx = x - e.cx, dy = y - e.cy;
         if (o.periodic) {
-          dx -= L0 * std::round(dx / L0);
-          dy -= L1 * std::round(dy / L1);
+          dx -= image_offset(dx, L0);
+          dy -= image_offset(dy, L1);
         }
         h = std::min(h, ellipse_distance(dx, dy, e));
       }

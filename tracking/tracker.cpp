@@ -99,10 +99,7 @@ std::size_t intersection_size(const std::vector<std::int64_t>& a,
 // periodic cell.
 Point image_shift(Point p, Point ref, const FrameLines& frame) {
   if (!frame.periodic) return {};
-  const auto shift = [](double delta, double L) {
-    return L > 0.0 ? L * std::round(delta / L) : 0.0;
-  };
-  return {shift(ref.x - p.x, frame.cell.x), shift(ref.y - p.y, frame.cell.y)};
+  return {image_offset(ref.x - p.x, frame.cell.x), image_offset(ref.y - p.y, frame.cell.y)};
 }
 
 Point mean_point(const std::vector<Point>& points) {

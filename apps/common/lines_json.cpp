@@ -18,12 +18,13 @@ nlohmann::json line_json(const tracking::Line& l, int id, const tracking::FrameL
           ? static_cast<double>(f.regions[static_cast<std::size_t>(l.slipped_region)].size()) *
                 f.d * f.d
           : 0.0;
+  const tracking::Point b = tracking::burgers_vector(l, f);
   return {{"id", id},
           {"kind", tracking::to_string(l.kind)},
-          // b = burgers unit_burgers: d_tip along the tip's first axis (x and d when aligned).
+          // b: d_tip along the tip's first axis per unit of burgers (d along x when aligned).
           {"burgers", l.burgers},
-          {"burgers_x", l.burgers * f.unit_burgers.x},
-          {"burgers_y", l.burgers * f.unit_burgers.y},
+          {"burgers_x", b.x},
+          {"burgers_y", b.y},
           {"registry_consistency", l.registry_consistency},
           {"interior_ends", l.interior_ends},
           {"pieces", l.pieces},

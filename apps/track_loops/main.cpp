@@ -591,11 +591,12 @@ void write_vtk(const fs::path& dir, const slide::Snapshot& s, int index,
   v.title = title.str();
   for (std::size_t j = 0; j < f.lines.size(); ++j) {
     const tracking::Line& l = f.lines[j];
+    const tracking::Point b = tracking::burgers_vector(l, f);
     app::VtkPolyline p{.id = ids[j],
                        .kind = static_cast<int>(l.kind),
                        .closed = l.kind == tracking::LineKind::loop,
-                       .burgers_x = l.burgers * f.unit_burgers.x,
-                       .burgers_y = l.burgers * f.unit_burgers.y,
+                       .burgers_x = b.x,
+                       .burgers_y = b.y,
                        .length = l.length,
                        .points = {},
                        .angle_deg = l.angle_deg};
