@@ -91,24 +91,20 @@ std::string vtk_lines_text(const VtkLinesFrame& f) {
     out += "CELL_DATA " + cells + "\nSCALARS line_id int 1\nLOOKUP_TABLE default\n";
     for (const auto& l : f.lines)
       out += std::to_string(l.id) + '\n';
+    // Per cell, in the order of LINES: a FIELD array of doubles.
+    const auto per_cell = [&](const std::string& name, auto value) {
+      out += name + " 1 " + cells + " double\n";
+      for (const auto& l : f.lines) {
+        put(out, value(l));
+        out += '\n';
+      }
+    };
     out += "FIELD FieldData 4\nkind 1 " + cells + " int\n";
     for (const auto& l : f.lines)
       out += std::to_string(l.kind) + '\n';
-    out += "burgers_x 1 " + cells + " double\n";
-    for (const auto& l : f.lines) {
-      put(out, l.burgers_x);
-      out += '\n';
-    }
-    out += "burgers_y 1 " + cells + " double\n";
-    for (const auto& l : f.lines) {
-      put(out, l.burgers_y);
-      out += '\n';
-    }
-    out += "length 1 " + cells + " double\n";
-    for (const auto& l : f.lines) {
-      put(out, l.length);
-      out += '\n';
-    }
+    per_cell("burgers_x", [](const VtkPolyline& l) { return l.burgers_x; });
+    per_cell("burgers_y", [](const VtkPolyline& l) { return l.burgers_y; });
+    per_cell("length", [](const VtkPolyline& l) { return l.length; });
     out += "POINT_DATA " + points + "\n";
     per_point("SCALARS character int 1\nLOOKUP_TABLE default\n",
               [&](const VtkPolyline& l, std::size_t k) {
